@@ -1,0 +1,160 @@
+//! Closest point on a curve: coarse search on a dense polyline, then a
+//! safeguarded Newton iteration on `f(t) = c'(t)·(c(t) − q)` (the first-order
+//! condition of `min |c(t) − q|²`, derivative `c''·(c − q) + |c'|²`), with
+//! bisection whenever Newton leaves the bracket. The domain ends are
+//! candidates too, so a point beyond an end projects onto it.
+
+use glam::DVec3;
+
+use crate::curve::BSplineCurve;
+
+/// Result of a projection.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ClosestPoint {
+    /// Parameter of the closest point.
+    pub param: f64,
+    /// The closest point on the curve.
+    pub point: DVec3,
+    /// Its distance to the query.
+    pub distance: f64,
+}
+
+/// Projects points onto one curve; build once, query many times.
+#[derive(Debug, Clone)]
+pub struct CurveProjector<'a> {
+    curve: &'a BSplineCurve,
+    params: Vec<f64>,
+    pts: Vec<DVec3>,
+}
+
+impl<'a> CurveProjector<'a> {
+    /// Prepare a projector with `samples_per_span` polyline points per knot span (≥ 2; 16 is plenty for cubics).
+    pub fn new(curve: &'a BSplineCurve, samples_per_span: usize) -> Self {
+        let m = samples_per_span.max(2);
+        let bp = curve.knots().breakpoints();
+        let mut params = Vec::with_capacity((bp.len() - 1) * m + 1);
+        for w in bp.windows(2) {
+            for k in 0..m {
+                params.push(w[0] + (w[1] - w[0]) * k as f64 / m as f64);
+            }
+        }
+        params.push(*bp.last().unwrap());
+        let pts = params.iter().map(|&u| curve.point(u)).collect();
+        Self { curve, params, pts }
+    }
+
+    /// The curve.
+    pub fn curve(&self) -> &BSplineCurve {
+        self.curve
+    }
+
+    /// The closest point of the curve to `q`.
+    pub fn project(&self, q: DVec3) -> ClosestPoint {
+        // best segments by distance to the polyline; keep up to three local minima
+        let mut cand: [(f64, usize); 3] = [(f64::INFINITY, usize::MAX); 3];
+        let n = self.pts.len();
+        for i in 0..n - 1 {
+            let d = seg_dist2(self.pts[i], self.pts[i + 1], q);
+            if d < cand[2].0 {
+                // avoid adjacent duplicates: replace a neighbour if better
+                if let Some(k) = cand.iter().position(|c| c.1 != usize::MAX && c.1.abs_diff(i) <= 1) {
+                    if d < cand[k].0 {
+                        cand[k] = (d, i);
+                    }
+                } else {
+                    cand[2] = (d, i);
+                }
+                cand.sort_by(|a, b| a.0.total_cmp(&b.0));
+            }
+        }
+        let mut best = self.at(self.params[0], q);
+        let end = self.at(self.params[n - 1], q);
+        if end.distance < best.distance {
+            best = end;
+        }
+        for &(_, i) in &cand {
+            if i == usize::MAX {
+                continue;
+            }
+            let a = self.params[i.saturating_sub(1)];
+            let b = self.params[(i + 2).min(n - 1)];
+            let r = self.refine(q, a, b, 0.5 * (self.params[i] + self.params[i + 1]));
+            if r.distance < best.distance {
+                best = r;
+            }
+        }
+        best
+    }
+
+    /// Refine near a known parameter `guess`, searching `[guess − h, guess + h]`.
+    /// Much cheaper than [`Self::project`] when the answer is known to be close.
+    pub fn project_near(&self, q: DVec3, guess: f64, h: f64) -> ClosestPoint {
+        let (lo, hi) = self.curve.domain();
+        let a = (guess - h).max(lo);
+        let b = (guess + h).min(hi);
+        self.refine(q, a, b, guess.clamp(a, b))
+    }
+
+    fn at(&self, t: f64, q: DVec3) -> ClosestPoint {
+        let p = self.curve.point(t);
+        ClosestPoint { param: t, point: p, distance: p.distance(q) }
+    }
+
+    fn f(&self, t: f64, q: DVec3) -> (f64, f64, DVec3) {
+        let d = self.curve.derivs(t);
+        let r = d.p - q;
+        (d.d1.dot(r), d.d2.dot(r) + d.d1.length_squared(), d.p)
+    }
+
+    /// Minimise |c(t) − q| over `[a, b]` starting at `t0`.
+    fn refine(&self, q: DVec3, a: f64, b: f64, t0: f64) -> ClosestPoint {
+        let (fa, _, pa) = self.f(a, q);
+        let (fb, _, pb) = self.f(b, q);
+        let mut best = ClosestPoint { param: a, point: pa, distance: pa.distance(q) };
+        let db = pb.distance(q);
+        if db < best.distance {
+            best = ClosestPoint { param: b, point: pb, distance: db };
+        }
+        if !(fa < 0.0 && fb > 0.0) {
+            // no interior minimum bracketed: the ends (and the guess) are the candidates
+            let g = self.at(t0, q);
+            return if g.distance < best.distance { g } else { best };
+        }
+        let (mut lo, mut hi) = (a, b);
+        let mut t = t0.clamp(a, b);
+        for _ in 0..100 {
+            let (f, df, _) = self.f(t, q);
+            if f == 0.0 {
+                break;
+            }
+            if f < 0.0 { lo = t } else { hi = t }
+            let mut next = if df > 0.0 { t - f / df } else { f64::NAN };
+            if !(next > lo && next < hi) {
+                next = 0.5 * (lo + hi);
+            }
+            let done = (next - t).abs() <= 1e-15 * (1.0 + t.abs()) || hi - lo <= 1e-15 * (1.0 + t.abs());
+            t = next;
+            if done {
+                break;
+            }
+        }
+        let g = self.at(t, q);
+        if g.distance < best.distance { g } else { best }
+    }
+}
+
+#[inline]
+fn seg_dist2(a: DVec3, b: DVec3, q: DVec3) -> f64 {
+    let ab = b - a;
+    let l2 = ab.length_squared();
+    let t = if l2 > 0.0 { ((q - a).dot(ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
+    (a + ab * t).distance_squared(q)
+}
+
+impl BSplineCurve {
+    /// The closest point of the curve to `q` (convenience; build a
+    /// [`CurveProjector`] for many queries).
+    pub fn closest_point(&self, q: DVec3) -> ClosestPoint {
+        CurveProjector::new(self, 16).project(q)
+    }
+}

@@ -1,0 +1,478 @@
+//! B-spline curves (2D and 3D, optionally rational): evaluation, derivatives,
+//! differential geometry, knot insertion.
+//!
+//! Points are stored as [`DVec3`]; a 2D curve keeps `z = 0` and reports its
+//! curvature *signed* (positive when turning left), a 3D curve unsigned.
+//! Evaluation follows The NURBS Book: A3.2 (derivatives of a B-spline curve
+//! through basis derivatives), A4.2 (rational derivatives by the quotient
+//! rule on homogeneous coordinates), A5.1 (Boehm knot insertion).
+
+use glam::{DVec3, DVec4};
+
+use crate::basis::{MAX_ORDER, basis_funs, ders_basis_funs};
+use crate::error::{Error, Result};
+use crate::knots::KnotVector;
+
+/// A clamped B-spline curve of any degree up to [`MAX_DEGREE`](crate::knots::MAX_DEGREE),
+/// in 2D or 3D, with optional weights (NURBS). Always valid: built through
+/// [`BSplineCurve::try_new`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct BSplineCurve {
+    knots: KnotVector,
+    points: Vec<DVec3>,
+    weights: Option<Vec<f64>>,
+    dim: usize,
+}
+
+/// Point and derivatives with respect to the parameter at one parameter value.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct CurveDerivs {
+    /// c(u)
+    pub p: DVec3,
+    /// c'(u)
+    pub d1: DVec3,
+    /// c''(u)
+    pub d2: DVec3,
+    /// c'''(u)
+    pub d3: DVec3,
+}
+
+impl CurveDerivs {
+    /// Curvature from the derivatives: 2D signed `(x'y''−y'x'')/|c'|³`, 3D
+    /// `|c'×c''|/|c'|³`. NaN where `c' = 0` (a cusp or degenerate stretch).
+    #[inline]
+    pub fn curvature(&self, dim: usize) -> f64 {
+        let s = self.d1.length();
+        if dim == 2 {
+            (self.d1.x * self.d2.y - self.d1.y * self.d2.x) / (s * s * s)
+        } else {
+            self.d1.cross(self.d2).length() / (s * s * s)
+        }
+    }
+
+    /// Curvature vector `κ N = (c'' − (c''·T) T)/|c'|²`.
+    #[inline]
+    pub fn curvature_vector(&self) -> DVec3 {
+        let s2 = self.d1.length_squared();
+        let t = self.d1 / s2.sqrt();
+        (self.d2 - self.d2.dot(t) * t) / s2
+    }
+
+    /// Derivative of curvature with respect to arc length, dκ/ds
+    /// (signed in 2D, of the unsigned κ in 3D).
+    pub fn dkappa_ds(&self, dim: usize) -> f64 {
+        let v = self.d1.length();
+        let v3 = v * v * v;
+        let dv3 = 3.0 * v * self.d1.dot(self.d2); // d/du |c'|³
+        let (num, dnum) = if dim == 2 {
+            (
+                self.d1.x * self.d2.y - self.d1.y * self.d2.x,
+                self.d1.x * self.d3.y - self.d1.y * self.d3.x,
+            )
+        } else {
+            let w = self.d1.cross(self.d2);
+            let wl = w.length();
+            let dw = self.d1.cross(self.d3);
+            (wl, if wl > 0.0 { w.dot(dw) / wl } else { dw.length() })
+        };
+        (dnum * v3 - num * dv3) / (v3 * v3) / v
+    }
+
+    /// Torsion `(c'×c'')·c''' / |c'×c''|²` (0 for 2D curves; NaN where κ = 0).
+    pub fn torsion(&self) -> f64 {
+        let w = self.d1.cross(self.d2);
+        w.dot(self.d3) / w.length_squared()
+    }
+}
+
+impl BSplineCurve {
+    /// Build and validate a curve. `dim` is 2 or 3; for 2D, the z coordinates
+    /// must be 0. `weights`, if given, must be positive, one per point.
+    pub fn try_new(degree: usize, knots: Vec<f64>, points: Vec<DVec3>, weights: Option<Vec<f64>>, dim: usize) -> Result<Self> {
+        if dim != 2 && dim != 3 {
+            return Err(Error::InvalidInput(format!("dimension {dim} is not supported (2 or 3)")));
+        }
+        let knots = KnotVector::try_new(knots, degree, points.len(), "knots")?;
+        for (i, p) in points.iter().enumerate() {
+            if !p.is_finite() {
+                return Err(Error::NotFinite { field: "points".into(), index: i });
+            }
+            if dim == 2 && p.z != 0.0 {
+                return Err(Error::InvalidInput(format!("points: point {i} of a 2D curve has z = {}", p.z)));
+            }
+        }
+        if let Some(w) = &weights {
+            if w.len() != points.len() {
+                return Err(Error::LengthMismatch { field: "weights".into(), count: w.len(), expected: points.len() });
+            }
+            for (i, &x) in w.iter().enumerate() {
+                if !x.is_finite() {
+                    return Err(Error::NotFinite { field: "weights".into(), index: i });
+                }
+                if x <= 0.0 {
+                    return Err(Error::BadWeight { field: "weights".into(), index: i, value: x });
+                }
+            }
+        }
+        Ok(Self { knots, points, weights, dim })
+    }
+
+    /// A non-rational 2D curve from `(x, y)` points.
+    pub fn new_2d(degree: usize, knots: Vec<f64>, points: &[glam::DVec2]) -> Result<Self> {
+        Self::try_new(degree, knots, points.iter().map(|p| p.extend(0.0)).collect(), None, 2)
+    }
+
+    /// A non-rational 3D curve.
+    pub fn new_3d(degree: usize, knots: Vec<f64>, points: Vec<DVec3>) -> Result<Self> {
+        Self::try_new(degree, knots, points, None, 3)
+    }
+
+    /// A Bézier curve (one span on `[0, 1]`) through its control points.
+    pub fn bezier(points: Vec<DVec3>, dim: usize) -> Result<Self> {
+        let p = points.len().saturating_sub(1);
+        let mut k = vec![0.0; p + 1];
+        k.extend(std::iter::repeat_n(1.0, p + 1));
+        Self::try_new(p, k, points, None, dim)
+    }
+
+    /// The same knots and weights with new control points (validated).
+    pub fn with_points(&self, points: Vec<DVec3>) -> Result<Self> {
+        Self::try_new(self.degree(), self.knots.values().to_vec(), points, self.weights.clone(), self.dim)
+    }
+
+    /// Degree p.
+    #[inline]
+    pub fn degree(&self) -> usize {
+        self.knots.degree()
+    }
+    /// The knot vector.
+    #[inline]
+    pub fn knots(&self) -> &KnotVector {
+        &self.knots
+    }
+    /// Control points (z = 0 for 2D).
+    #[inline]
+    pub fn points(&self) -> &[DVec3] {
+        &self.points
+    }
+    /// Weights, if rational.
+    #[inline]
+    pub fn weights(&self) -> Option<&[f64]> {
+        self.weights.as_deref()
+    }
+    /// 2 or 3.
+    #[inline]
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+    /// Has weights.
+    #[inline]
+    pub fn is_rational(&self) -> bool {
+        self.weights.is_some()
+    }
+    /// Parameter domain.
+    #[inline]
+    pub fn domain(&self) -> (f64, f64) {
+        self.knots.domain()
+    }
+    /// Number of control points.
+    #[inline]
+    pub fn n_points(&self) -> usize {
+        self.points.len()
+    }
+
+    /// Whether the weights, if any, are all equal (then the curve is polynomial).
+    pub fn is_polynomial(&self) -> bool {
+        match &self.weights {
+            None => true,
+            Some(w) => w.iter().all(|&x| x == w[0]),
+        }
+    }
+
+    /// The curve without weights if they are all equal; an error for a true NURBS.
+    pub fn to_polynomial(&self) -> Result<Self> {
+        if !self.is_polynomial() {
+            return Err(Error::InvalidInput(
+                "rational curve (unequal weights): fairing needs a non-rational B-spline; \
+                 convert it first (e.g. refit) in the CAD system"
+                    .into(),
+            ));
+        }
+        Ok(Self { weights: None, ..self.clone() })
+    }
+
+    /// First and last points coincide (within `tol`).
+    pub fn is_closed(&self, tol: f64) -> bool {
+        self.points[0].distance(*self.points.last().unwrap()) <= tol
+    }
+
+    /// c(u). `u` is clamped to the domain.
+    #[inline]
+    pub fn point(&self, u: f64) -> DVec3 {
+        let p = self.degree();
+        let kv = self.knots.values();
+        let span = self.knots.find_span(u);
+        let u = self.knots.clamp(u);
+        let mut n = [0.0; MAX_ORDER];
+        basis_funs(kv, span, u, p, &mut n);
+        match &self.weights {
+            None => {
+                let mut c = DVec3::ZERO;
+                for j in 0..=p {
+                    c += self.points[span - p + j] * n[j];
+                }
+                c
+            }
+            Some(w) => {
+                let mut c = DVec4::ZERO;
+                for j in 0..=p {
+                    let i = span - p + j;
+                    c += (self.points[i] * w[i]).extend(w[i]) * n[j];
+                }
+                c.truncate() / c.w
+            }
+        }
+    }
+
+    /// Point and first three derivatives at `u` (clamped to the domain). At
+    /// an interior knot the derivatives are those of the span to the right
+    /// (the left one at the domain end).
+    #[inline]
+    pub fn derivs(&self, u: f64) -> CurveDerivs {
+        let p = self.degree();
+        let kv = self.knots.values();
+        let span = self.knots.find_span(u);
+        let u = self.knots.clamp(u);
+        let mut d = [[0.0; MAX_ORDER]; 4];
+        ders_basis_funs(kv, span, u, p, &mut d);
+        match &self.weights {
+            None => {
+                let mut out = [DVec3::ZERO; 4];
+                for j in 0..=p {
+                    let cp = self.points[span - p + j];
+                    for k in 0..4 {
+                        out[k] += cp * d[k][j];
+                    }
+                }
+                CurveDerivs { p: out[0], d1: out[1], d2: out[2], d3: out[3] }
+            }
+            Some(w) => {
+                let mut a = [DVec4::ZERO; 4];
+                for j in 0..=p {
+                    let i = span - p + j;
+                    let h = (self.points[i] * w[i]).extend(w[i]);
+                    for k in 0..4 {
+                        a[k] += h * d[k][j];
+                    }
+                }
+                let c = rational_derivs(&a);
+                CurveDerivs { p: c[0], d1: c[1], d2: c[2], d3: c[3] }
+            }
+        }
+    }
+
+    /// c'(u).
+    #[inline]
+    pub fn d1(&self, u: f64) -> DVec3 {
+        self.derivs(u).d1
+    }
+
+    /// Unit tangent c'/|c'| (NaN at a cusp).
+    pub fn tangent(&self, u: f64) -> DVec3 {
+        self.derivs(u).d1.normalize_or(DVec3::NAN)
+    }
+
+    /// Normal: for 2D the tangent turned +90° (so that κ·N points to the
+    /// centre of curvature); for 3D the principal normal (NaN where κ = 0).
+    pub fn normal(&self, u: f64) -> DVec3 {
+        let d = self.derivs(u);
+        if self.dim == 2 {
+            let t = d.d1.normalize_or(DVec3::NAN);
+            DVec3::new(-t.y, t.x, 0.0)
+        } else {
+            d.curvature_vector().normalize_or(DVec3::NAN)
+        }
+    }
+
+    /// Curvature (2D signed, 3D unsigned); NaN where `c' = 0`.
+    #[inline]
+    pub fn curvature(&self, u: f64) -> f64 {
+        self.derivs(u).curvature(self.dim)
+    }
+
+    /// Curvature vector κN.
+    pub fn curvature_vector(&self, u: f64) -> DVec3 {
+        self.derivs(u).curvature_vector()
+    }
+
+    /// Torsion (3D); 0 for a 2D curve.
+    pub fn torsion(&self, u: f64) -> f64 {
+        if self.dim == 2 { 0.0 } else { self.derivs(u).torsion() }
+    }
+
+    /// dκ/ds.
+    pub fn dkappa_ds(&self, u: f64) -> f64 {
+        self.derivs(u).dkappa_ds(self.dim)
+    }
+
+    /// Parameters of the inflections of a 2D curve: sign changes of
+    /// `x'y'' − y'x''`, found on `samples_per_span` samples per knot span and
+    /// refined by bisection to `1e-14` of the domain. Empty for 3D curves.
+    /// Stretches where the numerator is exactly zero (straight segments) do
+    /// not count.
+    pub fn inflections(&self, samples_per_span: usize) -> Vec<f64> {
+        if self.dim != 2 {
+            return vec![];
+        }
+        let f = |u: f64| {
+            let d = self.derivs(u);
+            d.d1.x * d.d2.y - d.d1.y * d.d2.x
+        };
+        let bp = self.knots.breakpoints();
+        let m = samples_per_span.max(2);
+        let mut out = vec![];
+        let mut prev: Option<(f64, f64)> = None; // last non-zero sample
+        for w in bp.windows(2) {
+            for k in 0..m {
+                let u = w[0] + (w[1] - w[0]) * k as f64 / m as f64;
+                let v = f(u);
+                if v == 0.0 {
+                    continue;
+                }
+                if let Some((pu, pv)) = prev
+                    && pv.signum() != v.signum()
+                {
+                    let (mut a, mut b, fa) = (pu, u, pv);
+                    while b - a > 1e-14 * (1.0 + b.abs()) {
+                        let mid = 0.5 * (a + b);
+                        let fm = f(mid);
+                        if fm == 0.0 {
+                            a = mid;
+                            b = mid;
+                            break;
+                        }
+                        if fm.signum() == fa.signum() { a = mid } else { b = mid }
+                    }
+                    out.push(0.5 * (a + b));
+                }
+                prev = Some((u, v));
+            }
+        }
+        let (_, end) = self.domain();
+        let v = f(end);
+        if let Some((pu, pv)) = prev
+            && v != 0.0
+            && pv.signum() != v.signum()
+            && pu < end
+        {
+            out.push(0.5 * (pu + end));
+        }
+        out
+    }
+
+    /// Insert `u` `times` times (Boehm, The NURBS Book A5.1). The curve is unchanged.
+    pub fn insert_knot(&self, u: f64, times: usize) -> Result<Self> {
+        let (a, b) = self.domain();
+        if !(u > a && u < b) {
+            return Err(Error::OutOfDomain { what: "knot to insert".into(), value: u, start: a, end: b });
+        }
+        let mut c = self.clone();
+        for _ in 0..times {
+            c = c.insert_once(u)?;
+        }
+        Ok(c)
+    }
+
+    fn insert_once(&self, u: f64) -> Result<Self> {
+        let p = self.degree();
+        let kv = self.knots.values();
+        let k = self.knots.find_span(u);
+        let s = self.knots.multiplicity(u);
+        if s >= p {
+            return Err(Error::InvalidInput(format!("knot {u} already has multiplicity {s} = degree")));
+        }
+        let h = self.homogeneous();
+        let mut q = Vec::with_capacity(h.len() + 1);
+        q.extend_from_slice(&h[..=k - p]);
+        for i in k - p + 1..=k {
+            let alpha = (u - kv[i]) / (kv[i + p] - kv[i]);
+            q.push(h[i] * alpha + h[i - 1] * (1.0 - alpha));
+        }
+        q.extend_from_slice(&h[k..]);
+        let knots = self.knots.with_inserted(u);
+        self.from_homogeneous(knots, q)
+    }
+
+    /// Insert every value of `us` (sorted or not) once: knot refinement.
+    pub fn refine(&self, us: &[f64]) -> Result<Self> {
+        let mut c = self.clone();
+        for &u in us {
+            c = c.insert_knot(u, 1)?;
+        }
+        Ok(c)
+    }
+
+    /// The same curve traversed backwards, on the domain reflected as `a + b − u`.
+    pub fn reversed(&self) -> Self {
+        let (a, b) = self.domain();
+        let knots: Vec<f64> = self.knots.values().iter().rev().map(|&k| a + b - k).collect();
+        let mut points = self.points.clone();
+        points.reverse();
+        let weights = self.weights.clone().map(|mut w| {
+            w.reverse();
+            w
+        });
+        Self { knots: KnotVector::try_new(knots, self.degree(), points.len(), "knots").expect("reversal keeps validity"), points, weights, dim: self.dim }
+    }
+
+    fn homogeneous(&self) -> Vec<DVec4> {
+        match &self.weights {
+            None => self.points.iter().map(|p| p.extend(1.0)).collect(),
+            Some(w) => self.points.iter().zip(w).map(|(p, &w)| (*p * w).extend(w)).collect(),
+        }
+    }
+
+    fn from_homogeneous(&self, knots: Vec<f64>, h: Vec<DVec4>) -> Result<Self> {
+        let (points, weights) = if self.weights.is_some() {
+            let w: Vec<f64> = h.iter().map(|x| x.w).collect();
+            (h.iter().map(|x| x.truncate() / x.w).collect(), Some(w))
+        } else {
+            (h.iter().map(|x| x.truncate()).collect(), None)
+        };
+        let mut points: Vec<DVec3> = points;
+        if self.dim == 2 {
+            for p in &mut points {
+                p.z = 0.0;
+            }
+        }
+        Self::try_new(self.degree(), knots, points, weights, self.dim)
+    }
+
+    /// Axis-aligned bounding box of the control points (contains the curve).
+    pub fn control_bounds(&self) -> (DVec3, DVec3) {
+        let mut lo = DVec3::splat(f64::INFINITY);
+        let mut hi = DVec3::splat(f64::NEG_INFINITY);
+        for p in &self.points {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        }
+        (lo, hi)
+    }
+}
+
+/// Derivatives of a rational curve from the derivatives of its homogeneous
+/// form `a[k] = (A^(k), w^(k))` (The NURBS Book, eq. 4.8 / A4.2):
+/// `C^(k) = (A^(k) − Σ_{i=1..k} C(k,i) w^(i) C^(k−i)) / w`.
+pub(crate) fn rational_derivs(a: &[DVec4; 4]) -> [DVec3; 4] {
+    const BIN: [[f64; 4]; 4] = [[1., 0., 0., 0.], [1., 1., 0., 0.], [1., 2., 1., 0.], [1., 3., 3., 1.]];
+    let w0 = a[0].w;
+    let mut c = [DVec3::ZERO; 4];
+    for k in 0..4 {
+        let mut v = a[k].truncate();
+        for i in 1..=k {
+            v -= c[k - i] * (BIN[k][i] * a[i].w);
+        }
+        c[k] = v / w0;
+    }
+    c
+}

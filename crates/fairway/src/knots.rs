@@ -1,0 +1,253 @@
+//! Knot vectors: validation, span search, multiplicity, spans.
+//!
+//! A knot vector of a B-spline of degree p with n control points holds
+//! n + p + 1 non-decreasing values. Fairway only stores *clamped* vectors: the
+//! first and last values appear p + 1 times, so the curve interpolates its end
+//! control points, and the parameter domain is `[t_p, t_n]`. Interior knots
+//! have multiplicity at most p (The NURBS Book, ch. 2).
+
+use crate::error::{Error, Result};
+
+/// The largest degree Fairway evaluates (fixed-size stack buffers in the basis).
+pub const MAX_DEGREE: usize = 15;
+
+/// A validated, clamped knot vector of a given degree.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KnotVector {
+    values: Vec<f64>,
+    degree: usize,
+}
+
+impl KnotVector {
+    /// Validate `values` as the knot vector of `points` control points of
+    /// degree `degree`. `field` names the input in error messages.
+    pub fn try_new(values: Vec<f64>, degree: usize, points: usize, field: &str) -> Result<Self> {
+        let f = || field.to_string();
+        if degree == 0 || degree > MAX_DEGREE {
+            return Err(Error::BadDegree { field: f(), degree, max: MAX_DEGREE });
+        }
+        if points < degree + 1 {
+            return Err(Error::TooFewPoints {
+                field: "points".into(),
+                count: points,
+                degree,
+                needed: degree + 1,
+            });
+        }
+        let expected = points + degree + 1;
+        if values.len() != expected {
+            return Err(Error::KnotCount { field: f(), count: values.len(), expected, points, degree });
+        }
+        if let Some(index) = values.iter().position(|v| !v.is_finite()) {
+            return Err(Error::NotFinite { field: f(), index });
+        }
+        for i in 1..values.len() {
+            if values[i] < values[i - 1] {
+                return Err(Error::KnotsDecreasing { field: f(), index: i, prev: values[i - 1], next: values[i] });
+            }
+        }
+        let first = values[0];
+        let last = values[values.len() - 1];
+        let clamped_start = values[..=degree].iter().all(|&v| v == first);
+        let clamped_end = values[values.len() - degree - 1..].iter().all(|&v| v == last);
+        if !clamped_start || !clamped_end {
+            return Err(Error::KnotsNotClamped { field: f(), needed: degree + 1 });
+        }
+        if last <= first {
+            return Err(Error::EmptyDomain { field: f(), start: first, end: last });
+        }
+        // Interior multiplicity: the runs strictly inside the clamped ends.
+        let interior = &values[degree + 1..values.len() - degree - 1];
+        let mut i = 0;
+        while i < interior.len() {
+            let v = interior[i];
+            let mut j = i;
+            while j < interior.len() && interior[j] == v {
+                j += 1;
+            }
+            let mult = j - i;
+            if mult > degree || v == first || v == last {
+                return Err(Error::KnotMultiplicity {
+                    field: f(),
+                    value: v,
+                    multiplicity: if v == first || v == last { mult + degree + 1 } else { mult },
+                    degree,
+                });
+            }
+            i = j;
+        }
+        Ok(Self { values, degree })
+    }
+
+    /// A clamped uniform knot vector for `points` control points of `degree` on `[0, 1]`.
+    pub fn uniform(degree: usize, points: usize) -> Result<Self> {
+        if degree == 0 || degree > MAX_DEGREE || points < degree + 1 {
+            return Self::try_new(vec![], degree, points, "knots");
+        }
+        let spans = points - degree;
+        let mut v = vec![0.0; degree + 1];
+        for i in 1..spans {
+            v.push(i as f64 / spans as f64);
+        }
+        v.extend(std::iter::repeat_n(1.0, degree + 1));
+        Self::try_new(v, degree, points, "knots")
+    }
+
+    /// The knot values.
+    #[inline]
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
+    /// The degree p.
+    #[inline]
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+
+    /// The number of control points, `len − p − 1`.
+    #[inline]
+    pub fn n_points(&self) -> usize {
+        self.values.len() - self.degree - 1
+    }
+
+    /// The parameter domain `[t_p, t_n]`.
+    #[inline]
+    pub fn domain(&self) -> (f64, f64) {
+        (self.values[self.degree], self.values[self.n_points()])
+    }
+
+    /// The index `i` of the knot span `[t_i, t_{i+1})` holding `u`, with
+    /// `p ≤ i ≤ n − 1`; `u` is clamped to the domain and the end of the domain
+    /// belongs to the last non-empty span (The NURBS Book, A2.1).
+    #[inline]
+    pub fn find_span(&self, u: f64) -> usize {
+        find_span(&self.values, self.degree, self.n_points(), u)
+    }
+
+    /// Multiplicity of the value `u` in the knot vector (0 if absent).
+    pub fn multiplicity(&self, u: f64) -> usize {
+        self.values.iter().filter(|&&v| v == u).count()
+    }
+
+    /// The distinct breakpoints `t_p < … < t_n` of the domain.
+    pub fn breakpoints(&self) -> Vec<f64> {
+        let n = self.n_points();
+        let mut out: Vec<f64> = Vec::with_capacity(n - self.degree + 1);
+        for &v in &self.values[self.degree..=n] {
+            if out.last() != Some(&v) {
+                out.push(v);
+            }
+        }
+        out
+    }
+
+    /// Number of non-empty knot spans.
+    pub fn n_spans(&self) -> usize {
+        self.breakpoints().len() - 1
+    }
+
+    /// Support `[t_i, t_{i+p+1}]` of basis function `i`.
+    #[inline]
+    pub fn support(&self, i: usize) -> (f64, f64) {
+        (self.values[i], self.values[i + self.degree + 1])
+    }
+
+    /// Greville abscissae: the average of the p knots after each index, one per control point.
+    pub fn greville(&self) -> Vec<f64> {
+        let p = self.degree;
+        (0..self.n_points())
+            .map(|i| self.values[i + 1..=i + p].iter().sum::<f64>() / p as f64)
+            .collect()
+    }
+
+    /// A new knot vector with `u` inserted once (no validation of multiplicity beyond p).
+    pub(crate) fn with_inserted(&self, u: f64) -> Vec<f64> {
+        let mut v = self.values.clone();
+        let pos = v.partition_point(|&k| k <= u);
+        v.insert(pos, u);
+        v
+    }
+
+    /// Clamp `u` into the domain.
+    #[inline]
+    pub fn clamp(&self, u: f64) -> f64 {
+        let (a, b) = self.domain();
+        u.clamp(a, b)
+    }
+}
+
+/// Span search on a raw knot slice (The NURBS Book, A2.1), `n` = number of
+/// control points. `u` outside the domain is clamped.
+#[inline]
+pub fn find_span(knots: &[f64], p: usize, n: usize, u: f64) -> usize {
+    let hi = n; // domain end index
+    if u >= knots[hi] {
+        // last non-empty span
+        let mut i = hi - 1;
+        while i > p && knots[i] == knots[hi] {
+            i -= 1;
+        }
+        return i;
+    }
+    if u <= knots[p] {
+        let mut i = p;
+        while i + 1 < hi && knots[i + 1] == knots[p] {
+            i += 1;
+        }
+        return i;
+    }
+    // binary search: knots[low] <= u < knots[high]
+    let mut low = p;
+    let mut high = hi;
+    while high - low > 1 {
+        let mid = (low + high) / 2;
+        if u < knots[mid] {
+            high = mid;
+        } else {
+            low = mid;
+        }
+    }
+    low
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn validation_messages() {
+        let e = KnotVector::try_new(vec![0.0; 9], 3, 6, "knots").unwrap_err();
+        assert_eq!(e.to_string(), "knots: 9 values, expected 10 for 6 points of degree 3");
+        let e = KnotVector::try_new(vec![0., 0., 0., 0.5, 0.4, 1., 1., 1.], 2, 5, "knots").unwrap_err();
+        assert!(matches!(e, Error::KnotsDecreasing { index: 4, .. }), "{e}");
+        let e = KnotVector::try_new(vec![0., 0., 0.2, 0.5, 1., 1., 1., 1.], 3, 4, "knots").unwrap_err();
+        assert!(matches!(e, Error::KnotsNotClamped { .. }), "{e}");
+        let e = KnotVector::try_new(vec![0., 0., 0., 0.5, 0.5, 0.5, 1., 1., 1.], 2, 6, "knots").unwrap_err();
+        assert!(matches!(e, Error::KnotMultiplicity { multiplicity: 3, .. }), "{e}");
+        let e = KnotVector::try_new(vec![1., 1., 1., 1., 1., 1.], 2, 3, "knots").unwrap_err();
+        assert!(matches!(e, Error::EmptyDomain { .. }), "{e}");
+        let e = KnotVector::try_new(vec![0., 0., f64::NAN, 1., 1., 1.], 2, 3, "knots").unwrap_err();
+        assert!(matches!(e, Error::NotFinite { index: 2, .. }), "{e}");
+        let e = KnotVector::try_new(vec![0., 0., 1., 1.], 1, 1, "knots").unwrap_err();
+        assert!(matches!(e, Error::TooFewPoints { .. }), "{e}");
+        let e = KnotVector::try_new(vec![0.; 4], 0, 3, "knots").unwrap_err();
+        assert!(matches!(e, Error::BadDegree { .. }), "{e}");
+    }
+
+    #[test]
+    fn span_search() {
+        let k = KnotVector::try_new(vec![0., 0., 0., 1., 2., 2., 3., 4., 4., 4.], 2, 7, "k").unwrap();
+        assert_eq!(k.find_span(0.0), 2);
+        assert_eq!(k.find_span(0.5), 2);
+        assert_eq!(k.find_span(1.0), 3);
+        assert_eq!(k.find_span(2.0), 5);
+        assert_eq!(k.find_span(2.5), 5);
+        assert_eq!(k.find_span(4.0), 6);
+        assert_eq!(k.find_span(9.0), 6);
+        assert_eq!(k.find_span(-1.0), 2);
+        assert_eq!(k.breakpoints(), vec![0., 1., 2., 3., 4.]);
+        assert_eq!(k.n_spans(), 4);
+        assert_eq!(k.multiplicity(2.0), 2);
+    }
+}

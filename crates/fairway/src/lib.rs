@@ -1,0 +1,32 @@
+//! # Fairway core
+//!
+//! Geometry and fairing of B-spline curves and surfaces, with no GUI
+//! dependencies: knot vectors and basis functions ([`knots`], [`basis`]),
+//! curves and surfaces ([`curve`], [`surface`]), arc length
+//! ([`arclength`]), closest points ([`closest`]), least-squares fitting
+//! ([`fit`]) and file formats ([`io`]).
+//!
+//! f64 throughout; points are [`glam::DVec3`] (2D curves keep z = 0).
+#![deny(missing_docs)]
+
+pub mod arclength;
+pub mod basis;
+pub mod closest;
+pub mod curve;
+pub mod error;
+pub mod fit;
+pub mod geometry;
+pub mod io;
+pub mod knots;
+pub mod linalg;
+pub mod quadrature;
+pub mod surface;
+
+pub use arclength::ArcLengthTable;
+pub use closest::{ClosestPoint, CurveProjector};
+pub use curve::{BSplineCurve, CurveDerivs};
+pub use error::{Error, Result};
+pub use geometry::Geometry;
+pub use glam::{DVec2, DVec3};
+pub use knots::KnotVector;
+pub use surface::{BSplineSurface, SurfaceCurvature, SurfaceDerivs};
