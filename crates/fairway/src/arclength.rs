@@ -40,8 +40,18 @@ impl ArcLengthTable {
         let accuracy = accuracy.clamp(1e-15, 1e-2);
         let u0 = curve.knots().clamp(u0);
         let u1 = curve.knots().clamp(u1).max(u0);
-        let mut t = Self { u: vec![u0], s: vec![0.0], speed: vec![speed(curve, u0)], accuracy };
-        let mut bps: Vec<f64> = curve.knots().breakpoints().into_iter().filter(|&x| x > u0 && x < u1).collect();
+        let mut t = Self {
+            u: vec![u0],
+            s: vec![0.0],
+            speed: vec![speed(curve, u0)],
+            accuracy,
+        };
+        let mut bps: Vec<f64> = curve
+            .knots()
+            .breakpoints()
+            .into_iter()
+            .filter(|&x| x > u0 && x < u1)
+            .collect();
         bps.insert(0, u0);
         bps.push(u1);
         for w in bps.windows(2) {
@@ -88,7 +98,11 @@ impl ArcLengthTable {
     pub fn length_at(&self, curve: &BSplineCurve, u: f64) -> f64 {
         let (u0, u1) = self.range();
         let u = u.clamp(u0, u1);
-        let j = self.u.partition_point(|&x| x <= u).saturating_sub(1).min(self.u.len() - 2);
+        let j = self
+            .u
+            .partition_point(|&x| x <= u)
+            .saturating_sub(1)
+            .min(self.u.len() - 2);
         self.s[j] + piece(curve, self.u[j], u)
     }
 
@@ -102,7 +116,11 @@ impl ArcLengthTable {
         if s >= total {
             return *self.u.last().unwrap();
         }
-        let j = self.s.partition_point(|&x| x <= s).saturating_sub(1).min(self.u.len() - 2);
+        let j = self
+            .s
+            .partition_point(|&x| x <= s)
+            .saturating_sub(1)
+            .min(self.u.len() - 2);
         self.invert_in(curve, j, s)
     }
 
@@ -116,8 +134,16 @@ impl ArcLengthTable {
         // Hermite guess for u(s): du/ds = 1/speed at the ends.
         let t = (s - sa) / ds;
         let du = ub - ua;
-        let m0 = if self.speed[j] > 0.0 { ds / self.speed[j] / du } else { 1.0 };
-        let m1 = if self.speed[j + 1] > 0.0 { ds / self.speed[j + 1] / du } else { 1.0 };
+        let m0 = if self.speed[j] > 0.0 {
+            ds / self.speed[j] / du
+        } else {
+            1.0
+        };
+        let m1 = if self.speed[j + 1] > 0.0 {
+            ds / self.speed[j + 1] / du
+        } else {
+            1.0
+        };
         let (t2, t3) = (t * t, t * t * t);
         let h = (t3 - 2.0 * t2 + t) * m0 + (-2.0 * t3 + 3.0 * t2) + (t3 - t2) * m1;
         let mut u = ua + du * h.clamp(0.0, 1.0);
@@ -128,7 +154,11 @@ impl ArcLengthTable {
             if f.abs() <= tol {
                 return u;
             }
-            if f > 0.0 { hi = u } else { lo = u }
+            if f > 0.0 {
+                hi = u
+            } else {
+                lo = u
+            }
             let v = speed(curve, u);
             let mut next = if v > 0.0 { u - f / v } else { f64::NAN };
             if !(next > lo && next < hi) {

@@ -139,7 +139,10 @@ mod tests {
                 let fd = (np[j] - nm[j]) / (2.0 * h);
                 assert!((fd - d[1][j]).abs() < 1e-6, "u={u} j={j}: {fd} vs {}", d[1][j]);
                 let fd2 = (np[j] - 2.0 * d[0][j] + nm[j]) / (h * h);
-                assert!((fd2 - d[2][j]).abs() < 1e-2 * (1.0 + d[2][j].abs()), "second u={u} j={j}");
+                assert!(
+                    (fd2 - d[2][j]).abs() < 1e-2 * (1.0 + d[2][j].abs()),
+                    "second u={u} j={j}"
+                );
             }
         }
     }

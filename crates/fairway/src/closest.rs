@@ -97,7 +97,11 @@ impl<'a> CurveProjector<'a> {
 
     fn at(&self, t: f64, q: DVec3) -> ClosestPoint {
         let p = self.curve.point(t);
-        ClosestPoint { param: t, point: p, distance: p.distance(q) }
+        ClosestPoint {
+            param: t,
+            point: p,
+            distance: p.distance(q),
+        }
     }
 
     fn f(&self, t: f64, q: DVec3) -> (f64, f64, DVec3) {
@@ -110,10 +114,18 @@ impl<'a> CurveProjector<'a> {
     fn refine(&self, q: DVec3, a: f64, b: f64, t0: f64) -> ClosestPoint {
         let (fa, _, pa) = self.f(a, q);
         let (fb, _, pb) = self.f(b, q);
-        let mut best = ClosestPoint { param: a, point: pa, distance: pa.distance(q) };
+        let mut best = ClosestPoint {
+            param: a,
+            point: pa,
+            distance: pa.distance(q),
+        };
         let db = pb.distance(q);
         if db < best.distance {
-            best = ClosestPoint { param: b, point: pb, distance: db };
+            best = ClosestPoint {
+                param: b,
+                point: pb,
+                distance: db,
+            };
         }
         if !(fa < 0.0 && fb > 0.0) {
             // no interior minimum bracketed: the ends (and the guess) are the candidates
@@ -127,7 +139,11 @@ impl<'a> CurveProjector<'a> {
             if f == 0.0 {
                 break;
             }
-            if f < 0.0 { lo = t } else { hi = t }
+            if f < 0.0 {
+                lo = t
+            } else {
+                hi = t
+            }
             let mut next = if df > 0.0 { t - f / df } else { f64::NAN };
             if !(next > lo && next < hi) {
                 next = 0.5 * (lo + hi);
@@ -147,7 +163,11 @@ impl<'a> CurveProjector<'a> {
 fn seg_dist2(a: DVec3, b: DVec3, q: DVec3) -> f64 {
     let ab = b - a;
     let l2 = ab.length_squared();
-    let t = if l2 > 0.0 { ((q - a).dot(ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
+    let t = if l2 > 0.0 {
+        ((q - a).dot(ab) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     (a + ab * t).distance_squared(q)
 }
 

@@ -88,33 +88,63 @@ impl CurveDerivs {
 impl BSplineCurve {
     /// Build and validate a curve. `dim` is 2 or 3; for 2D, the z coordinates
     /// must be 0. `weights`, if given, must be positive, one per point.
-    pub fn try_new(degree: usize, knots: Vec<f64>, points: Vec<DVec3>, weights: Option<Vec<f64>>, dim: usize) -> Result<Self> {
+    pub fn try_new(
+        degree: usize,
+        knots: Vec<f64>,
+        points: Vec<DVec3>,
+        weights: Option<Vec<f64>>,
+        dim: usize,
+    ) -> Result<Self> {
         if dim != 2 && dim != 3 {
-            return Err(Error::InvalidInput(format!("dimension {dim} is not supported (2 or 3)")));
+            return Err(Error::InvalidInput(format!(
+                "dimension {dim} is not supported (2 or 3)"
+            )));
         }
         let knots = KnotVector::try_new(knots, degree, points.len(), "knots")?;
         for (i, p) in points.iter().enumerate() {
             if !p.is_finite() {
-                return Err(Error::NotFinite { field: "points".into(), index: i });
+                return Err(Error::NotFinite {
+                    field: "points".into(),
+                    index: i,
+                });
             }
             if dim == 2 && p.z != 0.0 {
-                return Err(Error::InvalidInput(format!("points: point {i} of a 2D curve has z = {}", p.z)));
+                return Err(Error::InvalidInput(format!(
+                    "points: point {i} of a 2D curve has z = {}",
+                    p.z
+                )));
             }
         }
         if let Some(w) = &weights {
             if w.len() != points.len() {
-                return Err(Error::LengthMismatch { field: "weights".into(), count: w.len(), expected: points.len() });
+                return Err(Error::LengthMismatch {
+                    field: "weights".into(),
+                    count: w.len(),
+                    expected: points.len(),
+                });
             }
             for (i, &x) in w.iter().enumerate() {
                 if !x.is_finite() {
-                    return Err(Error::NotFinite { field: "weights".into(), index: i });
+                    return Err(Error::NotFinite {
+                        field: "weights".into(),
+                        index: i,
+                    });
                 }
                 if x <= 0.0 {
-                    return Err(Error::BadWeight { field: "weights".into(), index: i, value: x });
+                    return Err(Error::BadWeight {
+                        field: "weights".into(),
+                        index: i,
+                        value: x,
+                    });
                 }
             }
         }
-        Ok(Self { knots, points, weights, dim })
+        Ok(Self {
+            knots,
+            points,
+            weights,
+            dim,
+        })
     }
 
     /// A non-rational 2D curve from `(x, y)` points.
@@ -137,7 +167,13 @@ impl BSplineCurve {
 
     /// The same knots and weights with new control points (validated).
     pub fn with_points(&self, points: Vec<DVec3>) -> Result<Self> {
-        Self::try_new(self.degree(), self.knots.values().to_vec(), points, self.weights.clone(), self.dim)
+        Self::try_new(
+            self.degree(),
+            self.knots.values().to_vec(),
+            points,
+            self.weights.clone(),
+            self.dim,
+        )
     }
 
     /// Degree p.
@@ -198,7 +234,10 @@ impl BSplineCurve {
                     .into(),
             ));
         }
-        Ok(Self { weights: None, ..self.clone() })
+        Ok(Self {
+            weights: None,
+            ..self.clone()
+        })
     }
 
     /// First and last points coincide (within `tol`).
@@ -254,7 +293,12 @@ impl BSplineCurve {
                         out[k] += cp * d[k][j];
                     }
                 }
-                CurveDerivs { p: out[0], d1: out[1], d2: out[2], d3: out[3] }
+                CurveDerivs {
+                    p: out[0],
+                    d1: out[1],
+                    d2: out[2],
+                    d3: out[3],
+                }
             }
             Some(w) => {
                 let mut a = [DVec4::ZERO; 4];
@@ -266,7 +310,12 @@ impl BSplineCurve {
                     }
                 }
                 let c = rational_derivs(&a);
-                CurveDerivs { p: c[0], d1: c[1], d2: c[2], d3: c[3] }
+                CurveDerivs {
+                    p: c[0],
+                    d1: c[1],
+                    d2: c[2],
+                    d3: c[3],
+                }
             }
         }
     }
@@ -374,7 +423,12 @@ impl BSplineCurve {
     pub fn insert_knot(&self, u: f64, times: usize) -> Result<Self> {
         let (a, b) = self.domain();
         if !(u > a && u < b) {
-            return Err(Error::OutOfDomain { what: "knot to insert".into(), value: u, start: a, end: b });
+            return Err(Error::OutOfDomain {
+                what: "knot to insert".into(),
+                value: u,
+                start: a,
+                end: b,
+            });
         }
         let mut c = self.clone();
         for _ in 0..times {
@@ -389,7 +443,9 @@ impl BSplineCurve {
         let k = self.knots.find_span(u);
         let s = self.knots.multiplicity(u);
         if s >= p {
-            return Err(Error::InvalidInput(format!("knot {u} already has multiplicity {s} = degree")));
+            return Err(Error::InvalidInput(format!(
+                "knot {u} already has multiplicity {s} = degree"
+            )));
         }
         let h = self.homogeneous();
         let mut q = Vec::with_capacity(h.len() + 1);
@@ -400,7 +456,7 @@ impl BSplineCurve {
         }
         q.extend_from_slice(&h[k..]);
         let knots = self.knots.with_inserted(u);
-        self.from_homogeneous(knots, q)
+        self.rebuild_homogeneous(knots, q)
     }
 
     /// Insert every value of `us` (sorted or not) once: knot refinement.
@@ -422,7 +478,12 @@ impl BSplineCurve {
             w.reverse();
             w
         });
-        Self { knots: KnotVector::try_new(knots, self.degree(), points.len(), "knots").expect("reversal keeps validity"), points, weights, dim: self.dim }
+        Self {
+            knots: KnotVector::try_new(knots, self.degree(), points.len(), "knots").expect("reversal keeps validity"),
+            points,
+            weights,
+            dim: self.dim,
+        }
     }
 
     fn homogeneous(&self) -> Vec<DVec4> {
@@ -432,7 +493,7 @@ impl BSplineCurve {
         }
     }
 
-    fn from_homogeneous(&self, knots: Vec<f64>, h: Vec<DVec4>) -> Result<Self> {
+    fn rebuild_homogeneous(&self, knots: Vec<f64>, h: Vec<DVec4>) -> Result<Self> {
         let (points, weights) = if self.weights.is_some() {
             let w: Vec<f64> = h.iter().map(|x| x.w).collect();
             (h.iter().map(|x| x.truncate() / x.w).collect(), Some(w))

@@ -81,10 +81,18 @@ pub fn fit_curve_points(
     let p = knots.degree();
     let n = knots.n_points();
     if params.len() != targets.len() {
-        return Err(Error::LengthMismatch { field: "fit targets".into(), count: targets.len(), expected: params.len() });
+        return Err(Error::LengthMismatch {
+            field: "fit targets".into(),
+            count: targets.len(),
+            expected: params.len(),
+        });
     }
     if !fixed.is_empty() && fixed.len() != n {
-        return Err(Error::LengthMismatch { field: "fit fixed points".into(), count: fixed.len(), expected: n });
+        return Err(Error::LengthMismatch {
+            field: "fit fixed points".into(),
+            count: fixed.len(),
+            expected: n,
+        });
     }
     let is_fixed = |i: usize| !fixed.is_empty() && fixed[i].is_some();
     // compact index of free control points
@@ -96,7 +104,9 @@ pub fn fit_curve_points(
             nf += 1;
         }
     }
-    let mut out: Vec<DVec3> = (0..n).map(|i| if is_fixed(i) { fixed[i].unwrap() } else { DVec3::ZERO }).collect();
+    let mut out: Vec<DVec3> = (0..n)
+        .map(|i| if is_fixed(i) { fixed[i].unwrap() } else { DVec3::ZERO })
+        .collect();
     if nf == 0 {
         return Ok(out);
     }

@@ -24,7 +24,11 @@ impl KnotVector {
     pub fn try_new(values: Vec<f64>, degree: usize, points: usize, field: &str) -> Result<Self> {
         let f = || field.to_string();
         if degree == 0 || degree > MAX_DEGREE {
-            return Err(Error::BadDegree { field: f(), degree, max: MAX_DEGREE });
+            return Err(Error::BadDegree {
+                field: f(),
+                degree,
+                max: MAX_DEGREE,
+            });
         }
         if points < degree + 1 {
             return Err(Error::TooFewPoints {
@@ -36,14 +40,25 @@ impl KnotVector {
         }
         let expected = points + degree + 1;
         if values.len() != expected {
-            return Err(Error::KnotCount { field: f(), count: values.len(), expected, points, degree });
+            return Err(Error::KnotCount {
+                field: f(),
+                count: values.len(),
+                expected,
+                points,
+                degree,
+            });
         }
         if let Some(index) = values.iter().position(|v| !v.is_finite()) {
             return Err(Error::NotFinite { field: f(), index });
         }
         for i in 1..values.len() {
             if values[i] < values[i - 1] {
-                return Err(Error::KnotsDecreasing { field: f(), index: i, prev: values[i - 1], next: values[i] });
+                return Err(Error::KnotsDecreasing {
+                    field: f(),
+                    index: i,
+                    prev: values[i - 1],
+                    next: values[i],
+                });
             }
         }
         let first = values[0];
@@ -51,10 +66,17 @@ impl KnotVector {
         let clamped_start = values[..=degree].iter().all(|&v| v == first);
         let clamped_end = values[values.len() - degree - 1..].iter().all(|&v| v == last);
         if !clamped_start || !clamped_end {
-            return Err(Error::KnotsNotClamped { field: f(), needed: degree + 1 });
+            return Err(Error::KnotsNotClamped {
+                field: f(),
+                needed: degree + 1,
+            });
         }
         if last <= first {
-            return Err(Error::EmptyDomain { field: f(), start: first, end: last });
+            return Err(Error::EmptyDomain {
+                field: f(),
+                start: first,
+                end: last,
+            });
         }
         // Interior multiplicity: the runs strictly inside the clamped ends.
         let interior = &values[degree + 1..values.len() - degree - 1];
@@ -70,7 +92,11 @@ impl KnotVector {
                 return Err(Error::KnotMultiplicity {
                     field: f(),
                     value: v,
-                    multiplicity: if v == first || v == last { mult + degree + 1 } else { mult },
+                    multiplicity: if v == first || v == last {
+                        mult + degree + 1
+                    } else {
+                        mult
+                    },
                     degree,
                 });
             }

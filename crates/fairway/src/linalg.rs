@@ -23,7 +23,12 @@ pub struct BandedSpd {
 impl BandedSpd {
     /// An `n × n` zero matrix of half-bandwidth `bw`.
     pub fn zeros(n: usize, bw: usize) -> Self {
-        Self { n, bw, data: vec![0.0; n * (bw + 1)], factored: false }
+        Self {
+            n,
+            bw,
+            data: vec![0.0; n * (bw + 1)],
+            factored: false,
+        }
     }
 
     /// Reset to an `n × n` zero matrix of bandwidth `bw`, reusing the allocation.
@@ -48,7 +53,11 @@ impl BandedSpd {
     /// `A[i][j]` (0 outside the band).
     pub fn get(&self, i: usize, j: usize) -> f64 {
         let (i, j) = if i >= j { (i, j) } else { (j, i) };
-        if i - j > self.bw { 0.0 } else { self.data[i * (self.bw + 1) + (i - j)] }
+        if i - j > self.bw {
+            0.0
+        } else {
+            self.data[i * (self.bw + 1) + (i - j)]
+        }
     }
 
     /// `A[i][j] += v` (and the symmetric entry). Panics outside the band.
@@ -75,7 +84,9 @@ impl BandedSpd {
                 }
                 if i == j {
                     if !(s > 1e-14 * scale) || !s.is_finite() {
-                        return Err(Error::Solve(format!("matrix not positive definite at row {i} (pivot {s:e})")));
+                        return Err(Error::Solve(format!(
+                            "matrix not positive definite at row {i} (pivot {s:e})"
+                        )));
                     }
                     self.data[i * w] = s.sqrt();
                 } else {
@@ -123,7 +134,9 @@ mod tests {
                 a.add(i, i - 1, -1.0);
             }
         }
-        let x: Vec<DVec3> = (0..n).map(|i| DVec3::new(i as f64, (i * i) as f64 * 0.1, 1.0)).collect();
+        let x: Vec<DVec3> = (0..n)
+            .map(|i| DVec3::new(i as f64, (i * i) as f64 * 0.1, 1.0))
+            .collect();
         let mut b: Vec<DVec3> = (0..n)
             .map(|i| {
                 let mut s = x[i] * 4.0;

@@ -87,7 +87,10 @@ mod tests {
             for deg in 0..2 * n {
                 let exact = (2f64.powi(deg as i32 + 1) - 0.0) / (deg as f64 + 1.0); // ∫_0^2 x^deg
                 let got = g.integrate(0.0, 2.0, |x| x.powi(deg as i32));
-                assert!((got - exact).abs() < 1e-12 * exact.max(1.0), "n={n} deg={deg}: {got} vs {exact}");
+                assert!(
+                    (got - exact).abs() < 1e-12 * exact.max(1.0),
+                    "n={n} deg={deg}: {got} vs {exact}"
+                );
             }
         }
         let g = gl10();

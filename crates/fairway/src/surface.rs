@@ -90,7 +90,15 @@ impl SurfaceDerivs {
             (Some(a), _) if disc > 1e-12 * (mean.abs() + disc) => (a, n.cross(a)),
             _ => (su_n, n.cross(su_n)), // umbilic: any orthonormal pair
         };
-        SurfaceCurvature { normal: n, k_max, k_min, mean, gauss, dir_max, dir_min }
+        SurfaceCurvature {
+            normal: n,
+            k_max,
+            k_min,
+            mean,
+            gauss,
+            dir_max,
+            dir_min,
+        }
     }
 }
 
@@ -107,27 +115,52 @@ impl BSplineSurface {
         weights: Option<Vec<f64>>,
     ) -> Result<Self> {
         if points.len() != nu * nv {
-            return Err(Error::LengthMismatch { field: "points".into(), count: points.len(), expected: nu * nv });
+            return Err(Error::LengthMismatch {
+                field: "points".into(),
+                count: points.len(),
+                expected: nu * nv,
+            });
         }
         let knots_u = KnotVector::try_new(knots_u, degree_u, nu, "knots_u")?;
         let knots_v = KnotVector::try_new(knots_v, degree_v, nv, "knots_v")?;
         if let Some(index) = points.iter().position(|p| !p.is_finite()) {
-            return Err(Error::NotFinite { field: "points".into(), index });
+            return Err(Error::NotFinite {
+                field: "points".into(),
+                index,
+            });
         }
         if let Some(w) = &weights {
             if w.len() != points.len() {
-                return Err(Error::LengthMismatch { field: "weights".into(), count: w.len(), expected: points.len() });
+                return Err(Error::LengthMismatch {
+                    field: "weights".into(),
+                    count: w.len(),
+                    expected: points.len(),
+                });
             }
             for (i, &x) in w.iter().enumerate() {
                 if !x.is_finite() {
-                    return Err(Error::NotFinite { field: "weights".into(), index: i });
+                    return Err(Error::NotFinite {
+                        field: "weights".into(),
+                        index: i,
+                    });
                 }
                 if x <= 0.0 {
-                    return Err(Error::BadWeight { field: "weights".into(), index: i, value: x });
+                    return Err(Error::BadWeight {
+                        field: "weights".into(),
+                        index: i,
+                        value: x,
+                    });
                 }
             }
         }
-        Ok(Self { knots_u, knots_v, nu, nv, points, weights })
+        Ok(Self {
+            knots_u,
+            knots_v,
+            nu,
+            nv,
+            points,
+            weights,
+        })
     }
 
     /// The same knots and weights with new control points.
@@ -195,7 +228,10 @@ impl BSplineSurface {
                 "rational surface (unequal weights): fairing needs a non-rational B-spline surface".into(),
             ));
         }
-        Ok(Self { weights: None, ..self.clone() })
+        Ok(Self {
+            weights: None,
+            ..self.clone()
+        })
     }
     /// Domain `((u0, u1), (v0, v1))`.
     pub fn domain(&self) -> ((f64, f64), (f64, f64)) {
@@ -257,11 +293,22 @@ impl BSplineSurface {
         }
         let s = if self.weights.is_none() {
             let t = |x: DVec4| x.truncate();
-            [[t(a[0][0]), t(a[0][1]), t(a[0][2])], [t(a[1][0]), t(a[1][1]), DVec3::ZERO], [t(a[2][0]), DVec3::ZERO, DVec3::ZERO]]
+            [
+                [t(a[0][0]), t(a[0][1]), t(a[0][2])],
+                [t(a[1][0]), t(a[1][1]), DVec3::ZERO],
+                [t(a[2][0]), DVec3::ZERO, DVec3::ZERO],
+            ]
         } else {
             rational_surface_derivs(&a)
         };
-        SurfaceDerivs { p: s[0][0], su: s[1][0], sv: s[0][1], suu: s[2][0], suv: s[1][1], svv: s[0][2] }
+        SurfaceDerivs {
+            p: s[0][0],
+            su: s[1][0],
+            sv: s[0][1],
+            suu: s[2][0],
+            suv: s[1][1],
+            svv: s[0][2],
+        }
     }
 
     /// Unit normal `Su × Sv / |Su × Sv|`.
@@ -302,11 +349,15 @@ impl BSplineSurface {
 
     fn curve_from_hom(&self, knots: KnotVector, h: Vec<DVec4>) -> BSplineCurve {
         let (points, weights) = if self.weights.is_some() {
-            (h.iter().map(|x| x.truncate() / x.w).collect(), Some(h.iter().map(|x| x.w).collect()))
+            (
+                h.iter().map(|x| x.truncate() / x.w).collect(),
+                Some(h.iter().map(|x| x.w).collect()),
+            )
         } else {
             (h.iter().map(|x| x.truncate()).collect(), None)
         };
-        BSplineCurve::try_new(knots.degree(), knots.values().to_vec(), points, weights, 3).expect("an isocurve of a valid surface is valid")
+        BSplineCurve::try_new(knots.degree(), knots.values().to_vec(), points, weights, 3)
+            .expect("an isocurve of a valid surface is valid")
     }
 }
 

@@ -56,12 +56,18 @@ struct DocumentFile {
 impl Document {
     /// A document holding `geometry` with default settings.
     pub fn new(geometry: Geometry) -> Self {
-        Self { geometry, settings: DocumentSettings::default() }
+        Self {
+            geometry,
+            settings: DocumentSettings::default(),
+        }
     }
 
     /// Parse and validate a RON document.
     pub fn from_ron(text: &str) -> Result<Self> {
-        let perr = |m: String| Error::Parse { format: "RON".into(), message: m };
+        let perr = |m: String| Error::Parse {
+            format: "RON".into(),
+            message: m,
+        };
         if text.trim().is_empty() {
             return Err(perr("the file is empty".into()));
         }
@@ -80,7 +86,10 @@ impl Document {
         {
             return Err(perr(format!("settings.tolerance: {t} must be a positive number")));
         }
-        Ok(Self { geometry: f.geometry.try_into()?, settings: f.settings })
+        Ok(Self {
+            geometry: f.geometry.try_into()?,
+            settings: f.settings,
+        })
     }
 
     /// The document as RON text.
@@ -92,7 +101,10 @@ impl Document {
             settings: self.settings.clone(),
         };
         let cfg = ron::ser::PrettyConfig::new().depth_limit(3).indentor(" ".to_string());
-        let mut s = ron::ser::to_string_pretty(&f, cfg).map_err(|e| Error::Parse { format: "RON".into(), message: e.to_string() })?;
+        let mut s = ron::ser::to_string_pretty(&f, cfg).map_err(|e| Error::Parse {
+            format: "RON".into(),
+            message: e.to_string(),
+        })?;
         s.push('\n');
         Ok(s)
     }

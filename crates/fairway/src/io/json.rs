@@ -11,7 +11,10 @@ use crate::error::{Error, Result};
 use crate::geometry::Geometry;
 
 fn parse_err(message: impl Into<String>) -> Error {
-    Error::Parse { format: "JSON".into(), message: message.into() }
+    Error::Parse {
+        format: "JSON".into(),
+        message: message.into(),
+    }
 }
 
 /// Parse geometry JSON, validating it.
@@ -26,7 +29,9 @@ pub fn from_str(text: &str) -> Result<Geometry> {
 /// Validate geometry from an already parsed JSON value.
 pub fn from_value(v: Value) -> Result<Geometry> {
     let Value::Object(map) = &v else {
-        return Err(parse_err("expected an object with \"degree\" (curve) or \"degree_u\" (surface)"));
+        return Err(parse_err(
+            "expected an object with \"degree\" (curve) or \"degree_u\" (surface)",
+        ));
     };
     if map.contains_key("degree_u") || map.contains_key("knots_u") {
         let r: SurfaceRecord = serde_json::from_value(v).map_err(|e| parse_err(format!("surface: {e}")))?;
@@ -35,7 +40,9 @@ pub fn from_value(v: Value) -> Result<Geometry> {
         let r: CurveRecord = serde_json::from_value(v).map_err(|e| parse_err(format!("curve: {e}")))?;
         Ok(Geometry::Curve(r.try_into()?))
     } else {
-        Err(parse_err("neither a curve (key \"degree\") nor a surface (key \"degree_u\")"))
+        Err(parse_err(
+            "neither a curve (key \"degree\") nor a surface (key \"degree_u\")",
+        ))
     }
 }
 

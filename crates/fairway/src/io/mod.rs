@@ -25,7 +25,10 @@ pub enum Format {
 impl Format {
     /// The format of a path, from its extension.
     pub fn from_path(path: &Path) -> Result<Self> {
-        let ext = path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase());
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(|e| e.to_ascii_lowercase());
         match ext.as_deref() {
             Some("json") => Ok(Format::Json),
             Some("ron") | Some("fairway") => Ok(Format::Ron),
@@ -42,7 +45,10 @@ impl Format {
 }
 
 fn io_err(path: &Path, e: impl std::fmt::Display) -> Error {
-    Error::Io { path: path.display().to_string(), message: e.to_string() }
+    Error::Io {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    }
 }
 
 /// Read a text file into a string, with the path in the error.

@@ -53,7 +53,12 @@ pub enum GeometryRecord {
 
 fn point3(field: &str, index: usize, c: &[f64], dim: usize) -> Result<DVec3> {
     if c.len() != dim {
-        return Err(Error::BadDimension { field: field.into(), index, found: c.len(), expected: dim });
+        return Err(Error::BadDimension {
+            field: field.into(),
+            index,
+            found: c.len(),
+            expected: dim,
+        });
     }
     Ok(DVec3::new(c[0], c[1], if dim == 3 { c[2] } else { 0.0 }))
 }
@@ -63,9 +68,19 @@ impl TryFrom<CurveRecord> for BSplineCurve {
     fn try_from(r: CurveRecord) -> Result<Self> {
         let dim = r.points.first().map_or(2, |p| p.len());
         if dim != 2 && dim != 3 {
-            return Err(Error::BadDimension { field: "points".into(), index: 0, found: dim, expected: 2 });
+            return Err(Error::BadDimension {
+                field: "points".into(),
+                index: 0,
+                found: dim,
+                expected: 2,
+            });
         }
-        let pts = r.points.iter().enumerate().map(|(i, c)| point3("points", i, c, dim)).collect::<Result<Vec<_>>>()?;
+        let pts = r
+            .points
+            .iter()
+            .enumerate()
+            .map(|(i, c)| point3("points", i, c, dim))
+            .collect::<Result<Vec<_>>>()?;
         BSplineCurve::try_new(r.degree, r.knots, pts, r.weights, dim)
     }
 }
@@ -90,7 +105,11 @@ impl TryFrom<SurfaceRecord> for BSplineSurface {
         let mut pts = Vec::with_capacity(nu * nv);
         for (i, row) in r.points.iter().enumerate() {
             if row.len() != nv {
-                return Err(Error::LengthMismatch { field: format!("points[{i}]"), count: row.len(), expected: nv });
+                return Err(Error::LengthMismatch {
+                    field: format!("points[{i}]"),
+                    count: row.len(),
+                    expected: nv,
+                });
             }
             for (j, c) in row.iter().enumerate() {
                 pts.push(point3("points", i * nv + j, c, 3)?);
@@ -100,7 +119,9 @@ impl TryFrom<SurfaceRecord> for BSplineSurface {
             None => None,
             Some(w) => {
                 if w.len() != nu || w.iter().any(|row| row.len() != nv) {
-                    return Err(Error::InvalidInput(format!("weights: expected {nu} rows of {nv} values, like points")));
+                    return Err(Error::InvalidInput(format!(
+                        "weights: expected {nu} rows of {nv} values, like points"
+                    )));
                 }
                 Some(w.into_iter().flatten().collect())
             }
@@ -117,8 +138,12 @@ impl From<&BSplineSurface> for SurfaceRecord {
             degree_v: s.degree_v(),
             knots_u: s.knots_u().values().to_vec(),
             knots_v: s.knots_v().values().to_vec(),
-            points: (0..nu).map(|i| (0..nv).map(|j| s.point_at(i, j).to_array().to_vec()).collect()).collect(),
-            weights: s.weights().map(|w| (0..nu).map(|i| w[i * nv..(i + 1) * nv].to_vec()).collect()),
+            points: (0..nu)
+                .map(|i| (0..nv).map(|j| s.point_at(i, j).to_array().to_vec()).collect())
+                .collect(),
+            weights: s
+                .weights()
+                .map(|w| (0..nu).map(|i| w[i * nv..(i + 1) * nv].to_vec()).collect()),
         }
     }
 }
