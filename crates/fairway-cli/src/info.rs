@@ -1,0 +1,236 @@
+//! `fairway info FILE [--json]`: what a geometry file holds.
+//!
+//! Curves: kind, dimension, degree, control points, rational, knot spans,
+//! domain, arc length (adaptive Gauss–Legendre, relative accuracy 1e-12),
+//! curvature range and inflections (2D). Surfaces: kind, degrees, control
+//! net, spans, domain and the ranges of the principal, mean and Gaussian
+//! curvatures.
+//!
+//! Curvature ranges are sampled: [`SAMPLES_PER_SPAN`] uniform parameters in
+//! every knot span (per direction for surfaces), breakpoints included;
+//! undefined values (cusps, singular points) are skipped.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use fairway::{BSplineCurve, BSplineSurface, Geometry};
+use serde::Serialize;
+
+use crate::common::{load_geometry, print_json};
+
+/// Samples per knot span for the curvature ranges.
+pub const SAMPLES_PER_SPAN: usize = 32;
+
+/// Arguments of `fairway info`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Geometry file (.json geometry or .ron/.fairway document).
+    pub file: PathBuf,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Summary of a curve.
+#[derive(Serialize, Debug)]
+pub struct CurveInfo {
+    /// "curve".
+    pub kind: &'static str,
+    /// 2 or 3.
+    pub dimension: usize,
+    /// Degree.
+    pub degree: usize,
+    /// Number of control points.
+    pub control_points: usize,
+    /// Has (unequal or equal) weights.
+    pub rational: bool,
+    /// Non-empty knot spans.
+    pub spans: usize,
+    /// Parameter domain.
+    pub domain: [f64; 2],
+    /// Arc length.
+    pub length: f64,
+    /// Smallest sampled curvature (signed in 2D).
+    pub curvature_min: f64,
+    /// Largest sampled curvature.
+    pub curvature_max: f64,
+    /// Number of inflections (2D; 0 in 3D).
+    pub n_inflections: usize,
+    /// Parameters of the inflections (2D).
+    pub inflections: Vec<f64>,
+}
+
+/// Summary of a surface.
+#[derive(Serialize, Debug)]
+pub struct SurfaceInfo {
+    /// "surface".
+    pub kind: &'static str,
+    /// Always 3.
+    pub dimension: usize,
+    /// Degree in u.
+    pub degree_u: usize,
+    /// Degree in v.
+    pub degree_v: usize,
+    /// Control points in u.
+    pub control_points_u: usize,
+    /// Control points in v.
+    pub control_points_v: usize,
+    /// Has weights.
+    pub rational: bool,
+    /// Knot spans in u.
+    pub spans_u: usize,
+    /// Knot spans in v.
+    pub spans_v: usize,
+    /// Domain in u.
+    pub domain_u: [f64; 2],
+    /// Domain in v.
+    pub domain_v: [f64; 2],
+    /// Range of k_max.
+    pub k_max_range: [f64; 2],
+    /// Range of k_min.
+    pub k_min_range: [f64; 2],
+    /// Range of the mean curvature.
+    pub mean_range: [f64; 2],
+    /// Range of the Gaussian curvature.
+    pub gauss_range: [f64; 2],
+}
+
+/// Parameters: `m` uniform samples in each span, plus the domain end.
+fn span_samples(breakpoints: &[f64], m: usize) -> Vec<f64> {
+    let mut out = Vec::with_capacity((breakpoints.len() - 1) * m + 1);
+    for w in breakpoints.windows(2) {
+        for k in 0..m {
+            out.push(w[0] + (w[1] - w[0]) * k as f64 / m as f64);
+        }
+    }
+    out.push(*breakpoints.last().unwrap());
+    out
+}
+
+#[derive(Clone, Copy)]
+struct Range([f64; 2]);
+
+impl Range {
+    const EMPTY: Self = Range([f64::INFINITY, f64::NEG_INFINITY]);
+    fn add(&mut self, x: f64) {
+        if x.is_finite() {
+            self.0[0] = self.0[0].min(x);
+            self.0[1] = self.0[1].max(x);
+        }
+    }
+    fn get(self) -> [f64; 2] {
+        if self.0[0] <= self.0[1] { self.0 } else { [f64::NAN; 2] }
+    }
+}
+
+/// Summarize a curve.
+pub fn curve_info(c: &BSplineCurve) -> CurveInfo {
+    let (a, b) = c.domain();
+    let mut k = Range::EMPTY;
+    for u in span_samples(&c.knots().breakpoints(), SAMPLES_PER_SPAN) {
+        k.add(c.curvature(u));
+    }
+    let [kmin, kmax] = k.get();
+    let inflections = c.inflections(SAMPLES_PER_SPAN);
+    CurveInfo {
+        kind: "curve",
+        dimension: c.dim(),
+        degree: c.degree(),
+        control_points: c.n_points(),
+        rational: c.is_rational(),
+        spans: c.knots().n_spans(),
+        domain: [a, b],
+        length: c.length(1e-12),
+        curvature_min: kmin,
+        curvature_max: kmax,
+        n_inflections: inflections.len(),
+        inflections,
+    }
+}
+
+/// Summarize a surface.
+pub fn surface_info(s: &BSplineSurface) -> SurfaceInfo {
+    let ((u0, u1), (v0, v1)) = s.domain();
+    let us = span_samples(&s.knots_u().breakpoints(), SAMPLES_PER_SPAN / 4);
+    let vs = span_samples(&s.knots_v().breakpoints(), SAMPLES_PER_SPAN / 4);
+    let (mut kx, mut kn, mut h, mut g) = (Range::EMPTY, Range::EMPTY, Range::EMPTY, Range::EMPTY);
+    for &u in &us {
+        for &v in &vs {
+            let k = s.curvature(u, v);
+            kx.add(k.k_max);
+            kn.add(k.k_min);
+            h.add(k.mean);
+            g.add(k.gauss);
+        }
+    }
+    SurfaceInfo {
+        kind: "surface",
+        dimension: 3,
+        degree_u: s.degree_u(),
+        degree_v: s.degree_v(),
+        control_points_u: s.nu(),
+        control_points_v: s.nv(),
+        rational: s.is_rational(),
+        spans_u: s.knots_u().n_spans(),
+        spans_v: s.knots_v().n_spans(),
+        domain_u: [u0, u1],
+        domain_v: [v0, v1],
+        k_max_range: kx.get(),
+        k_min_range: kn.get(),
+        mean_range: h.get(),
+        gauss_range: g.get(),
+    }
+}
+
+/// Run `fairway info`.
+pub fn run(args: &Args) -> Result<()> {
+    let name = args.file.display();
+    match load_geometry(&args.file)? {
+        Geometry::Curve(c) => {
+            let i = curve_info(&c);
+            if args.json {
+                return print_json(&i);
+            }
+            println!("{name}: {}D curve", i.dimension);
+            println!("  degree          {}", i.degree);
+            println!(
+                "  control points  {}{}",
+                i.control_points,
+                if i.rational { " (rational)" } else { "" }
+            );
+            println!("  knot spans      {}", i.spans);
+            println!("  domain          [{}, {}]", i.domain[0], i.domain[1]);
+            println!("  length          {:.12}", i.length);
+            println!("  curvature       {:.6e} .. {:.6e}", i.curvature_min, i.curvature_max);
+            if i.dimension == 2 {
+                let list: Vec<String> = i.inflections.iter().map(|u| format!("{u:.6}")).collect();
+                println!("  inflections     {} [{}]", i.n_inflections, list.join(", "));
+            }
+        }
+        Geometry::Surface(s) => {
+            let i = surface_info(&s);
+            if args.json {
+                return print_json(&i);
+            }
+            println!("{name}: surface");
+            println!("  degrees         {} × {}", i.degree_u, i.degree_v);
+            println!(
+                "  control points  {} × {}{}",
+                i.control_points_u,
+                i.control_points_v,
+                if i.rational { " (rational)" } else { "" }
+            );
+            println!("  knot spans      {} × {}", i.spans_u, i.spans_v);
+            println!(
+                "  domain          [{}, {}] × [{}, {}]",
+                i.domain_u[0], i.domain_u[1], i.domain_v[0], i.domain_v[1]
+            );
+            let r = |x: [f64; 2]| format!("{:.6e} .. {:.6e}", x[0], x[1]);
+            println!("  k_max           {}", r(i.k_max_range));
+            println!("  k_min           {}", r(i.k_min_range));
+            println!("  mean            {}", r(i.mean_range));
+            println!("  gauss           {}", r(i.gauss_range));
+        }
+    }
+    Ok(())
+}
