@@ -15,10 +15,12 @@ pub mod closest;
 pub mod curve;
 pub mod error;
 pub mod fit;
+pub mod fit_surface;
 pub mod geometry;
 pub mod io;
 pub mod knots;
 pub mod linalg;
+pub mod measure_surface;
 pub mod quadrature;
 pub mod surface;
 

@@ -1,0 +1,428 @@
+//! Least-squares tensor-product B-spline surface fit to grid data with the
+//! original knot vectors, a block of free control points (all others held)
+//! and an optional separable smoothing term.
+//!
+//! Data: points `x_kl` at parameters `(u_k, v_l)` on a grid (`k` over u,
+//! `l` over v). With the basis matrices `A_ki = N_i(u_k)`, `B_lj = M_j(v_l)`
+//! the surface at the data is `A D Bᵀ` (D the `nu × nv` control net), and the
+//! fit minimises
+//!
+//! ```text
+//! ‖A D Bᵀ − X‖² + λu⟨Gu D, D BᵀB⟩ + λv⟨AᵀA D, D Gv⟩ + λu λv⟨Gu D, D Gv⟩
+//!   = ⟨Pu D Pv, D⟩ − 2⟨AᵀX B, D⟩ + const,   Pu = AᵀA + λu Gu,  Pv = BᵀB + λv Gv,
+//! ```
+//!
+//! with `G_ij = ∫ N_i^{(r)} N_j^{(r)}` the derivative Gram matrices
+//! ([`crate::fit::derivative_gram`]). The λu term is `Σ_l ∫ |∂ᵣS/∂uʳ(u, v_l)|² du`
+//! (the r-th derivative energy of the data's u-isocurves), the λv term the same in v,
+//! and the product term `∫∫ |∂^{2r}S/∂uʳ∂vʳ|²`: a separable (Kronecker) penalty, so
+//! the problem stays separable.
+//!
+//! Only the control points of a rectangular block `D_f` (rows `free_u`, columns
+//! `free_v`) move; the others, `D_b`, keep their values. Setting the gradient
+//! with respect to `D_f` to zero gives the exact normal equations
+//!
+//! ```text
+//! Pu_ff · D_f · Pv_ff = [AᵀX B − Pu D_b Pv]_ff
+//! ```
+//!
+//! which are solved as two sets of banded 1D systems (Cholesky of the banded
+//! `Pu_ff` then `Pv_ff`, bandwidth p): O(data · p) to assemble,
+//! O(nu·nv·p) to solve. This is the tensor-product least squares of
+//! The NURBS Book §9.4.1 made separable, as in Dierckx, *Curve and Surface
+//! Fitting with Splines* (1993), §10.2.
+
+use std::ops::Range;
+
+use glam::DVec3;
+
+use crate::basis::{MAX_ORDER, basis_funs};
+use crate::error::{Error, Result};
+use crate::fit::derivative_gram;
+use crate::knots::KnotVector;
+use crate::linalg::BandedSpd;
+use crate::surface::BSplineSurface;
+
+/// Smoothing of a surface fit: dimensionless strengths, scaled internally by
+/// `trace(AᵀA) / trace(G)` in each direction so that a strength of 1 weighs
+/// the derivative energy like the data term, whatever the parameterization
+/// and sample count.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfaceSmoothing {
+    /// Strength of the u-derivative term (0 = none).
+    pub strength_u: f64,
+    /// Strength of the v-derivative term (0 = none).
+    pub strength_v: f64,
+    /// Derivative order r (2 = bending, 3 = curvature variation).
+    pub order: usize,
+}
+
+impl SurfaceSmoothing {
+    /// No smoothing.
+    pub const NONE: Self = Self {
+        strength_u: 0.0,
+        strength_v: 0.0,
+        order: 2,
+    };
+}
+
+/// The control-point indices, in one direction, whose support lies inside
+/// `[a, b]`: basis function `i` is free iff `[t_i, t_{i+p+1}] ⊂ [a, b]`.
+///
+/// Moving only those keeps the surface outside the region exactly as it was,
+/// and, since a basis function is `C^{p−k}` at a knot of multiplicity k, the
+/// change joins the untouched part with `C^{p−1}` continuity (G2 for cubics at
+/// simple knots). Empty when the region holds fewer than p + 1 knot spans.
+pub fn free_range(knots: &KnotVector, a: f64, b: f64) -> Range<usize> {
+    let n = knots.n_points();
+    let mut lo = n;
+    let mut hi = 0;
+    for i in 0..n {
+        let (s0, s1) = knots.support(i);
+        if s0 >= a && s1 <= b {
+            lo = lo.min(i);
+            hi = hi.max(i + 1);
+        }
+    }
+    if lo >= hi { 0..0 } else { lo..hi }
+}
+
+/// Basis values of one direction at the data parameters: span and p + 1 values each.
+struct Basis1 {
+    spans: Vec<usize>,
+    vals: Vec<[f64; MAX_ORDER]>,
+    p: usize,
+}
+
+impl Basis1 {
+    fn new(knots: &KnotVector, params: &[f64]) -> Self {
+        let p = knots.degree();
+        let mut spans = Vec::with_capacity(params.len());
+        let mut vals = Vec::with_capacity(params.len());
+        for &t in params {
+            let s = knots.find_span(t);
+            let mut nb = [0.0; MAX_ORDER];
+            basis_funs(knots.values(), s, knots.clamp(t), p, &mut nb);
+            spans.push(s);
+            vals.push(nb);
+        }
+        Self { spans, vals, p }
+    }
+
+    /// `P = AᵀA + λ G` (full size, banded) with λ = strength · tr(AᵀA)/tr(G).
+    fn normal_matrix(&self, knots: &KnotVector, strength: f64, order: usize) -> BandedSpd {
+        let (n, p) = (knots.n_points(), self.p);
+        let mut a = BandedSpd::zeros(n, p);
+        for (s, nb) in self.spans.iter().zip(&self.vals) {
+            for i in 0..=p {
+                for j in 0..=i {
+                    a.add(s - p + i, s - p + j, nb[i] * nb[j]);
+                }
+            }
+        }
+        if strength > 0.0 {
+            let g = derivative_gram(knots, order);
+            let tr_a: f64 = (0..n).map(|i| a.get(i, i)).sum();
+            let tr_g: f64 = (0..n).map(|i| g.get(i, i)).sum();
+            if tr_g > 0.0 {
+                let lambda = strength * tr_a / tr_g;
+                for i in 0..n {
+                    for j in i.saturating_sub(p)..=i {
+                        a.add(i, j, lambda * g.get(i, j));
+                    }
+                }
+            }
+        }
+        a
+    }
+}
+
+fn sub_matrix(a: &BandedSpd, r: &Range<usize>) -> BandedSpd {
+    let bw = a.bandwidth();
+    let mut s = BandedSpd::zeros(r.len(), bw);
+    for i in 0..r.len() {
+        for j in i.saturating_sub(bw)..=i {
+            s.add(i, j, a.get(r.start + i, r.start + j));
+        }
+    }
+    s
+}
+
+/// Fit the control net of `base` (its knots, degrees and the held control
+/// points) to grid data, moving only the block `free_u × free_v`.
+///
+/// * `us`, `vs`: the data parameters (any order, inside the domain);
+/// * `data`: `us.len() × vs.len()` points, row-major (`data[k * vs.len() + l]` at `(us[k], vs[l])`);
+/// * returns the full row-major control net (held points bit-for-bit unchanged).
+///
+/// Rational surfaces are rejected (convert with [`BSplineSurface::to_polynomial`]).
+/// Fails with [`Error::Solve`] when a free control point has too little data in
+/// its support and no smoothing determines it.
+pub fn fit_surface_grid(
+    base: &BSplineSurface,
+    us: &[f64],
+    vs: &[f64],
+    data: &[DVec3],
+    free_u: Range<usize>,
+    free_v: Range<usize>,
+    smoothing: SurfaceSmoothing,
+) -> Result<Vec<DVec3>> {
+    if base.is_rational() {
+        return Err(Error::InvalidInput(
+            "surface fit: the surface is rational; convert it (equal weights) or fair a non-rational surface".into(),
+        ));
+    }
+    let (nu, nv) = (base.nu(), base.nv());
+    let (mu, mv) = (us.len(), vs.len());
+    if data.len() != mu * mv {
+        return Err(Error::LengthMismatch {
+            field: "surface fit data".into(),
+            count: data.len(),
+            expected: mu * mv,
+        });
+    }
+    if free_u.end > nu || free_v.end > nv {
+        return Err(Error::InvalidInput(format!(
+            "surface fit: free block {free_u:?} × {free_v:?} outside the {nu} × {nv} control net"
+        )));
+    }
+    if let Some(k) = us.iter().chain(vs).position(|t| !t.is_finite()) {
+        return Err(Error::NotFinite {
+            field: "surface fit parameters".into(),
+            index: k,
+        });
+    }
+    if let Some(k) = data.iter().position(|p| !p.is_finite()) {
+        return Err(Error::NotFinite {
+            field: "surface fit data".into(),
+            index: k,
+        });
+    }
+    let mut out = base.points().to_vec();
+    if free_u.is_empty() || free_v.is_empty() {
+        return Ok(out);
+    }
+    let (ku, kv) = (base.knots_u(), base.knots_v());
+    let (pu, pv) = (ku.degree(), kv.degree());
+    let bu = Basis1::new(ku, us);
+    let bv = Basis1::new(kv, vs);
+    let full_u = bu.normal_matrix(ku, smoothing.strength_u, smoothing.order);
+    let full_v = bv.normal_matrix(kv, smoothing.strength_v, smoothing.order);
+
+    // T = X B (mu × nv), then C = Aᵀ T restricted to the free block.
+    let mut t = vec![DVec3::ZERO; mu * nv];
+    for k in 0..mu {
+        let row = &data[k * mv..(k + 1) * mv];
+        let trow = &mut t[k * nv..(k + 1) * nv];
+        for (l, x) in row.iter().enumerate() {
+            let (s, nb) = (bv.spans[l], &bv.vals[l]);
+            for b in 0..=pv {
+                trow[s - pv + b] += *x * nb[b];
+            }
+        }
+    }
+    let (nfu, nfv) = (free_u.len(), free_v.len());
+    let mut rhs = vec![DVec3::ZERO; nfu * nfv]; // row-major over the free block
+    for k in 0..mu {
+        let (s, nb) = (bu.spans[k], &bu.vals[k]);
+        for a in 0..=pu {
+            let i = s - pu + a;
+            if !free_u.contains(&i) {
+                continue;
+            }
+            let r = &mut rhs[(i - free_u.start) * nfv..(i - free_u.start + 1) * nfv];
+            for (jj, x) in r.iter_mut().enumerate() {
+                *x += t[k * nv + free_v.start + jj] * nb[a];
+            }
+        }
+    }
+    // subtract [Pu D_b Pv]_ff, D_b = net with the free block zeroed: W = D_b Pv (only
+    // free columns needed), then Pu W (only free rows).
+    let mut db = base.points().to_vec();
+    for i in free_u.clone() {
+        for j in free_v.clone() {
+            db[i * nv + j] = DVec3::ZERO;
+        }
+    }
+    let mut w = vec![DVec3::ZERO; nu * nfv];
+    for i in 0..nu {
+        for (jj, j) in free_v.clone().enumerate() {
+            let mut s = DVec3::ZERO;
+            for jb in j.saturating_sub(pv)..(j + pv + 1).min(nv) {
+                s += db[i * nv + jb] * full_v.get(jb, j);
+            }
+            w[i * nfv + jj] = s;
+        }
+    }
+    for (ii, i) in free_u.clone().enumerate() {
+        for ib in i.saturating_sub(pu)..(i + pu + 1).min(nu) {
+            let c = full_u.get(i, ib);
+            if c == 0.0 {
+                continue;
+            }
+            for jj in 0..nfv {
+                rhs[ii * nfv + jj] -= w[ib * nfv + jj] * c;
+            }
+        }
+    }
+    // solve Pu_ff Y = RHS (columns), then Pv_ff Dᵀ = Yᵀ (rows)
+    let underdetermined = |dir: &str| {
+        Error::Solve(format!(
+            "surface fit: too few data points in the support of some free control points in {dir}; \
+             use more samples per knot span or a smoothing term"
+        ))
+    };
+    let mut su = sub_matrix(&full_u, &free_u);
+    su.factor().map_err(|_| underdetermined("u"))?;
+    let mut sv = sub_matrix(&full_v, &free_v);
+    sv.factor().map_err(|_| underdetermined("v"))?;
+    let mut col = vec![DVec3::ZERO; nfu];
+    for jj in 0..nfv {
+        for ii in 0..nfu {
+            col[ii] = rhs[ii * nfv + jj];
+        }
+        su.solve_in_place(&mut col);
+        for ii in 0..nfu {
+            rhs[ii * nfv + jj] = col[ii];
+        }
+    }
+    for ii in 0..nfu {
+        sv.solve_in_place(&mut rhs[ii * nfv..(ii + 1) * nfv]);
+        for jj in 0..nfv {
+            out[(free_u.start + ii) * nv + free_v.start + jj] = rhs[ii * nfv + jj];
+        }
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn surface(nu: usize, nv: usize, f: impl Fn(f64, f64) -> f64) -> BSplineSurface {
+        let ku = KnotVector::uniform(3, nu).unwrap();
+        let kv = KnotVector::uniform(3, nv).unwrap();
+        let (gu, gv) = (ku.greville(), kv.greville());
+        let mut pts = Vec::new();
+        for &u in &gu {
+            for &v in &gv {
+                pts.push(DVec3::new(u, v, f(u, v)));
+            }
+        }
+        BSplineSurface::try_new(3, 3, ku.values().to_vec(), kv.values().to_vec(), nu, nv, pts, None).unwrap()
+    }
+
+    fn grid(n: usize) -> Vec<f64> {
+        (0..n).map(|k| k as f64 / (n - 1) as f64).collect()
+    }
+
+    #[test]
+    fn reproduces_a_surface_in_the_space() {
+        let s = surface(9, 7, |u, v| (3.0 * u).sin() * v + u * u);
+        let (us, vs) = (grid(40), grid(31));
+        let data: Vec<DVec3> = us
+            .iter()
+            .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
+            .map(|(u, v)| s.point(u, v))
+            .collect();
+        // perturb the start net: the fit must recover it exactly
+        let moved: Vec<DVec3> = s.points().iter().map(|p| *p + DVec3::new(0.1, -0.2, 0.3)).collect();
+        let base = s.with_points(moved).unwrap();
+        let out = fit_surface_grid(&base, &us, &vs, &data, 0..9, 0..7, SurfaceSmoothing::NONE).unwrap();
+        for (a, b) in out.iter().zip(s.points()) {
+            assert!((*a - *b).length() < 1e-10, "{a} {b}");
+        }
+    }
+
+    #[test]
+    fn held_points_unchanged_and_normal_equations_hold() {
+        let s = surface(10, 8, |u, v| u * v);
+        let (us, vs) = (grid(33), grid(29));
+        let data: Vec<DVec3> = us
+            .iter()
+            .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
+            .map(|(u, v)| DVec3::new(u, v, (5.0 * u).cos() * (4.0 * v).sin()))
+            .collect();
+        let (fu, fv) = (3..7, 2..6);
+        let out = fit_surface_grid(&s, &us, &vs, &data, fu.clone(), fv.clone(), SurfaceSmoothing::NONE).unwrap();
+        for i in 0..10 {
+            for j in 0..8 {
+                if !(fu.contains(&i) && fv.contains(&j)) {
+                    assert_eq!(out[i * 8 + j], s.points()[i * 8 + j]);
+                }
+            }
+        }
+        // gradient of the residual w.r.t. each free point vanishes: Σ N_i M_j (S − x) = 0
+        let fitted = s.with_points(out).unwrap();
+        let ku = fitted.knots_u().clone();
+        let kv = fitted.knots_v().clone();
+        for i in fu {
+            for j in fv.clone() {
+                let mut g = DVec3::ZERO;
+                for (k, &u) in us.iter().enumerate() {
+                    for (l, &v) in vs.iter().enumerate() {
+                        let ni = basis_value(&ku, i, u);
+                        let mj = basis_value(&kv, j, v);
+                        g += (fitted.point(u, v) - data[k * vs.len() + l]) * ni * mj;
+                    }
+                }
+                assert!(g.length() < 1e-10, "gradient at ({i},{j}) = {g}");
+            }
+        }
+    }
+
+    fn basis_value(k: &KnotVector, i: usize, t: f64) -> f64 {
+        let s = k.find_span(t);
+        let p = k.degree();
+        if i + p < s || i > s {
+            return 0.0;
+        }
+        let mut nb = [0.0; MAX_ORDER];
+        basis_funs(k.values(), s, k.clamp(t), p, &mut nb);
+        nb[i + p - s]
+    }
+
+    #[test]
+    fn smoothing_reduces_bending_and_keeps_planes() {
+        // plane data with smoothing: a plane has zero second derivative, the fit stays exact
+        let s = surface(8, 8, |u, v| 0.3 * u - 0.2 * v);
+        let (us, vs) = (grid(25), grid(25));
+        let data: Vec<DVec3> = us
+            .iter()
+            .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
+            .map(|(u, v)| s.point(u, v))
+            .collect();
+        let sm = SurfaceSmoothing {
+            strength_u: 0.1,
+            strength_v: 0.1,
+            order: 2,
+        };
+        let flat = s.with_points(vec![DVec3::ZERO; 64]).unwrap();
+        let out = fit_surface_grid(&flat, &us, &vs, &data, 0..8, 0..8, sm).unwrap();
+        for (a, b) in out.iter().zip(s.points()) {
+            assert!((*a - *b).length() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn free_range_of_a_region() {
+        let k = KnotVector::uniform(3, 10).unwrap(); // spans of 1/7
+        let r = free_range(&k, 1.0 / 7.0, 6.0 / 7.0);
+        assert_eq!(r, 4..6); // t_4 = 1/7, t_{5+4} = t_9 = 6/7
+        // every free index has support inside, the neighbours not
+        for i in r.clone() {
+            let (a, b) = k.support(i);
+            assert!(a >= 1.0 / 7.0 - 1e-15 && b <= 6.0 / 7.0 + 1e-15);
+        }
+    }
+
+    #[test]
+    fn rejects_bad_input() {
+        let s = surface(6, 6, |_, _| 0.0);
+        let us = grid(3);
+        let e = fit_surface_grid(&s, &us, &us, &[DVec3::ZERO; 9], 0..6, 0..6, SurfaceSmoothing::NONE);
+        assert!(matches!(e, Err(Error::Solve(_))), "{e:?}");
+        let e = fit_surface_grid(&s, &us, &us, &[DVec3::ZERO; 8], 0..6, 0..6, SurfaceSmoothing::NONE);
+        assert!(matches!(e, Err(Error::LengthMismatch { .. })));
+    }
+}

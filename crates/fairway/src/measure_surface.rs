@@ -1,0 +1,484 @@
+//! Measures of a (faired) surface against an original: deviation by
+//! closest-point projection, curvature extrema and curvature variation of
+//! isocurves, and the mean-curvature variation ∫|∇H|² dA.
+//!
+//! Definitions (all lengths in model units, curvatures in 1/length):
+//!
+//! * **dev_max / dev_rms**: the ORIGINAL is sampled on an `n × n` grid
+//!   uniform in (u, v) (first and last included); each sample is projected on
+//!   the FAIRED surface ([`SurfaceProjector::project_near`], seeded at the same
+//!   (u, v), then safeguarded Newton) and the max / RMS of the distances is
+//!   taken. Any point of the faired surface bounds the distance from above,
+//!   so the figure is an upper bound of the true one-sided deviation, exact
+//!   when the Newton minimum is the global one (always so for small
+//!   deviations, where the faired surface is a graph over the original).
+//!   `dev_max_reverse`: the same from FAIRED to ORIGINAL; `hausdorff`: the
+//!   larger.
+//! * **isocurve curvature**: along the u-isocurve through (u, v) the signed
+//!   normal curvature `κ_n = L/E = (S_uu·n)/(S_u·S_u)` (the curvature of the
+//!   isocurve as the surface bends it, sign w.r.t. the surface normal; an
+//!   unsigned curve curvature would fold at every inflection line of a flat
+//!   patch). For v-isocurves `κ_n = N/G`.
+//! * **n_curv_extrema**: on `n_iso` isocurves in each direction (uniform
+//!   interior parameters), κ_n sampled at 16 points per knot span; extrema
+//!   counted as zig-zag pivots with a dead band δ = 0.01 · max|κ_n| of the
+//!   ORIGINAL (the same δ for both surfaces), as the curve measure of
+//!   `reference/README.md`.
+//! * **e_var** = Σ over those isocurves of `∫ (dκ_n/ds)² ds`, by 5-point
+//!   Gauss–Legendre per knot span, `dκ_n/ds = (dκ_n/du)/|S_u|` with
+//!   `dκ_n/du` by a central difference of step 1e-5·(span width) inside the
+//!   span (κ_n is smooth inside a span; its derivative jumps at knots).
+//! * **mean_curv_var** = `∫∫ |∇H|² dA`: the surface gradient of the mean
+//!   curvature, `|∇H|² = (G H_u² − 2F H_u H_v + E H_v²)/(EG − F²)` (do Carmo
+//!   §3.3, the inverse first fundamental form), `dA = √(EG − F²) du dv`;
+//!   H_u, H_v by central differences of H inside each span cell (step
+//!   1e-5·cell width; truncation O(h²), rounding ≈ 1e-11 relative), 10×10
+//!   Gauss–Legendre per cell (H is rational, so the rule is not exact; 1e-3
+//!   relative on the closed-form test). Analytic H_u would need third partials.
+
+use glam::DVec3;
+
+use crate::quadrature::{gl5, gl10};
+use crate::surface::{BSplineSurface, SurfaceDerivs};
+
+/// Result of a surface projection.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfacePoint {
+    /// Parameters of the closest point.
+    pub uv: (f64, f64),
+    /// The closest point.
+    pub point: DVec3,
+    /// Its distance to the query.
+    pub distance: f64,
+}
+
+/// Closest points on one surface: seeds on a parameter grid, then Newton on
+/// `(S − q)·S_u = 0, (S − q)·S_v = 0` with the Hessian
+/// `[[S_u·S_u + r·S_uu, S_u·S_v + r·S_uv], [·, S_v·S_v + r·S_vv]]`, r = S − q
+/// (Gauss–Newton when that is not positive definite), steps clamped to the
+/// domain and halved until the distance decreases.
+#[derive(Debug, Clone)]
+pub struct SurfaceProjector<'a> {
+    surface: &'a BSplineSurface,
+    seeds: Vec<((f64, f64), DVec3)>,
+}
+
+fn grid_params(knots: &crate::knots::KnotVector, per_span: usize) -> Vec<f64> {
+    let bp = knots.breakpoints();
+    let m = per_span.max(1);
+    let mut out = Vec::with_capacity((bp.len() - 1) * m + 1);
+    for w in bp.windows(2) {
+        for k in 0..m {
+            out.push(w[0] + (w[1] - w[0]) * k as f64 / m as f64);
+        }
+    }
+    out.push(*bp.last().unwrap());
+    out
+}
+
+impl<'a> SurfaceProjector<'a> {
+    /// Prepare with `per_span` seeds per knot span in each direction (≥ 1; 4 is plenty for cubics).
+    pub fn new(surface: &'a BSplineSurface, per_span: usize) -> Self {
+        let us = grid_params(surface.knots_u(), per_span);
+        let vs = grid_params(surface.knots_v(), per_span);
+        let mut seeds = Vec::with_capacity(us.len() * vs.len());
+        for &u in &us {
+            for &v in &vs {
+                seeds.push(((u, v), surface.point(u, v)));
+            }
+        }
+        Self { surface, seeds }
+    }
+
+    /// The closest point to `q` (best seed, then Newton).
+    pub fn project(&self, q: DVec3) -> SurfacePoint {
+        let mut best = (f64::INFINITY, (0.0, 0.0));
+        for &(uv, p) in &self.seeds {
+            let d = p.distance_squared(q);
+            if d < best.0 {
+                best = (d, uv);
+            }
+        }
+        self.project_near(q, best.1)
+    }
+
+    /// Newton from the guess `uv` (a local closest point).
+    pub fn project_near(&self, q: DVec3, uv: (f64, f64)) -> SurfacePoint {
+        newton_project(self.surface, q, uv)
+    }
+}
+
+/// Safeguarded Newton projection from a starting guess (see [`SurfaceProjector`]).
+pub fn newton_project(s: &BSplineSurface, q: DVec3, uv: (f64, f64)) -> SurfacePoint {
+    let ((u0, u1), (v0, v1)) = s.domain();
+    let (mut u, mut v) = (uv.0.clamp(u0, u1), uv.1.clamp(v0, v1));
+    let mut d = s.derivs(u, v);
+    let mut dist2 = (d.p - q).length_squared();
+    let tol_u = 1e-15 * (u1 - u0).max(1.0);
+    let tol_v = 1e-15 * (v1 - v0).max(1.0);
+    for _ in 0..30 {
+        let r = d.p - q;
+        let (f1, f2) = (r.dot(d.su), r.dot(d.sv));
+        let (e, f, g) = (d.su.dot(d.su), d.su.dot(d.sv), d.sv.dot(d.sv));
+        let (mut j11, mut j12, mut j22) = (e + r.dot(d.suu), f + r.dot(d.suv), g + r.dot(d.svv));
+        if !(j11 > 0.0 && j11 * j22 - j12 * j12 > 0.0) {
+            (j11, j12, j22) = (e, f, g);
+        }
+        let det = j11 * j22 - j12 * j12;
+        if !(det > 0.0) {
+            break;
+        }
+        let mut du = -(j22 * f1 - j12 * f2) / det;
+        let mut dv = -(j11 * f2 - j12 * f1) / det;
+        let mut improved = false;
+        for _ in 0..12 {
+            let (nu, nv) = ((u + du).clamp(u0, u1), (v + dv).clamp(v0, v1));
+            let nd = s.derivs(nu, nv);
+            let nd2 = (nd.p - q).length_squared();
+            if nd2 <= dist2 {
+                let moved = (nu - u).abs() > tol_u || (nv - v).abs() > tol_v;
+                (u, v, d, dist2) = (nu, nv, nd, nd2);
+                improved = moved;
+                break;
+            }
+            du *= 0.5;
+            dv *= 0.5;
+        }
+        if !improved {
+            break;
+        }
+    }
+    SurfacePoint {
+        uv: (u, v),
+        point: d.p,
+        distance: dist2.sqrt(),
+    }
+}
+
+/// One-sided deviation of `from` to `onto` on an `n × n` uniform parameter grid
+/// of `from`: `(max, rms)` (see the module docs). Both surfaces should share
+/// the parameter domain (a faired surface does); otherwise the seeds are the
+/// grid of `onto`'s projector.
+pub fn deviation(from: &BSplineSurface, onto: &BSplineSurface, n: usize) -> (f64, f64) {
+    let n = n.max(2);
+    let ((a0, a1), (b0, b1)) = from.domain();
+    let same = from.domain() == onto.domain();
+    let proj = if same {
+        None
+    } else {
+        Some(SurfaceProjector::new(onto, 4))
+    };
+    let (mut max, mut sum) = (0.0f64, 0.0);
+    for k in 0..n {
+        let u = a0 + (a1 - a0) * k as f64 / (n - 1) as f64;
+        for l in 0..n {
+            let v = b0 + (b1 - b0) * l as f64 / (n - 1) as f64;
+            let q = from.point(u, v);
+            let d = match &proj {
+                None => newton_project(onto, q, (u, v)).distance,
+                Some(p) => p.project(q).distance,
+            };
+            max = max.max(d);
+            sum += d * d;
+        }
+    }
+    (max, (sum / (n * n) as f64).sqrt())
+}
+
+/// Signed normal curvature of the u-isocurve (`dir_u = true`, L/E) or the v-isocurve (N/G).
+fn iso_kappa(d: &SurfaceDerivs, dir_u: bool) -> f64 {
+    let n = d.su.cross(d.sv).normalize_or_zero();
+    if dir_u {
+        d.suu.dot(n) / d.su.length_squared()
+    } else {
+        d.svv.dot(n) / d.sv.length_squared()
+    }
+}
+
+/// Count interior extrema of a sampled function as zig-zag pivots with dead band `delta`.
+pub fn count_extrema(k: &[f64], delta: f64) -> usize {
+    if k.len() < 3 {
+        return 0;
+    }
+    let (mut lo, mut hi) = (k[0], k[0]);
+    let mut dir = 0i8;
+    let mut ext = k[0];
+    let mut count = 0;
+    for &x in &k[1..] {
+        match dir {
+            0 => {
+                lo = lo.min(x);
+                hi = hi.max(x);
+                if x - lo > delta {
+                    if k[0] - lo > delta {
+                        count += 1;
+                    }
+                    dir = 1;
+                    ext = x;
+                } else if hi - x > delta {
+                    if hi - k[0] > delta {
+                        count += 1;
+                    }
+                    dir = -1;
+                    ext = x;
+                }
+            }
+            1 => {
+                if x > ext {
+                    ext = x;
+                } else if ext - x > delta {
+                    count += 1;
+                    dir = -1;
+                    ext = x;
+                }
+            }
+            _ => {
+                if x < ext {
+                    ext = x;
+                } else if x - ext > delta {
+                    count += 1;
+                    dir = 1;
+                    ext = x;
+                }
+            }
+        }
+    }
+    count
+}
+
+/// Isocurve statistics of one surface.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct IsoStats {
+    /// Total curvature extrema over the u-isocurves.
+    pub extrema_u: usize,
+    /// Total curvature extrema over the v-isocurves.
+    pub extrema_v: usize,
+    /// Σ ∫ (dκ_n/ds)² ds over the u-isocurves.
+    pub e_var_u: f64,
+    /// Σ ∫ (dκ_n/ds)² ds over the v-isocurves.
+    pub e_var_v: f64,
+    /// max |κ_n| seen over all isocurve samples.
+    pub max_abs_kappa: f64,
+}
+
+fn iso_params(a: f64, b: f64, n: usize) -> impl Iterator<Item = f64> {
+    (0..n).map(move |k| a + (b - a) * (k as f64 + 0.5) / n as f64)
+}
+
+/// Isocurve statistics: `n_iso` isocurves per direction, extrema with dead band `delta`
+/// (see the module docs).
+pub fn iso_stats(s: &BSplineSurface, n_iso: usize, delta: f64) -> IsoStats {
+    let mut st = IsoStats::default();
+    let ((u0, u1), (v0, v1)) = s.domain();
+    let bu = s.knots_u().breakpoints();
+    let bv = s.knots_v().breakpoints();
+    let mut buf = Vec::new();
+    for dir_u in [true, false] {
+        let (bp, (f0, f1)) = if dir_u { (&bu, (v0, v1)) } else { (&bv, (u0, u1)) };
+        for fixed in iso_params(f0, f1, n_iso) {
+            let at = |t: f64| if dir_u { s.derivs(t, fixed) } else { s.derivs(fixed, t) };
+            buf.clear();
+            let mut e = 0.0;
+            for w in bp.windows(2) {
+                let (a, b) = (w[0], w[1]);
+                for k in 0..16 {
+                    let t = a + (b - a) * k as f64 / 16.0;
+                    buf.push(iso_kappa(&at(t), dir_u));
+                }
+                let h = 1e-5 * (b - a);
+                let gl = gl5();
+                for (x, wt) in gl.nodes.iter().zip(&gl.weights) {
+                    let t = 0.5 * (a + b) + 0.5 * (b - a) * x;
+                    let d = at(t);
+                    let speed = if dir_u { d.su.length() } else { d.sv.length() };
+                    let dk = (iso_kappa(&at(t + h), dir_u) - iso_kappa(&at(t - h), dir_u)) / (2.0 * h);
+                    let dks = dk / speed;
+                    e += wt * 0.5 * (b - a) * dks * dks * speed;
+                }
+            }
+            buf.push(iso_kappa(&at(*bp.last().unwrap()), dir_u));
+            st.max_abs_kappa = buf.iter().fold(st.max_abs_kappa, |m, k| m.max(k.abs()));
+            let c = count_extrema(&buf, delta);
+            if dir_u {
+                st.extrema_u += c;
+                st.e_var_u += e;
+            } else {
+                st.extrema_v += c;
+                st.e_var_v += e;
+            }
+        }
+    }
+    st
+}
+
+/// Mean curvature H at (u, v) (PRODUCT.md convention).
+fn mean_at(s: &BSplineSurface, u: f64, v: f64) -> f64 {
+    s.derivs(u, v).curvature().mean
+}
+
+/// `∫∫ |∇H|² dA` over the whole surface (see the module docs).
+pub fn mean_curvature_variation(s: &BSplineSurface) -> f64 {
+    let bu = s.knots_u().breakpoints();
+    let bv = s.knots_v().breakpoints();
+    let gl = gl10();
+    let mut total = 0.0;
+    for wu in bu.windows(2) {
+        let (a0, a1) = (wu[0], wu[1]);
+        let hu = 1e-5 * (a1 - a0);
+        for wv in bv.windows(2) {
+            let (b0, b1) = (wv[0], wv[1]);
+            let hv = 1e-5 * (b1 - b0);
+            for (x, wx) in gl.nodes.iter().zip(&gl.weights) {
+                let u = 0.5 * (a0 + a1) + 0.5 * (a1 - a0) * x;
+                for (y, wy) in gl.nodes.iter().zip(&gl.weights) {
+                    let v = 0.5 * (b0 + b1) + 0.5 * (b1 - b0) * y;
+                    let d = s.derivs(u, v);
+                    let (e, f, g) = (d.su.dot(d.su), d.su.dot(d.sv), d.sv.dot(d.sv));
+                    let det = e * g - f * f;
+                    let h_u = (mean_at(s, u + hu, v) - mean_at(s, u - hu, v)) / (2.0 * hu);
+                    let h_v = (mean_at(s, u, v + hv) - mean_at(s, u, v - hv)) / (2.0 * hv);
+                    let grad2 = (g * h_u * h_u - 2.0 * f * h_u * h_v + e * h_v * h_v) / det;
+                    let jac = 0.25 * (a1 - a0) * (b1 - b0) * wx * wy;
+                    total += grad2 * det.sqrt() * jac;
+                }
+            }
+        }
+    }
+    total
+}
+
+/// All surface measures of FAIRED against ORIGINAL (`fairway measure` on surfaces).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct SurfaceMeasures {
+    /// Max distance ORIGINAL → FAIRED.
+    pub dev_max: f64,
+    /// RMS distance ORIGINAL → FAIRED.
+    pub dev_rms: f64,
+    /// Max distance FAIRED → ORIGINAL.
+    pub dev_max_reverse: f64,
+    /// The larger of the two.
+    pub hausdorff: f64,
+    /// Curvature extrema of the u-isocurves plus the v-isocurves.
+    pub n_curv_extrema: usize,
+    /// Of the u-isocurves.
+    pub n_curv_extrema_u: usize,
+    /// Of the v-isocurves.
+    pub n_curv_extrema_v: usize,
+    /// Σ ∫ (dκ_n/ds)² ds over all isocurves.
+    #[serde(rename = "E_var")]
+    pub e_var: f64,
+    /// ∫∫ |∇H|² dA.
+    pub mean_curv_var: f64,
+    /// Number of isocurves per direction.
+    pub n_iso: usize,
+    /// Dead band δ of the extrema count.
+    pub delta: f64,
+}
+
+/// Deviation samples per direction of [`surface_measures`].
+pub const DEV_SAMPLES: usize = 101;
+/// Isocurves per direction of [`surface_measures`].
+pub const N_ISO: usize = 20;
+
+/// Measure FAIRED against ORIGINAL (module docs): deviation on a 101×101 grid,
+/// 20 isocurves per direction, δ from the original.
+pub fn surface_measures(original: &BSplineSurface, faired: &BSplineSurface) -> SurfaceMeasures {
+    let (dev_max, dev_rms) = deviation(original, faired, DEV_SAMPLES);
+    let (dev_max_reverse, _) = deviation(faired, original, DEV_SAMPLES);
+    let so = iso_stats(original, N_ISO, 0.0);
+    let delta = 0.01 * so.max_abs_kappa;
+    let sf = iso_stats(faired, N_ISO, delta);
+    SurfaceMeasures {
+        dev_max,
+        dev_rms,
+        dev_max_reverse,
+        hausdorff: dev_max.max(dev_max_reverse),
+        n_curv_extrema: sf.extrema_u + sf.extrema_v,
+        n_curv_extrema_u: sf.extrema_u,
+        n_curv_extrema_v: sf.extrema_v,
+        e_var: sf.e_var_u + sf.e_var_v,
+        mean_curv_var: mean_curvature_variation(faired),
+        n_iso: N_ISO,
+        delta,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::knots::KnotVector;
+
+    /// z = c x³ over [0,1]×[0,1] as an exact bicubic (Bézier in u, linear data in v).
+    fn cubic_cylinder(c: f64) -> BSplineSurface {
+        // x(u) = u, z = c u³: Bézier control values of u³ are 0,0,0,1; of u: 0,1/3,2/3,1
+        let ku = KnotVector::uniform(3, 4).unwrap();
+        let kv = KnotVector::uniform(3, 4).unwrap();
+        let zs = [0.0, 0.0, 0.0, c];
+        let mut pts = Vec::new();
+        for i in 0..4 {
+            for j in 0..4 {
+                pts.push(DVec3::new(i as f64 / 3.0, j as f64 / 3.0, zs[i]));
+            }
+        }
+        BSplineSurface::try_new(3, 3, ku.values().to_vec(), kv.values().to_vec(), 4, 4, pts, None).unwrap()
+    }
+
+    #[test]
+    fn mean_curvature_variation_matches_closed_form() {
+        let c = 0.7;
+        let s = cubic_cylinder(c);
+        // H(x) = κ/2 with κ = z''/(1+z'²)^{3/2} (sign by normal Su×Sv = (−z', 0, 1)·…, squared anyway)
+        let hh = |x: f64| 0.5 * 6.0 * c * x / (1.0 + 9.0 * c * c * x.powi(4)).powf(1.5);
+        // ∫∫|∇H|² dA = ∫ H'(x)² / sqrt(1+z'²) dx (width 1 in y)
+        let n = 20000;
+        let mut exact = 0.0;
+        for k in 0..n {
+            let x = (k as f64 + 0.5) / n as f64;
+            let h = 1e-6;
+            let dh = (hh(x + h) - hh(x - h)) / (2.0 * h);
+            exact += dh * dh / (1.0 + 9.0 * c * c * x.powi(4)).sqrt() / n as f64;
+        }
+        let got = mean_curvature_variation(&s);
+        assert!((got - exact).abs() < 1e-3 * exact, "{got} vs {exact}");
+        // a plane has none
+        let flat = cubic_cylinder(0.0);
+        assert!(mean_curvature_variation(&flat).abs() < 1e-12);
+    }
+
+    #[test]
+    fn projection_recovers_offset_points() {
+        let s = cubic_cylinder(0.5);
+        let proj = SurfaceProjector::new(&s, 4);
+        for &(u, v) in &[(0.3, 0.4), (0.9, 0.1), (0.5, 0.5)] {
+            let d = s.derivs(u, v);
+            let n = d.su.cross(d.sv).normalize();
+            let q = d.p + n * 0.01;
+            let r = proj.project(q);
+            assert!((r.distance - 0.01).abs() < 1e-10, "{r:?}");
+            assert!((r.uv.0 - u).abs() < 1e-8 && (r.uv.1 - v).abs() < 1e-8);
+            let r2 = proj.project_near(q, (u + 0.05, v - 0.05));
+            assert!((r2.distance - 0.01).abs() < 1e-10);
+        }
+        // beyond the boundary: clamps to the border
+        let q = s.point(1.0, 0.5) + DVec3::new(0.2, 0.0, 0.0);
+        let r = proj.project(q);
+        assert!((r.uv.0 - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn deviation_of_an_offset_plane() {
+        let a = cubic_cylinder(0.0);
+        let moved: Vec<DVec3> = a.points().iter().map(|p| *p + DVec3::new(0.0, 0.0, 0.02)).collect();
+        let b = a.with_points(moved).unwrap();
+        let (max, rms) = deviation(&a, &b, 11);
+        assert!((max - 0.02).abs() < 1e-12 && (rms - 0.02).abs() < 1e-12);
+    }
+
+    #[test]
+    fn extrema_count() {
+        let k: Vec<f64> = (0..200).map(|i| (i as f64 * 0.1).sin()).collect(); // x ∈ [0, 19.9]: extrema at π/2 + kπ
+        assert_eq!(count_extrema(&k, 0.01), 6);
+        let noisy: Vec<f64> = (0..200).map(|i| if i % 2 == 0 { 0.001 } else { 0.0 }).collect();
+        assert_eq!(count_extrema(&noisy, 0.01), 0);
+    }
+}
