@@ -4,7 +4,7 @@
 //! dependencies: knot vectors and basis functions ([`knots`], [`basis`]),
 //! curves and surfaces ([`curve`], [`surface`]), arc length
 //! ([`arclength`]), closest points ([`closest`]), least-squares fitting
-//! ([`fit`]) and file formats ([`io`]).
+//! ([`fit`]), the fairing engine ([`fair`]) and file formats ([`io`]).
 //!
 //! f64 throughout; points are [`glam::DVec3`] (2D curves keep z = 0).
 #![deny(missing_docs)]
@@ -14,12 +14,14 @@ pub mod basis;
 pub mod closest;
 pub mod curve;
 pub mod error;
+pub mod fair;
 pub mod fit;
 pub mod fit_surface;
 pub mod geometry;
 pub mod io;
 pub mod knots;
 pub mod linalg;
+pub mod measure;
 pub mod measure_surface;
 pub mod quadrature;
 pub mod surface;

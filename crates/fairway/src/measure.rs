@@ -1,0 +1,397 @@
+//! Quality measures of a faired curve against its original, with the exact
+//! definitions (and key names) of the reference implementation described in
+//! `shared/reference/README.md`:
+//!
+//! * `dev_max`, `dev_rms` — the ORIGINAL sampled at 2000 points uniform in
+//!   arc length (ends included), each projected on the FAIRED curve (dense
+//!   seeds, then Newton on `c'(t)·(c(t) − q)`); `dev_max_reverse` the same
+//!   from FAIRED to ORIGINAL; `hausdorff` the larger;
+//! * target g — curvature at 200 points uniform in arc length, centred
+//!   moving average over 2h+1 = 21 samples (h = round(0.1/2·199) = 10),
+//!   truncated at the ends; `threshold_delta` δ = 0.01·max|g| of the
+//!   ORIGINAL's target;
+//! * `n_curv_extrema` — κ at 4000 arc-length samples of FAIRED, interior
+//!   extrema as zig-zag pivots confirmed by a move of more than δ;
+//!   `_fine` with δ/10; `_raw` every sign change of dκ/ds between
+//!   consecutive samples;
+//! * `n_inflections` — 2D: sign changes of κ across the dead band [−δ, δ]
+//!   (`_fine` δ/10, `_raw` plain sign changes); 3D: interior runs where
+//!   κ < δ (`_raw` is null);
+//! * `E_var = ∫(dκ/ds)² ds`, `E_bend = ∫κ² ds` — 10-point Gauss–Legendre on
+//!   4 equal pieces of every knot span; `_dimless`: `E_var·L³`, `E_bend·L`;
+//! * `E_paper = Σ (κ(t_i) − g_i)²` over the 200 samples of FAIRED, g the
+//!   ORIGINAL's target matched by normalized arc length; `E_paper_self` with
+//!   FAIRED's own target; `_norm` = `E · L_orig² / 200`.
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use crate::arclength::ArcLengthTable;
+use crate::closest::CurveProjector;
+use crate::curve::BSplineCurve;
+use crate::quadrature::gl10;
+
+/// Samples for the deviation.
+pub const DEV_SAMPLES: usize = 2000;
+/// Samples for extrema and inflections.
+pub const CURV_SAMPLES: usize = 4000;
+/// Samples of the target and E.
+pub const PAPER_SAMPLES: usize = 200;
+/// Relative threshold δ / max|g|.
+pub const REL_THRESHOLD: f64 = 0.01;
+/// Moving-average window as a fraction of the samples.
+pub const WINDOW_FRAC: f64 = 0.1;
+
+/// The sampling parameters, reported with the measures.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MeasureParams {
+    /// 2000.
+    pub dev_samples: usize,
+    /// 4000.
+    pub curv_samples: usize,
+    /// 0.01.
+    pub rel_threshold: f64,
+    /// 200.
+    pub paper_samples: usize,
+    /// 0.1.
+    pub window_frac: f64,
+    /// 2h + 1 = 21.
+    pub window_samples: usize,
+}
+
+/// All measures of a faired curve against the original (see the module docs).
+#[allow(non_snake_case)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Measures {
+    /// Max distance ORIGINAL → FAIRED.
+    pub dev_max: f64,
+    /// RMS distance ORIGINAL → FAIRED.
+    pub dev_rms: f64,
+    /// Max distance FAIRED → ORIGINAL.
+    pub dev_max_reverse: f64,
+    /// max(dev_max, dev_max_reverse).
+    pub hausdorff: f64,
+    /// Length of the original.
+    pub length_original: f64,
+    /// Length of the faired curve.
+    pub length: f64,
+    /// δ = 0.01 · max|g| of the original's target.
+    pub threshold_delta: f64,
+    /// max |κ| over the 4000 samples of the faired curve.
+    pub kappa_max_abs: f64,
+    /// Curvature extrema (threshold δ).
+    pub n_curv_extrema: usize,
+    /// Curvature extrema (threshold δ/10).
+    pub n_curv_extrema_fine: usize,
+    /// Sign changes of dκ/ds.
+    pub n_curv_extrema_raw: usize,
+    /// Inflections (dead band δ).
+    pub n_inflections: usize,
+    /// Inflections (dead band δ/10).
+    pub n_inflections_fine: usize,
+    /// Plain sign changes of κ (2D; null for 3D).
+    pub n_inflections_raw: Option<usize>,
+    /// ∫(dκ/ds)² ds.
+    pub E_var: f64,
+    /// ∫κ² ds.
+    pub E_bend: f64,
+    /// E_var · L³.
+    pub E_var_dimless: f64,
+    /// E_bend · L.
+    pub E_bend_dimless: f64,
+    /// Paper's E against the original's target.
+    pub E_paper: f64,
+    /// Paper's E against the faired curve's own target.
+    pub E_paper_self: f64,
+    /// E_paper · L_orig² / 200.
+    pub E_paper_norm: f64,
+    /// E_paper_self · L_orig² / 200.
+    pub E_paper_self_norm: f64,
+    /// Sampling parameters.
+    pub params: MeasureParams,
+    /// Degree of the faired curve.
+    pub degree: usize,
+    /// Control points of the faired curve.
+    pub n_ctrl: usize,
+}
+
+/// `n` parameters at equal arc length over the whole curve (ends included).
+pub fn arc_params(c: &BSplineCurve, n: usize) -> Vec<f64> {
+    ArcLengthTable::new(c, 1e-12).equal_arc_params(c, n)
+}
+
+/// Curvature as the reference reports it: 2D signed, 3D unsigned.
+#[inline]
+fn kappa(c: &BSplineCurve, u: f64) -> f64 {
+    c.derivs(u).curvature(c.dim())
+}
+
+/// Distances from `n` arc-length samples of `from` to the curve `to` (closest point).
+pub fn deviations(from: &BSplineCurve, to: &BSplineCurve, n: usize) -> Vec<f64> {
+    let proj = CurveProjector::new(to, 16);
+    arc_params(from, n)
+        .into_iter()
+        .map(|u| proj.project(from.point(u)).distance)
+        .collect()
+}
+
+/// Centred moving average over `2h + 1` samples, truncated at the ends.
+pub fn moving_average(k: &[f64], h: usize) -> Vec<f64> {
+    let n = k.len();
+    let mut prefix = vec![0.0; n + 1];
+    for i in 0..n {
+        prefix[i + 1] = prefix[i] + k[i];
+    }
+    (0..n)
+        .map(|i| {
+            let a = i.saturating_sub(h);
+            let b = (i + h).min(n - 1);
+            (prefix[b + 1] - prefix[a]) / (b - a + 1) as f64
+        })
+        .collect()
+}
+
+fn window_h() -> usize {
+    (WINDOW_FRAC / 2.0 * (PAPER_SAMPLES - 1) as f64).round() as usize
+}
+
+/// The reference's target of a curve: curvature at 200 arc-length samples, moving average.
+pub fn reference_target(c: &BSplineCurve) -> (Vec<f64>, Vec<f64>) {
+    let k: Vec<f64> = arc_params(c, PAPER_SAMPLES).into_iter().map(|u| kappa(c, u)).collect();
+    let g = moving_average(&k, window_h());
+    (k, g)
+}
+
+/// Interior extrema counted as zig-zag pivots with threshold `delta`.
+pub fn zigzag_extrema(k: &[f64], delta: f64) -> usize {
+    if k.is_empty() {
+        return 0;
+    }
+    let mut count = 0;
+    // dir: 0 undecided, 1 rising (tracking a max), -1 falling (tracking a min)
+    let mut dir = 0i32;
+    let (mut hi, mut lo) = (k[0], k[0]);
+    let mut ext = k[0];
+    for &x in &k[1..] {
+        match dir {
+            0 => {
+                hi = hi.max(x);
+                lo = lo.min(x);
+                if x > lo + delta {
+                    dir = 1;
+                    ext = x;
+                } else if x < hi - delta {
+                    dir = -1;
+                    ext = x;
+                }
+            }
+            1 => {
+                if x > ext {
+                    ext = x;
+                } else if x < ext - delta {
+                    count += 1;
+                    dir = -1;
+                    ext = x;
+                }
+            }
+            _ => {
+                if x < ext {
+                    ext = x;
+                } else if x > ext + delta {
+                    count += 1;
+                    dir = 1;
+                    ext = x;
+                }
+            }
+        }
+    }
+    count
+}
+
+/// Sign changes of κ across the dead band `[−delta, delta]`.
+pub fn dead_band_crossings(k: &[f64], delta: f64) -> usize {
+    let mut state = 0i32;
+    let mut count = 0;
+    for &x in k {
+        let s = if x > delta {
+            1
+        } else if x < -delta {
+            -1
+        } else {
+            0
+        };
+        if s != 0 {
+            if state != 0 && s != state {
+                count += 1;
+            }
+            state = s;
+        }
+    }
+    count
+}
+
+/// Plain sign changes between consecutive values (zeros skipped).
+pub fn sign_changes(v: &[f64]) -> usize {
+    let mut prev = 0.0f64;
+    let mut count = 0;
+    for &x in v {
+        if x == 0.0 || !x.is_finite() {
+            continue;
+        }
+        if prev != 0.0 && (x > 0.0) != (prev > 0.0) {
+            count += 1;
+        }
+        prev = x;
+    }
+    count
+}
+
+/// Interior runs of `k < delta` (not touching the first or the last sample).
+pub fn interior_low_runs(k: &[f64], delta: f64) -> usize {
+    let n = k.len();
+    let mut count = 0;
+    let mut i = 0;
+    while i < n {
+        if k[i] < delta {
+            let start = i;
+            while i < n && k[i] < delta {
+                i += 1;
+            }
+            if start > 0 && i < n {
+                count += 1;
+            }
+        } else {
+            i += 1;
+        }
+    }
+    count
+}
+
+/// `(∫(dκ/ds)² ds, ∫κ² ds)` by 10-point Gauss–Legendre on 4 equal pieces of every knot span.
+pub fn energies(c: &BSplineCurve) -> (f64, f64) {
+    let gl = gl10();
+    let dim = c.dim();
+    let (mut ev, mut eb) = (0.0, 0.0);
+    for w in c.knots().breakpoints().windows(2) {
+        for q in 0..4 {
+            let a = w[0] + (w[1] - w[0]) * q as f64 / 4.0;
+            let b = w[0] + (w[1] - w[0]) * (q + 1) as f64 / 4.0;
+            let h = 0.5 * (b - a);
+            for (x, wt) in gl.nodes.iter().zip(&gl.weights) {
+                let u = 0.5 * (a + b) + h * x;
+                let d = c.derivs(u);
+                let v = d.d1.length();
+                let k = d.curvature(dim);
+                let dk = d.dkappa_ds(dim);
+                ev += wt * h * v * dk * dk;
+                eb += wt * h * v * k * k;
+            }
+        }
+    }
+    (ev, eb)
+}
+
+/// All measures of `faired` against `original`.
+pub fn measure(original: &BSplineCurve, faired: &BSplineCurve) -> Measures {
+    let fwd = deviations(original, faired, DEV_SAMPLES);
+    let rev = deviations(faired, original, DEV_SAMPLES);
+    let dev_max = fwd.iter().copied().fold(0.0, f64::max);
+    let dev_rms = (fwd.iter().map(|d| d * d).sum::<f64>() / fwd.len() as f64).sqrt();
+    let dev_max_reverse = rev.iter().copied().fold(0.0, f64::max);
+    let length_original = original.length(1e-12);
+    let length = faired.length(1e-12);
+    let (_, g_orig) = reference_target(original);
+    let (k_f, g_self) = reference_target(faired);
+    let delta = REL_THRESHOLD * g_orig.iter().fold(0.0f64, |m, g| m.max(g.abs()));
+    let us = arc_params(faired, CURV_SAMPLES);
+    let mut kk = Vec::with_capacity(us.len());
+    let mut dk = Vec::with_capacity(us.len());
+    for &u in &us {
+        let d = faired.derivs(u);
+        kk.push(d.curvature(faired.dim()));
+        dk.push(d.dkappa_ds(faired.dim()));
+    }
+    let kappa_max_abs = kk.iter().fold(0.0f64, |m, k| m.max(k.abs()));
+    let (n_inf, n_inf_fine, n_inf_raw) = if faired.dim() == 2 {
+        (
+            dead_band_crossings(&kk, delta),
+            dead_band_crossings(&kk, delta / 10.0),
+            Some(sign_changes(&kk)),
+        )
+    } else {
+        (
+            interior_low_runs(&kk, delta),
+            interior_low_runs(&kk, delta / 10.0),
+            None,
+        )
+    };
+    let (e_var, e_bend) = energies(faired);
+    let e_paper: f64 = k_f.iter().zip(&g_orig).map(|(k, g)| (k - g) * (k - g)).sum();
+    let e_self: f64 = k_f.iter().zip(&g_self).map(|(k, g)| (k - g) * (k - g)).sum();
+    let norm = length_original * length_original / PAPER_SAMPLES as f64;
+    Measures {
+        dev_max,
+        dev_rms,
+        dev_max_reverse,
+        hausdorff: dev_max.max(dev_max_reverse),
+        length_original,
+        length,
+        threshold_delta: delta,
+        kappa_max_abs,
+        n_curv_extrema: zigzag_extrema(&kk, delta),
+        n_curv_extrema_fine: zigzag_extrema(&kk, delta / 10.0),
+        n_curv_extrema_raw: sign_changes(&dk),
+        n_inflections: n_inf,
+        n_inflections_fine: n_inf_fine,
+        n_inflections_raw: n_inf_raw,
+        E_var: e_var,
+        E_bend: e_bend,
+        E_var_dimless: e_var * length.powi(3),
+        E_bend_dimless: e_bend * length,
+        E_paper: e_paper,
+        E_paper_self: e_self,
+        E_paper_norm: e_paper * norm,
+        E_paper_self_norm: e_self * norm,
+        params: MeasureParams {
+            dev_samples: DEV_SAMPLES,
+            curv_samples: CURV_SAMPLES,
+            rel_threshold: REL_THRESHOLD,
+            paper_samples: PAPER_SAMPLES,
+            window_frac: WINDOW_FRAC,
+            window_samples: 2 * window_h() + 1,
+        },
+        degree: faired.degree(),
+        n_ctrl: faired.n_points(),
+    }
+}
+
+/// Distance of a point to a polyline (helper for tests and tools).
+pub fn polyline_distance(poly: &[DVec3], q: DVec3) -> f64 {
+    poly.windows(2)
+        .map(|w| {
+            let ab = w[1] - w[0];
+            let l2 = ab.length_squared();
+            let t = if l2 > 0.0 {
+                ((q - w[0]).dot(ab) / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            (w[0] + ab * t).distance(q)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counters() {
+        assert_eq!(zigzag_extrema(&[0.0, 1.0, 0.0, 1.0, 0.0], 0.5), 3);
+        assert_eq!(zigzag_extrema(&[0.0, 0.1, 0.0, 0.1, 0.0], 0.5), 0);
+        assert_eq!(dead_band_crossings(&[1.0, 0.0, -1.0, 0.05, 1.0], 0.1), 2);
+        assert_eq!(sign_changes(&[1.0, 0.0, -1.0, 2.0]), 2);
+        assert_eq!(interior_low_runs(&[0.0, 1.0, 0.0, 1.0, 0.0], 0.5), 1);
+        assert_eq!(moving_average(&[1.0, 2.0, 3.0, 4.0], 1), vec![1.5, 2.0, 3.0, 3.5]);
+    }
+}
