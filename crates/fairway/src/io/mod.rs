@@ -1,8 +1,18 @@
-//! File formats: plain geometry JSON, Fairway's RON document, and file
-//! helpers (format by extension, atomic writes).
+//! File formats: plain geometry JSON, Fairway's RON document, IGES 5.3
+//! (curves 126, surfaces 128), point lists (CSV / text, import only), SVG
+//! (export only), and file helpers (format by extension, atomic writes).
+//!
+//! [`load`] and [`save`] pick the format from the extension. An IGES file
+//! may hold several objects: [`load`] returns the first one, and
+//! [`iges::read_all`] returns all of them with the list of skipped
+//! entities. A point file is fitted by [`points::fit_points`] with
+//! [`points::FitOptions::default`]; call it directly to choose the number of
+//! control points, the degree and the parametrisation.
 
 pub mod document;
+pub mod iges;
 pub mod json;
+pub mod points;
 pub mod record;
 
 use std::io::Write;
@@ -20,6 +30,10 @@ pub enum Format {
     Json,
     /// Fairway document (`.ron`, `.fairway`).
     Ron,
+    /// IGES 5.3 fixed format (`.igs`, `.iges`).
+    Iges,
+    /// Points, one per line (`.csv`, `.txt`, `.xyz`); import only.
+    Points,
 }
 
 impl Format {
@@ -32,10 +46,12 @@ impl Format {
         match ext.as_deref() {
             Some("json") => Ok(Format::Json),
             Some("ron") | Some("fairway") => Ok(Format::Ron),
+            Some("igs") | Some("iges") => Ok(Format::Iges),
+            Some("csv") | Some("txt") | Some("xyz") => Ok(Format::Points),
             other => Err(Error::Parse {
                 format: "file".into(),
                 message: format!(
-                    "{}: unknown extension {:?}; expected .json, .ron or .fairway",
+                    "{}: unknown extension {:?}; expected .json, .ron, .fairway, .igs, .iges, .csv, .txt or .xyz",
                     path.display(),
                     other.unwrap_or("")
                 ),
@@ -56,13 +72,23 @@ pub fn read_text(path: &Path) -> Result<String> {
     std::fs::read_to_string(path).map_err(|e| io_err(path, e))
 }
 
-/// Read a document (JSON geometry or RON document) from a file.
+/// Read a document from a file, the format from the extension: JSON
+/// geometry, RON document, IGES (the first curve or surface; see
+/// [`iges::read_all`] for all), or a point list (fitted with
+/// [`points::FitOptions::default`]).
 pub fn load(path: &Path) -> Result<Document> {
-    let text = read_text(path)?;
-    match Format::from_path(path)? {
-        Format::Json => Ok(Document::new(json::from_str(&text)?)),
-        Format::Ron => Document::from_ron(&text),
-    }
+    let geometry = match Format::from_path(path)? {
+        Format::Iges => {
+            let bytes = std::fs::read(path).map_err(|e| io_err(path, e))?;
+            iges::read_first(&bytes)?
+        }
+        Format::Json => json::from_str(&read_text(path)?)?,
+        Format::Ron => return Document::from_ron(&read_text(path)?),
+        Format::Points => {
+            points::fit_points(&points::parse(&read_text(path)?)?, &points::FitOptions::default())?.into()
+        }
+    };
+    Ok(Document::new(geometry))
 }
 
 /// Read only the geometry of a file.
@@ -75,6 +101,21 @@ pub fn save(path: &Path, doc: &Document) -> Result<()> {
     let text = match Format::from_path(path)? {
         Format::Json => json::to_string(&doc.geometry),
         Format::Ron => doc.to_ron()?,
+        Format::Iges => iges::write(
+            std::slice::from_ref(&doc.geometry),
+            &iges::WriteOptions {
+                file_name: path
+                    .file_name()
+                    .map_or("fairway.igs".into(), |n| n.to_string_lossy().into_owned()),
+                ..Default::default()
+            },
+        ),
+        Format::Points => {
+            return Err(Error::InvalidInput(format!(
+                "{}: point files (.csv, .txt, .xyz) are import only; save as .json, .ron or .igs",
+                path.display()
+            )));
+        }
     };
     write_atomic(path, text.as_bytes())
 }
