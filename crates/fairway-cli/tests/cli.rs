@@ -250,8 +250,10 @@ fn bad_files_exit_1_with_file_and_problem() {
     expect_failure(&["eval", e], 1, &[e, "empty"]);
     let syntax = s.file("syntax.json", r#"{"degree": 3, "knots": [0,0,"#);
     expect_failure(&["eval", syntax.to_str().unwrap()], 1, &["syntax.json", "JSON"]);
-    let ext = s.file("curve.txt", "{}");
-    expect_failure(&["eval", ext.to_str().unwrap()], 1, &["curve.txt", "extension"]);
+    let ext = s.file("curve.dat", "{}");
+    expect_failure(&["eval", ext.to_str().unwrap()], 1, &["curve.dat", "extension"]);
+    let pts = s.file("curve.txt", "{}");
+    expect_failure(&["eval", pts.to_str().unwrap()], 1, &["curve.txt", "no points found"]);
     let missing = s.0.join("missing.json");
     expect_failure(
         &["eval", missing.to_str().unwrap()],
