@@ -365,56 +365,67 @@ impl BSplineCurve {
     }
 
     /// Parameters of the inflections of a 2D curve: sign changes of
-    /// `x'y'' − y'x''`, found on `samples_per_span` samples per knot span and
-    /// refined by bisection to `1e-14` of the domain. Empty for 3D curves.
-    /// Stretches where the numerator is exactly zero (straight segments) do
-    /// not count.
+    /// `f(u) = x'y'' − y'x''`, found on `samples_per_span` samples per knot
+    /// span (and the domain end) and refined by bisection to `1e-14` of the
+    /// domain. Values with `|f| ≤ 1e-12·|c'|·|c''|` count as zero (rounding
+    /// noise on straight stretches), so straight segments have no
+    /// inflections; a sign change across such a stretch is reported at its
+    /// bisected crossing. An inflection at a knot where the curvature jumps
+    /// from one sign to the other is reported at that knot. Empty for 3D
+    /// curves.
     pub fn inflections(&self, samples_per_span: usize) -> Vec<f64> {
         if self.dim != 2 {
             return vec![];
         }
-        let f = |u: f64| {
+        // sign of f, or 0 where it is zero to rounding
+        let sign = |u: f64| {
             let d = self.derivs(u);
-            d.d1.x * d.d2.y - d.d1.y * d.d2.x
+            let f = d.d1.x * d.d2.y - d.d1.y * d.d2.x;
+            if f.abs() <= 1e-12 * d.d1.length() * d.d2.length() {
+                0.0
+            } else {
+                f.signum()
+            }
         };
         let bp = self.knots.breakpoints();
         let m = samples_per_span.max(2);
-        let mut out = vec![];
-        let mut prev: Option<(f64, f64)> = None; // last non-zero sample
+        let mut samples: Vec<f64> = Vec::with_capacity((bp.len() - 1) * m + 1);
         for w in bp.windows(2) {
             for k in 0..m {
-                let u = w[0] + (w[1] - w[0]) * k as f64 / m as f64;
-                let v = f(u);
-                if v == 0.0 {
-                    continue;
-                }
-                if let Some((pu, pv)) = prev
-                    && pv.signum() != v.signum()
-                {
-                    let (mut a, mut b, fa) = (pu, u, pv);
-                    while b - a > 1e-14 * (1.0 + b.abs()) {
-                        let mid = 0.5 * (a + b);
-                        let fm = f(mid);
-                        if fm == 0.0 {
-                            a = mid;
-                            b = mid;
-                            break;
-                        }
-                        if fm.signum() == fa.signum() { a = mid } else { b = mid }
-                    }
-                    out.push(0.5 * (a + b));
-                }
-                prev = Some((u, v));
+                samples.push(w[0] + (w[1] - w[0]) * k as f64 / m as f64);
             }
         }
-        let (_, end) = self.domain();
-        let v = f(end);
-        if let Some((pu, pv)) = prev
-            && v != 0.0
-            && pv.signum() != v.signum()
-            && pu < end
-        {
-            out.push(0.5 * (pu + end));
+        samples.push(*bp.last().unwrap());
+        let mut out = vec![];
+        let mut prev: Option<(f64, f64)> = None; // last sample with a non-zero sign
+        for &u in &samples {
+            let sg = sign(u);
+            if sg == 0.0 {
+                continue;
+            }
+            if let Some((pu, ps)) = prev
+                && ps != sg
+            {
+                let (mut a, mut b) = (pu, u);
+                while b - a > 1e-14 * (1.0 + b.abs()) {
+                    let mid = 0.5 * (a + b);
+                    if mid <= a || mid >= b {
+                        break;
+                    }
+                    let sm = sign(mid);
+                    if sm == ps {
+                        a = mid
+                    } else if sm == sg {
+                        b = mid
+                    } else {
+                        // zero to rounding at mid: the crossing is there
+                        a = mid;
+                        b = mid;
+                    }
+                }
+                out.push(0.5 * (a + b));
+            }
+            prev = Some((u, sg));
         }
         out
     }

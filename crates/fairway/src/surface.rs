@@ -75,7 +75,17 @@ impl SurfaceDerivs {
         let det = e * g - f * f;
         let gauss = (l * nc - m * m) / det;
         let mean = (e * nc - 2.0 * f * m + g * l) / (2.0 * det);
-        let disc = (mean * mean - gauss).max(0.0).sqrt();
+        // Half the difference of the principal curvatures from the shape
+        // operator S = I⁻¹ II: ((S11 − S22)/2)² + S12·S21 = H² − K. Computing
+        // it this way (not as H² − K) keeps full relative accuracy near
+        // umbilics, where H² − K cancels and its square root would lose half
+        // the digits.
+        let s11 = (g * l - f * m) / det;
+        let s22 = (e * nc - f * m) / det;
+        let s12 = (g * m - f * nc) / det;
+        let s21 = (e * m - f * l) / det;
+        let half = 0.5 * (s11 - s22);
+        let disc = (half * half + s12 * s21).max(0.0).sqrt();
         let (k_max, k_min) = (mean + disc, mean - disc);
         let dir = |k: f64| {
             // (II − k I) a = 0 for a = (a, b) in the (Su, Sv) basis

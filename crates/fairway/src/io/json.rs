@@ -34,9 +34,11 @@ pub fn from_value(v: Value) -> Result<Geometry> {
         ));
     };
     if map.contains_key("degree_u") || map.contains_key("knots_u") {
+        check_keys(map, SURFACE_KEYS)?;
         let r: SurfaceRecord = serde_json::from_value(v).map_err(|e| parse_err(format!("surface: {e}")))?;
         Ok(Geometry::Surface(r.try_into()?))
     } else if map.contains_key("degree") || map.contains_key("knots") {
+        check_keys(map, CURVE_KEYS)?;
         let r: CurveRecord = serde_json::from_value(v).map_err(|e| parse_err(format!("curve: {e}")))?;
         Ok(Geometry::Curve(r.try_into()?))
     } else {
@@ -44,6 +46,77 @@ pub fn from_value(v: Value) -> Result<Geometry> {
             "neither a curve (key \"degree\") nor a surface (key \"degree_u\")",
         ))
     }
+}
+
+/// Expected JSON shape of a key: `(name, nesting depth of the number arrays, required)`;
+/// depth 0 is an integer (a degree).
+type KeySpec = (&'static str, usize, bool);
+
+const CURVE_KEYS: &[KeySpec] = &[
+    ("degree", 0, true),
+    ("knots", 1, true),
+    ("points", 2, true),
+    ("weights", 1, false),
+];
+const SURFACE_KEYS: &[KeySpec] = &[
+    ("degree_u", 0, true),
+    ("degree_v", 0, true),
+    ("knots_u", 1, true),
+    ("knots_v", 1, true),
+    ("points", 3, true),
+    ("weights", 2, false),
+];
+
+fn type_name(v: &Value) -> String {
+    match v {
+        Value::Null => "null".into(),
+        Value::Bool(b) => format!("boolean {b}"),
+        Value::Number(n) => format!("number {n}"),
+        Value::String(s) => format!("string {s:?}"),
+        Value::Array(_) => "an array".into(),
+        Value::Object(_) => "an object".into(),
+    }
+}
+
+/// Check that every known key is present (if required) and holds numbers
+/// nested `depth` deep, so that a wrong type is reported with its path
+/// (`points[3][1]: expected a number, found string "a"`) instead of serde's
+/// position-only message.
+fn check_keys(map: &serde_json::Map<String, Value>, spec: &[KeySpec]) -> Result<()> {
+    fn check(path: &str, v: &Value, depth: usize) -> Result<()> {
+        if depth == 0 {
+            return match v {
+                Value::Number(n) if n.is_f64() || n.is_i64() || n.is_u64() => Ok(()),
+                other => Err(parse_err(format!(
+                    "{path}: expected a number, found {}",
+                    type_name(other)
+                ))),
+            };
+        }
+        let Value::Array(items) = v else {
+            return Err(parse_err(format!("{path}: expected an array, found {}", type_name(v))));
+        };
+        for (i, x) in items.iter().enumerate() {
+            check(&format!("{path}[{i}]"), x, depth - 1)?;
+        }
+        Ok(())
+    }
+    for &(key, depth, required) in spec {
+        match map.get(key) {
+            None | Some(Value::Null) if !required => {}
+            None => return Err(parse_err(format!("missing key \"{key}\""))),
+            Some(v) if depth == 0 => {
+                if v.as_u64().is_none() {
+                    return Err(parse_err(format!(
+                        "{key}: expected a non-negative integer, found {}",
+                        type_name(v)
+                    )));
+                }
+            }
+            Some(v) => check(key, v, depth)?,
+        }
+    }
+    Ok(())
 }
 
 /// Geometry as JSON text (pretty enough to read, exact floats).

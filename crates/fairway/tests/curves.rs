@@ -1,0 +1,414 @@
+//! Curves against closed forms, finite differences and invariants.
+
+mod shapes;
+
+use std::f64::consts::PI;
+
+use fairway::{ArcLengthTable, BSplineCurve, CurveProjector, DVec3};
+use proptest::prelude::*;
+use shapes::*;
+
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol
+}
+
+#[test]
+fn circle_has_constant_curvature_and_exact_length() {
+    for r in [0.5, 1.0, 3.0] {
+        let c = circle(r);
+        for i in 0..=200 {
+            let u = i as f64 / 200.0;
+            let k = c.curvature(u);
+            assert!(close(k, 1.0 / r, 1e-13 / r), "r={r} u={u}: κ={k}");
+            // the point is on the circle and the normal points to the centre
+            let p = c.point(u);
+            assert!(close(p.length(), r, 1e-14 * r));
+            let n = c.normal(u);
+            assert!((p + n * r).length() <= 1e-13 * r);
+            assert!(close(c.dkappa_ds(u), 0.0, 1e-11 / (r * r)));
+        }
+        let len = c.length(1e-12);
+        assert!(close(len, 2.0 * PI * r, 1e-10 * len), "r={r}: {len}");
+        // a quarter of the parameter domain is a quarter of the circle
+        let q = c.length_between(0.25, 0.5, 1e-12);
+        assert!(close(q, 0.5 * PI * r, 1e-10 * q));
+    }
+    // a 120° arc as one rational span: length 2πr/3
+    let a = arc(2.0, 2.0 * PI / 3.0);
+    assert!(close(a.length(1e-12), 4.0 * PI / 3.0, 1e-10 * 4.0));
+    for i in 0..=50 {
+        assert!(close(a.curvature(i as f64 / 50.0), 0.5, 1e-13));
+    }
+}
+
+#[test]
+fn circle_in_3d_has_unsigned_curvature_and_zero_torsion() {
+    let c = circle(2.0);
+    // rotate into a tilted plane
+    let rot = glam::DQuat::from_axis_angle(DVec3::new(1.0, 2.0, 0.5).normalize(), 0.8);
+    let pts: Vec<DVec3> = c.points().iter().map(|&p| rot * p).collect();
+    let c3 = BSplineCurve::try_new(2, c.knots().values().to_vec(), pts, c.weights().map(|w| w.to_vec()), 3).unwrap();
+    for i in 0..=40 {
+        let u = i as f64 / 40.0 + 0.003;
+        assert!(close(c3.curvature(u), 0.5, 1e-13));
+        assert!(close(c3.torsion(u), 0.0, 1e-12));
+        let kv = c3.curvature_vector(u);
+        assert!((c3.point(u) + kv * 4.0).length() <= 1e-12, "κN·r² points to the centre");
+    }
+    assert!(close(c3.length(1e-12), 4.0 * PI, 1e-10 * 4.0 * PI));
+}
+
+#[test]
+fn parabola_curvature_and_length_closed_form() {
+    let c = parabola();
+    for i in 0..=100 {
+        let t = i as f64 / 100.0;
+        let x = 2.0 * t - 1.0;
+        let p = c.point(t);
+        assert!(close(p.x, x, 1e-15) && close(p.y, x * x, 1e-15));
+        let k = 2.0 / (1.0 + 4.0 * x * x).powf(1.5);
+        assert!(close(c.curvature(t), k, 1e-13), "t={t}");
+        // dκ/ds = dκ/dx / √(1+4x²), κ(x) = 2(1+4x²)^(-3/2)
+        let dk = -24.0 * x / (1.0 + 4.0 * x * x).powf(2.5) / (1.0 + 4.0 * x * x).sqrt();
+        assert!(close(c.dkappa_ds(t), dk, 1e-12), "t={t}");
+    }
+    let exact = parabola_length_to(1.0);
+    assert!(close(exact, 5f64.sqrt() + 2f64.asinh() / 2.0, 1e-15));
+    for acc in [1e-8, 1e-10, 1e-12] {
+        let l = c.length(acc);
+        assert!(
+            close(l, exact, acc.max(1e-14) * exact * 10.0),
+            "acc {acc}: {l} vs {exact}"
+        );
+    }
+    assert!(close(c.length(1e-12), exact, 1e-10 * exact));
+    // split into many spans: the same curve, the same length
+    let r = c.refine(&[0.1, 0.2, 0.35, 0.5, 0.77, 0.9]).unwrap();
+    assert!(close(r.length(1e-12), exact, 1e-10 * exact));
+    // partial lengths
+    for &(t0, t1) in &[(0.0, 0.3), (0.2, 0.9), (0.5, 1.0)] {
+        let l = c.length_between(t0, t1, 1e-12);
+        let e = parabola_length_to(2.0 * t1 - 1.0) - parabola_length_to(2.0 * t0 - 1.0);
+        assert!(close(l, e, 1e-10 * e));
+    }
+}
+
+#[test]
+fn param_at_inverts_arc_length() {
+    let c = parabola().refine(&[0.3, 0.6]).unwrap();
+    let table = ArcLengthTable::new(&c, 1e-12);
+    let total = table.length();
+    for k in 0..=40 {
+        let s = total * k as f64 / 40.0;
+        let u = table.param_at(&c, s);
+        let exact = parabola_length_to(2.0 * u - 1.0);
+        assert!(close(exact, s, 1e-10 * total), "s={s}: s(u)={exact}");
+        assert!(close(table.length_at(&c, u), s, 1e-10 * total));
+    }
+    // out of range clamps to the ends
+    assert_eq!(table.param_at(&c, -1.0), 0.0);
+    assert_eq!(table.param_at(&c, 2.0 * total), 1.0);
+    // equal arc-length parameters on a circle are equally spaced in angle
+    let circ = circle(1.5);
+    let t = ArcLengthTable::new(&circ, 1e-12);
+    let us = t.equal_arc_params(&circ, 37);
+    assert_eq!(us.len(), 37);
+    assert_eq!((us[0], us[36]), (0.0, 1.0));
+    for w in us.windows(2) {
+        let (a, b) = (circ.point(w[0]), circ.point(w[1]));
+        let ang = (a.x * b.y - a.y * b.x).atan2(a.dot(b));
+        assert!(close(ang, 2.0 * PI / 36.0, 1e-10), "{ang}");
+    }
+    // a sub-range table
+    let sub = ArcLengthTable::new_range(&c, 0.2, 0.7, 1e-12);
+    let e = parabola_length_to(0.4) - parabola_length_to(-0.6);
+    assert!(close(sub.length(), e, 1e-10 * e));
+    let mid = sub.param_at(&c, 0.5 * e);
+    assert!(close(
+        parabola_length_to(2.0 * mid - 1.0) - parabola_length_to(-0.6),
+        0.5 * e,
+        1e-10 * e
+    ));
+}
+
+#[test]
+fn straight_line_has_zero_curvature() {
+    // collinear, unevenly spaced control points: a straight line, non-uniform speed
+    let d = DVec3::new(3.0, -1.0, 0.0);
+    let pts: Vec<DVec3> = [0.0, 0.1, 0.5, 0.6, 1.7, 2.0].iter().map(|&t| d * t).collect();
+    let c = BSplineCurve::try_new(3, vec![0., 0., 0., 0., 0.4, 0.5, 1., 1., 1., 1.], pts.clone(), None, 2).unwrap();
+    for i in 0..=100 {
+        let u = i as f64 / 100.0;
+        assert!(c.curvature(u).abs() <= 1e-14, "{}", c.curvature(u));
+    }
+    assert!(c.inflections(16).is_empty());
+    assert!(close(c.length(1e-12), 2.0 * d.length(), 1e-12));
+    let pts3: Vec<DVec3> = pts.iter().map(|p| DVec3::new(p.x, p.y, 0.5 * p.x)).collect();
+    let c3 = BSplineCurve::new_3d(3, c.knots().values().to_vec(), pts3).unwrap();
+    for i in 0..=20 {
+        assert!(c3.curvature(i as f64 / 20.0) <= 1e-14);
+    }
+}
+
+fn de_casteljau(pts: &[DVec3], t: f64) -> DVec3 {
+    let mut b = pts.to_vec();
+    for r in 1..b.len() {
+        for i in 0..b.len() - r {
+            b[i] = b[i] * (1.0 - t) + b[i + 1] * t;
+        }
+    }
+    b[0]
+}
+
+#[test]
+fn bezier_is_a_one_span_bspline() {
+    let pts = vec![
+        DVec3::new(0., 0., 0.),
+        DVec3::new(1., 3., -1.),
+        DVec3::new(2.5, -2., 0.5),
+        DVec3::new(4., 4., 2.),
+        DVec3::new(5., -1., 0.),
+        DVec3::new(6.5, 1., 1.),
+    ];
+    let c = BSplineCurve::bezier(pts.clone(), 3).unwrap();
+    assert_eq!(c.knots().n_spans(), 1);
+    let n = pts.len() - 1;
+    let hodo: Vec<DVec3> = pts.windows(2).map(|w| (w[1] - w[0]) * n as f64).collect();
+    let hodo2: Vec<DVec3> = hodo.windows(2).map(|w| (w[1] - w[0]) * (n - 1) as f64).collect();
+    for i in 0..=50 {
+        let t = i as f64 / 50.0;
+        let d = c.derivs(t);
+        assert!((d.p - de_casteljau(&pts, t)).length() <= 1e-14 * 10.0);
+        assert!((d.d1 - de_casteljau(&hodo, t)).length() <= 1e-13 * 10.0);
+        assert!((d.d2 - de_casteljau(&hodo2, t)).length() <= 1e-12 * 10.0);
+    }
+}
+
+/// Central differences of `f` with step h.
+fn fd(f: impl Fn(f64) -> DVec3, u: f64, h: f64) -> DVec3 {
+    (f(u + h) - f(u - h)) / (2.0 * h)
+}
+
+fn check_curve_fd(c: &BSplineCurve, params: &[f64]) {
+    let h = 1e-5;
+    for &u in params {
+        let d = c.derivs(u);
+        let scale = |v: DVec3| 1.0 + v.length();
+        let e1 = (fd(|t| c.point(t), u, h) - d.d1).length();
+        let e2 = (fd(|t| c.derivs(t).d1, u, h) - d.d2).length();
+        let e3 = (fd(|t| c.derivs(t).d2, u, h) - d.d3).length();
+        assert!(e1 <= 1e-7 * scale(d.d1), "u={u}: d1 error {e1}");
+        assert!(e2 <= 1e-6 * scale(d.d2), "u={u}: d2 error {e2}");
+        assert!(e3 <= 1e-5 * scale(d.d3), "u={u}: d3 error {e3}");
+        // dκ/ds against differences of κ over arc length
+        let dim = c.dim();
+        let k = |t: f64| c.derivs(t).curvature(dim);
+        let dkds = (k(u + h) - k(u - h)) / (2.0 * h) / d.d1.length();
+        assert!(
+            (dkds - d.dkappa_ds(dim)).abs() <= 1e-5 * (1.0 + dkds.abs()),
+            "u={u}: dκ/ds {dkds} vs {}",
+            d.dkappa_ds(dim)
+        );
+    }
+}
+
+#[test]
+fn derivatives_match_finite_differences() {
+    // parameters inside spans (derivatives jump at knots)
+    check_curve_fd(&wiggly_2d(), &[0.05, 0.1, 0.27, 0.33, 0.5, 0.62, 0.81, 0.95]);
+    check_curve_fd(&quartic_3d(), &[0.1, 0.2, 0.45, 0.9, 1.1]);
+    check_curve_fd(&rational_3d(), &[0.1, 0.2, 0.4, 0.5, 0.8, 0.93]);
+    check_curve_fd(&circle(2.0), &[0.1, 0.3, 0.6, 0.9]);
+    check_curve_fd(&twisted_cubic(), &[0.1, 0.5, 0.9]);
+}
+
+#[test]
+fn twisted_cubic_torsion_and_curvature_closed_form() {
+    let c = twisted_cubic();
+    for i in 0..=50 {
+        let t = i as f64 / 50.0;
+        let p = c.point(t);
+        assert!((p - DVec3::new(t, t * t, t * t * t)).length() <= 1e-15);
+        let q = 9.0 * t.powi(4) + 9.0 * t * t + 1.0;
+        let tau = 3.0 / q;
+        let kappa = 2.0 * q.sqrt() / (1.0 + 4.0 * t * t + 9.0 * t.powi(4)).powf(1.5);
+        assert!(close(c.torsion(t), tau, 1e-13), "t={t}: τ={} vs {tau}", c.torsion(t));
+        assert!(close(c.curvature(t), kappa, 1e-13), "t={t}");
+    }
+    // torsion from finite-difference derivatives of positions
+    let h = 1e-3;
+    for &t in &[0.2, 0.5, 0.8] {
+        let p = |s: f64| c.point(s);
+        let d1 = (p(t + h) - p(t - h)) / (2.0 * h);
+        let d2 = (p(t + h) - 2.0 * p(t) + p(t - h)) / (h * h);
+        let d3 = (p(t + 2.0 * h) - 2.0 * p(t + h) + 2.0 * p(t - h) - p(t - 2.0 * h)) / (2.0 * h * h * h);
+        let w = d1.cross(d2);
+        let tau = w.dot(d3) / w.length_squared();
+        assert!(close(tau, c.torsion(t), 1e-4), "t={t}");
+    }
+    assert_eq!(wiggly_2d().torsion(0.3), 0.0);
+}
+
+#[test]
+fn inflection_of_a_symmetric_s() {
+    // x = 3t, y = 3t(1−t)(1−2t): odd about t = ½, one inflection there
+    let c = BSplineCurve::bezier(
+        vec![
+            DVec3::new(0., 0., 0.),
+            DVec3::new(1., 1., 0.),
+            DVec3::new(2., -1., 0.),
+            DVec3::new(3., 0., 0.),
+        ],
+        2,
+    )
+    .unwrap();
+    let inf = c.inflections(16);
+    assert_eq!(inf.len(), 1);
+    assert!(close(inf[0], 0.5, 1e-12), "{inf:?}");
+    assert!(circle(1.0).inflections(16).is_empty());
+    // sign change of curvature around each inflection of a multi-span curve
+    let w = wiggly_2d();
+    let inf = w.inflections(16);
+    assert!(!inf.is_empty());
+    for &u in &inf {
+        assert!(w.curvature(u - 1e-6) * w.curvature(u + 1e-6) < 0.0, "u={u}");
+    }
+}
+
+#[test]
+fn closest_point_on_circle_and_beyond_the_ends() {
+    let r = 2.0;
+    let c = circle(r);
+    let proj = CurveProjector::new(&c, 16);
+    for k in 0..50 {
+        let a = k as f64 * 0.37;
+        let rho = 0.3 + 0.2 * k as f64;
+        let q = DVec3::new(rho * a.cos(), rho * a.sin(), 0.0);
+        let cp = proj.project(q);
+        assert!(close(cp.distance, (rho - r).abs(), 1e-12), "q={q}: {cp:?}");
+        assert!((cp.point - q.normalize() * r).length() <= 1e-9, "q={q}");
+        assert!((c.point(cp.param) - cp.point).length() <= 1e-15);
+    }
+    // a quarter arc: points beyond the ends project onto the end points
+    let a = arc(r, 0.5 * PI);
+    let p = a.closest_point(DVec3::new(3.0, -1.0, 0.0));
+    assert_eq!(p.param, 0.0);
+    assert!((p.point - DVec3::new(r, 0.0, 0.0)).length() <= 1e-15);
+    let p = a.closest_point(DVec3::new(-1.0, 3.0, 0.0));
+    assert_eq!(p.param, 1.0);
+    assert!(close(p.distance, DVec3::new(-1.0, 3.0 - r, 0.0).length(), 1e-12));
+    // parabola y = x²: for q = (0, 1.2), two symmetric minima at x = ±√0.7
+    // (d/dx [x² + (x² − 1.2)²] = 0), distance √0.95
+    let cp = parabola().closest_point(DVec3::new(0.0, 1.2, 0.0));
+    assert!(close(cp.distance, 0.95f64.sqrt(), 1e-12), "{cp:?}");
+    assert!(close(cp.point.x.abs(), 0.7f64.sqrt(), 1e-7));
+    // for q = (0, 2) the interior minima x = ±√1.5 fall outside [−1, 1]: the ends win
+    let cp = parabola().closest_point(DVec3::new(0.0, 2.0, 0.0));
+    assert!(close(cp.distance, 2f64.sqrt(), 1e-15), "{cp:?}");
+    assert!(cp.param == 0.0 || cp.param == 1.0);
+    // 3D: offset along the binormal projects back to the same parameter
+    let tc = twisted_cubic();
+    let proj = CurveProjector::new(&tc, 16);
+    for &u in &[0.1, 0.4, 0.75] {
+        let d = tc.derivs(u);
+        let b = d.d1.cross(d.d2).normalize();
+        let cp = proj.project(d.p + b * 0.05);
+        assert!(close(cp.param, u, 1e-10), "u={u}: {}", cp.param);
+        assert!(close(cp.distance, 0.05, 1e-12));
+        let near = proj.project_near(d.p + b * 0.05, u + 0.02, 0.05);
+        assert!(close(near.param, u, 1e-10));
+    }
+}
+
+#[test]
+fn closest_point_matches_brute_force() {
+    let c = wiggly_2d();
+    let proj = CurveProjector::new(&c, 16);
+    let dense: Vec<DVec3> = (0..=20000).map(|i| c.point(i as f64 / 20000.0)).collect();
+    for k in 0..30 {
+        let q = DVec3::new(-1.0 + 0.35 * k as f64, 3.0 * (0.9 * k as f64).sin(), 0.0);
+        let brute = dense.iter().map(|p| p.distance(q)).fold(f64::INFINITY, f64::min);
+        let cp = proj.project(q);
+        assert!(cp.distance <= brute + 1e-12, "q={q}: {} > {brute}", cp.distance);
+        assert!(cp.distance >= brute - 1e-5, "q={q}");
+    }
+}
+
+#[test]
+fn reversal_and_rational_polynomial_conversion() {
+    let c = rational_3d();
+    let r = c.reversed();
+    for i in 0..=20 {
+        let u = i as f64 / 20.0;
+        assert!((c.point(u) - r.point(1.0 - u)).length() <= 1e-13);
+    }
+    assert!(c.to_polynomial().is_err());
+    let w = wiggly_2d();
+    let eq = BSplineCurve::try_new(
+        3,
+        w.knots().values().to_vec(),
+        w.points().to_vec(),
+        Some(vec![2.0; 8]),
+        2,
+    )
+    .unwrap();
+    let poly = eq.to_polynomial().unwrap();
+    assert!(!poly.is_rational());
+    for i in 0..=20 {
+        let u = i as f64 / 20.0;
+        assert!((eq.point(u) - w.point(u)).length() <= 1e-14);
+    }
+}
+
+fn curve_strategy() -> impl Strategy<Value = (BSplineCurve, f64, usize)> {
+    (1usize..=5, 0usize..6, any::<bool>(), 0.02f64..0.98, 0u64..1000).prop_map(|(p, extra, rational, u, seed)| {
+        let n = p + 1 + extra;
+        // a tiny deterministic generator for coordinates and knots
+        let mut s = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        let mut next = || {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut interior: Vec<f64> = (0..n - p - 1).map(|_| 0.05 + 0.9 * next()).collect();
+        interior.sort_by(f64::total_cmp);
+        let mut knots = vec![0.0; p + 1];
+        knots.extend(interior);
+        knots.extend(std::iter::repeat_n(1.0, p + 1));
+        let pts: Vec<DVec3> = (0..n)
+            .map(|_| DVec3::new(10.0 * next() - 5.0, 10.0 * next() - 5.0, 4.0 * next()))
+            .collect();
+        let w = rational.then(|| (0..n).map(|_| 0.3 + 2.0 * next()).collect());
+        let times = 1 + (seed as usize % p);
+        (BSplineCurve::try_new(p, knots, pts, w, 3).unwrap(), u, times)
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    #[test]
+    fn knot_insertion_leaves_the_curve_unchanged((c, u, times) in curve_strategy()) {
+        let times = times.min(c.degree() - c.knots().multiplicity(u));
+        prop_assume!(times > 0);
+        let r = c.insert_knot(u, times).unwrap();
+        prop_assert_eq!(r.n_points(), c.n_points() + times);
+        prop_assert_eq!(r.knots().multiplicity(u), c.knots().multiplicity(u) + times);
+        let scale = c.control_bounds().1.abs().max_element().max(c.control_bounds().0.abs().max_element());
+        for i in 0..=60 {
+            let t = i as f64 / 60.0;
+            let d = (r.point(t) - c.point(t)).length();
+            prop_assert!(d <= 1e-12 * scale, "t={} diff {}", t, d);
+        }
+    }
+
+    #[test]
+    fn refinement_leaves_the_curve_unchanged((c, u, _t) in curve_strategy(), v in 0.01f64..0.99) {
+        let r = c.refine(&[u, v, 0.5 * (u + v)]);
+        prop_assume!(r.is_ok()); // a value may already have multiplicity p
+        let r = r.unwrap();
+        for i in 0..=40 {
+            let t = i as f64 / 40.0;
+            prop_assert!((r.point(t) - c.point(t)).length() <= 1e-11);
+        }
+    }
+}
