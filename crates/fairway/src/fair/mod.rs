@@ -7,7 +7,8 @@
 //!   pull-back (Euler, RK2, exact arc steps);
 //! * [`curve`] — [`FairingSetup`]: sampling, free control points of the
 //!   region, the constrained fit with a fairness term, the band control;
-//! * [`iterative`] — the downhill-simplex baseline.
+//! * [`iterative`] — the downhill-simplex baseline;
+//! * [`surface`] — surfaces (paper §3.2): isocurves faired by the curve engine, combined, fitted.
 //!
 //! Typical use (the editor keeps the setup and re-runs `fair` while the
 //! user edits the target or drags the tolerance slider):
@@ -32,9 +33,11 @@
 pub mod curve;
 pub mod integrate;
 pub mod iterative;
+pub mod surface;
 pub mod target;
 
 pub use curve::{EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, fair_curve};
 pub use integrate::Integrator;
 pub use iterative::{IterativeOptions, fair_iterative};
+pub use surface::{Combine, SurfaceFairingOptions, SurfaceFairingResult, fair_surface};
 pub use target::{Target, TargetMethod};
