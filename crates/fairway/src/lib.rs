@@ -23,6 +23,7 @@ pub mod knots;
 pub mod linalg;
 pub mod measure;
 pub mod measure_surface;
+pub mod mesh;
 pub mod quadrature;
 pub mod surface;
 
@@ -33,4 +34,5 @@ pub use error::{Error, Result};
 pub use geometry::Geometry;
 pub use glam::{DVec2, DVec3};
 pub use knots::KnotVector;
+pub use mesh::{SurfaceMesh, curve_comb_3d, extrude_curve, pick_uv};
 pub use surface::{BSplineSurface, SurfaceCurvature, SurfaceDerivs};
