@@ -9,7 +9,9 @@
 
 mod common;
 mod eval;
+mod fair;
 mod info;
+mod measure;
 
 use std::process::ExitCode;
 
@@ -29,6 +31,10 @@ enum Command {
     Eval(eval::Args),
     /// Summarize a curve or surface: kind, degree, control points, spans, length, curvature range, inflections.
     Info(info::Args),
+    /// Fair a curve within a tolerance band (fast local method, or the iterative baseline).
+    Fair(fair::Args),
+    /// Measure a faired curve against its original (deviation, extrema, inflections, energies).
+    Measure(measure::Args),
 }
 
 fn main() -> ExitCode {
@@ -36,6 +42,8 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Command::Eval(a) => eval::run(a),
         Command::Info(a) => info::run(a),
+        Command::Fair(a) => fair::run(a),
+        Command::Measure(a) => measure::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
