@@ -1,7 +1,8 @@
 //! `fairway fair IN --tolerance m [options] -o OUT [--report REPORT.json]`:
-//! fair a curve with the fast local method (or the iterative baseline) and
-//! write the result; the optional report holds the measures of the result
-//! against the input and the solve time measured in-process.
+//! fair a curve with the fast local method (or the iterative baseline), or a
+//! surface with the isocurve-based surface engine, and write the result; the
+//! optional report holds the measures of the result against the input (the
+//! keys of `fairway measure`) and the solve time measured in-process.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -9,10 +10,13 @@ use std::time::Instant;
 use anyhow::{Context, Result, anyhow, bail};
 use fairway::Geometry;
 use fairway::fair::{
-    EndCondition, FairingOptions, FairingSetup, FitMode, Integrator, IterativeOptions, TargetMethod, fair_iterative,
+    Combine, EndCondition, FairingOptions, FairingSetup, FitMode, Integrator, IterativeOptions, SurfaceFairingOptions,
+    TargetMethod, fair_iterative, fair_surface,
 };
 use fairway::io::Document;
 use fairway::measure::{Measures, measure};
+use fairway::measure_surface::{SurfaceMeasures, surface_measures};
+use fairway::{BSplineCurve, BSplineSurface};
 use serde::Serialize;
 
 use crate::common::load_geometry;
@@ -20,14 +24,14 @@ use crate::common::load_geometry;
 /// Arguments of `fairway fair`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Input curve (.json geometry or .ron/.fairway document).
+    /// Input curve or surface (.json geometry, .ron document, .igs, ...).
     pub input: PathBuf,
     /// Tolerance m: max deviation from the input (same units as the points).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub tolerance: f64,
-    /// Region to fair, as `u1,u2` in the curve's parameter (default: the whole curve).
+    /// Region to fair: `u1,u2` for a curve, `u1,u2,v1,v2` for a surface (default: everything).
     #[arg(long, value_parser = parse_region, allow_hyphen_values = true)]
-    pub region: Option<(f64, f64)>,
+    pub region: Option<Region>,
     /// Continuity at the region ends: g0, g1 or g2.
     #[arg(long, default_value = "g2")]
     pub ends: EndCondition,
@@ -43,9 +47,12 @@ pub struct Args {
     /// Integration scheme: euler, rk2 or arc.
     #[arg(long, default_value = "arc")]
     pub integrator: Integrator,
-    /// Number of arc-length samples (default: 10 per knot span).
+    /// Number of arc-length samples (curves; default: 10 per knot span).
     #[arg(long)]
     pub samples: Option<usize>,
+    /// Surfaces: combination of the u- and v-isocurve clouds: average (paper), border, weighted or smoothed.
+    #[arg(long, default_value = "border")]
+    pub combine: Combine,
     /// Output file (.json or .ron).
     #[arg(short = 'o', long = "output")]
     pub output: PathBuf,
@@ -54,25 +61,27 @@ pub struct Args {
     pub report: Option<PathBuf>,
 }
 
-fn parse_region(s: &str) -> std::result::Result<(f64, f64), String> {
+/// A region as given on the command line: 2 (curve) or 4 (surface) parameters.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Region(pub Vec<f64>);
+
+fn parse_region(s: &str) -> std::result::Result<Region, String> {
     let parts: Vec<&str> = s.split(',').collect();
-    if parts.len() != 2 {
-        return Err(format!("expected u1,u2, got {s:?}"));
+    if parts.len() != 2 && parts.len() != 4 {
+        return Err(format!("expected u1,u2 (curve) or u1,u2,v1,v2 (surface), got {s:?}"));
     }
-    let a = parts[0]
-        .trim()
-        .parse::<f64>()
-        .map_err(|e| format!("{:?}: {e}", parts[0]))?;
-    let b = parts[1]
-        .trim()
-        .parse::<f64>()
-        .map_err(|e| format!("{:?}: {e}", parts[1]))?;
-    Ok((a, b))
+    parts
+        .iter()
+        .map(|p| p.trim().parse::<f64>().map_err(|e| format!("{p:?}: {e}")))
+        .collect::<std::result::Result<Vec<f64>, String>>()
+        .map(Region)
 }
 
-/// The report written by `--report`.
+/// The report written by `--report` for a curve.
 #[derive(Serialize, Debug)]
 pub struct Report {
+    /// "curve".
+    pub kind: &'static str,
     /// fast, paper or iterative.
     pub method: String,
     /// The requested tolerance.
@@ -87,6 +96,8 @@ pub struct Report {
     pub mu: f64,
     /// Update scale α (1 unless the band forced a partial step).
     pub alpha: f64,
+    /// Linear solves done.
+    pub solves: usize,
     /// Paper's E at the samples against the setup's target, before.
     pub energy_before: f64,
     /// The same after.
@@ -97,23 +108,43 @@ pub struct Report {
     pub measures: Measures,
 }
 
+/// The report written by `--report` for a surface.
+#[derive(Serialize, Debug)]
+pub struct SurfaceReport {
+    /// "surface".
+    pub kind: &'static str,
+    /// "fast".
+    pub method: String,
+    /// The requested tolerance.
+    pub tolerance: f64,
+    /// Fairing time, ms (the surface engine has no separate setup).
+    pub solve_ms: f64,
+    /// Upper bound of the deviation verified by the solver.
+    pub max_deviation_bound: f64,
+    /// Update scale α.
+    pub alpha: f64,
+    /// Rounds of isocurve fairing.
+    pub rounds: usize,
+    /// Free control rows [first, last) (u).
+    pub free_u: [usize; 2],
+    /// Free control columns [first, last) (v).
+    pub free_v: [usize; 2],
+    /// Measures of the result against the input.
+    pub measures: SurfaceMeasures,
+}
+
 /// Run `fairway fair`.
 pub fn run(a: &Args) -> Result<()> {
-    let g = load_geometry(&a.input)?;
-    let Geometry::Curve(curve) = g else {
-        bail!(
-            "{}: fair works on curves; this file holds a {}",
-            a.input.display(),
-            g.kind()
-        );
-    };
+    if !(a.tolerance.is_finite() && a.tolerance > 0.0) {
+        bail!("--tolerance must be a positive finite number, got {}", a.tolerance);
+    }
     let mode = match a.method.as_str() {
         "fast" | "iterative" => FitMode::Fairway,
         "paper" => FitMode::Paper,
         m => return Err(anyhow!("unknown method {m:?}: expected fast, iterative or paper")),
     };
     let opts = FairingOptions {
-        region: a.region,
+        region: None,
         tolerance: a.tolerance,
         ends: a.ends,
         target: a.target,
@@ -122,8 +153,30 @@ pub fn run(a: &Args) -> Result<()> {
         samples: a.samples,
         mode,
     };
+    match load_geometry(&a.input)? {
+        Geometry::Curve(c) => fair_curve_cmd(a, &c, opts),
+        Geometry::Surface(s) => fair_surface_cmd(a, &s, opts),
+    }
+}
+
+fn write_report<T: Serialize>(path: &std::path::Path, report: &T) -> Result<()> {
+    let text = serde_json::to_string_pretty(report)?;
+    fairway::io::write_atomic(path, text.as_bytes())?;
+    Ok(())
+}
+
+fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions) -> Result<()> {
+    opts.region = match a.region.as_ref().map(|r| r.0.as_slice()) {
+        None => None,
+        Some(&[u1, u2]) => Some((u1, u2)),
+        Some(r) => bail!(
+            "{}: a curve takes --region u1,u2 (got {} values)",
+            a.input.display(),
+            r.len()
+        ),
+    };
     let t0 = Instant::now();
-    let mut setup = FairingSetup::new(&curve, opts).context("fairing setup")?;
+    let mut setup = FairingSetup::new(curve, opts).context("fairing setup")?;
     let setup_ms = t0.elapsed().as_secs_f64() * 1e3;
     let t1 = Instant::now();
     let result = if a.method == "iterative" {
@@ -136,6 +189,7 @@ pub fn run(a: &Args) -> Result<()> {
     fairway::io::save(&a.output, &Document::new(Geometry::Curve(result.curve.clone())))?;
     if let Some(path) = &a.report {
         let report = Report {
+            kind: "curve",
             method: a.method.clone(),
             tolerance: a.tolerance,
             setup_ms,
@@ -143,13 +197,58 @@ pub fn run(a: &Args) -> Result<()> {
             max_deviation_bound: result.max_deviation,
             mu: result.mu,
             alpha: result.alpha,
+            solves: result.solves,
             energy_before: setup.energy(setup.working_curve()),
             energy: result.energy,
             free_points: [setup.free_points().start, setup.free_points().end],
-            measures: measure(&curve, &result.curve),
+            measures: measure(curve, &result.curve),
         };
-        let text = serde_json::to_string_pretty(&report)?;
-        fairway::io::write_atomic(path, text.as_bytes())?;
+        write_report(path, &report)?;
+    }
+    Ok(())
+}
+
+fn fair_surface_cmd(a: &Args, surface: &BSplineSurface, curve: FairingOptions) -> Result<()> {
+    if a.method != "fast" {
+        bail!(
+            "surfaces are faired by the fast method only (got --method {})",
+            a.method
+        );
+    }
+    let region = match a.region.as_ref().map(|r| r.0.as_slice()) {
+        None => None,
+        Some(&[u1, u2, v1, v2]) => Some(((u1, u2), (v1, v2))),
+        Some(r) => bail!(
+            "{}: a surface takes --region u1,u2,v1,v2 (got {} values)",
+            a.input.display(),
+            r.len()
+        ),
+    };
+    let opts = SurfaceFairingOptions {
+        region,
+        tolerance: a.tolerance,
+        curve,
+        combine: a.combine,
+        ..Default::default()
+    };
+    let t0 = Instant::now();
+    let result = fair_surface(surface, opts).context("surface fairing")?;
+    let solve_ms = t0.elapsed().as_secs_f64() * 1e3;
+    fairway::io::save(&a.output, &Document::new(Geometry::Surface(result.surface.clone())))?;
+    if let Some(path) = &a.report {
+        let report = SurfaceReport {
+            kind: "surface",
+            method: a.method.clone(),
+            tolerance: a.tolerance,
+            solve_ms,
+            max_deviation_bound: result.max_deviation,
+            alpha: result.alpha,
+            rounds: result.rounds,
+            free_u: [result.free_u.start, result.free_u.end],
+            free_v: [result.free_v.start, result.free_v.end],
+            measures: surface_measures(surface, &result.surface),
+        };
+        write_report(path, &report)?;
     }
     Ok(())
 }

@@ -291,6 +291,32 @@ pub fn energies(c: &BSplineCurve) -> (f64, f64) {
     (ev, eb)
 }
 
+/// The paper's E of `curve` against a given target: `Σ (κ(t_i) − g(s_i/L))²`
+/// over the 200 arc-length samples t_i of `curve` (as `E_paper`), where the
+/// target values `target` are taken as uniform in normalized arc length
+/// `[0, 1]` (first and last included) and interpolated linearly at `s_i/L`.
+/// Returns `None` for fewer than 2 target values or a non-finite one.
+pub fn paper_energy(curve: &BSplineCurve, target: &[f64]) -> Option<f64> {
+    let m = target.len();
+    if m < 2 || target.iter().any(|x| !x.is_finite()) {
+        return None;
+    }
+    let n = PAPER_SAMPLES;
+    let e = arc_params(curve, n)
+        .into_iter()
+        .enumerate()
+        .map(|(i, u)| {
+            let x = i as f64 / (n - 1) as f64 * (m - 1) as f64;
+            let j = (x.floor() as usize).min(m - 2);
+            let f = x - j as f64;
+            let g = target[j] * (1.0 - f) + target[j + 1] * f;
+            let r = kappa(curve, u) - g;
+            r * r
+        })
+        .sum();
+    Some(e)
+}
+
 /// All measures of `faired` against `original`.
 pub fn measure(original: &BSplineCurve, faired: &BSplineCurve) -> Measures {
     let fwd = deviations(original, faired, DEV_SAMPLES);
@@ -393,5 +419,30 @@ mod tests {
         assert_eq!(sign_changes(&[1.0, 0.0, -1.0, 2.0]), 2);
         assert_eq!(interior_low_runs(&[0.0, 1.0, 0.0, 1.0, 0.0], 0.5), 1);
         assert_eq!(moving_average(&[1.0, 2.0, 3.0, 4.0], 1), vec![1.5, 2.0, 3.0, 3.5]);
+    }
+
+    #[test]
+    fn paper_energy_of_a_circle_against_its_curvature() {
+        // a quarter circle of radius 2 as an exact rational curve, made polynomial by refinement
+        let w = std::f64::consts::FRAC_1_SQRT_2;
+        let c = BSplineCurve::try_new(
+            2,
+            vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+            vec![
+                DVec3::new(2.0, 0.0, 0.0),
+                DVec3::new(2.0, 2.0, 0.0),
+                DVec3::new(0.0, 2.0, 0.0),
+            ],
+            Some(vec![1.0, w, 1.0]),
+            2,
+        )
+        .unwrap();
+        // the exact target 1/r gives E ≈ 0; a target off by 0.1 gives 200 · 0.01
+        let e0 = paper_energy(&c, &[0.5, 0.5]).unwrap();
+        assert!(e0 < 1e-16, "{e0}");
+        let e1 = paper_energy(&c, &[0.6, 0.6, 0.6]).unwrap();
+        assert!((e1 - 2.0).abs() < 1e-9, "{e1}");
+        assert!(paper_energy(&c, &[0.5]).is_none());
+        assert!(paper_energy(&c, &[0.5, f64::NAN]).is_none());
     }
 }

@@ -1,0 +1,357 @@
+//! End-to-end tests of `fairway fair` and `fairway measure`: the binary is
+//! run on files in a temporary directory; the outputs are read back with the
+//! core library and checked (tolerance kept, control points outside the
+//! region unchanged, report keys = the reference's measure keys, exit codes
+//! and messages on bad input).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use fairway::{BSplineCurve, BSplineSurface, Geometry};
+use serde_json::Value;
+
+fn reference(name: &str) -> PathBuf {
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/data/reference")).join(name)
+}
+
+fn fairway(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_fairway"))
+        .args(args)
+        .output()
+        .expect("run the fairway binary")
+}
+
+/// A fresh temporary directory for one test.
+fn temp_dir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("fairway-cli-{}-{tag}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn ok(out: &Output) {
+    assert!(
+        out.status.success(),
+        "exit {:?}, stderr: {}",
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn fails_with(out: &Output, code: i32, needle: &str) {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(code), "stderr: {err}");
+    assert!(err.contains(needle), "stderr {err:?} should mention {needle:?}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+fn load(path: &Path) -> Geometry {
+    fairway::io::load_geometry(path).unwrap()
+}
+
+fn curve(path: &Path) -> BSplineCurve {
+    load(path).as_curve().unwrap().clone()
+}
+
+fn surface(path: &Path) -> BSplineSurface {
+    match load(path) {
+        Geometry::Surface(s) => s,
+        g => panic!("expected a surface, got a {}", g.kind()),
+    }
+}
+
+fn json_file(path: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// The reference's measure keys (README of shared/reference).
+fn reference_keys() -> Vec<String> {
+    let v = json_file(&reference("s_curve.smoothed.measures.json"));
+    v.as_object().unwrap().keys().cloned().collect()
+}
+
+#[test]
+fn fair_curve_keeps_tolerance_and_reports_reference_keys() {
+    let dir = temp_dir("curve");
+    let (out, rep) = (dir.join("out.json"), dir.join("report.json"));
+    let input = reference("s_curve.json");
+    ok(&fairway(&[
+        "fair",
+        s(&input),
+        "--tolerance",
+        "0.01",
+        "-o",
+        s(&out),
+        "--report",
+        s(&rep),
+    ]));
+    let (a, b) = (curve(&input), curve(&out));
+    assert_eq!(a.knots().values(), b.knots().values(), "original knots kept");
+    let r = json_file(&rep);
+    assert_eq!(r["kind"], "curve");
+    assert!(r["solve_ms"].as_f64().unwrap() > 0.0);
+    let m = &r["measures"];
+    for k in reference_keys() {
+        assert!(m.get(&k).is_some(), "report.measures lacks the reference key {k}");
+    }
+    let dev = m["dev_max"].as_f64().unwrap();
+    assert!(dev <= 0.01 && dev > 1e-4, "dev_max {dev}");
+    // the measures agree with an independent call of the core
+    let direct = fairway::measure::measure(&a, &b);
+    assert!((direct.dev_max - dev).abs() <= 1e-12 * dev.max(1.0));
+    assert_eq!(direct.n_curv_extrema as u64, m["n_curv_extrema"].as_u64().unwrap());
+    // fairer than the input (already fair-ish: 2 extrema, the reference's own smoothing has 3, E_var 19.2):
+    // no more curvature extrema and a clearly smaller ∫(dκ/ds)²
+    let before = fairway::measure::measure(&a, &a);
+    assert!(direct.n_curv_extrema <= before.n_curv_extrema);
+    assert!(
+        direct.E_var < 0.8 * before.E_var,
+        "{} vs {}",
+        direct.E_var,
+        before.E_var
+    );
+    // `measure --json` on the files prints the same numbers
+    let o = fairway(&["measure", s(&input), s(&out), "--json"]);
+    ok(&o);
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["dev_max"].as_f64().unwrap(), direct.dev_max);
+    assert_eq!(v["n_inflections"].as_u64().unwrap(), direct.n_inflections as u64);
+}
+
+#[test]
+fn fair_curve_region_leaves_outside_control_points_unchanged() {
+    let dir = temp_dir("region");
+    let out = dir.join("out.json");
+    let input = reference("s_curve.json");
+    for ends in ["g2", "g1", "g0"] {
+        ok(&fairway(&[
+            "fair",
+            s(&input),
+            "--tolerance",
+            "0.005",
+            "--region",
+            "0.3,0.7",
+            "--ends",
+            ends,
+            "--target",
+            "binomial",
+            "--integrator",
+            "rk2",
+            "-o",
+            s(&out),
+        ]));
+        let (a, b) = (curve(&input), curve(&out));
+        // G0/G1 insert knots at the region ends: compare on the refined original
+        let a = a.refine(&extra_knots(&a, &b)).unwrap();
+        assert_eq!(a.n_points(), b.n_points(), "{ends}");
+        let mut moved = 0;
+        for i in 0..a.n_points() {
+            let (lo, hi) = a.knots().support(i);
+            let d = a.points()[i].distance(b.points()[i]);
+            if lo < 0.3 - 1e-12 || hi > 0.7 + 1e-12 {
+                assert!(d <= 1e-12, "{ends}: point {i} (support [{lo}, {hi}]) moved by {d}");
+            } else if d > 1e-9 {
+                moved += 1;
+            }
+        }
+        assert!(moved > 0, "{ends}: nothing moved inside the region");
+        let m = fairway::measure::measure(&curve(&input), &b);
+        assert!(m.dev_max <= 0.005, "{ends}: {}", m.dev_max);
+    }
+}
+
+/// Knots of `b` that `a` lacks (with multiplicity).
+fn extra_knots(a: &BSplineCurve, b: &BSplineCurve) -> Vec<f64> {
+    let mut ka = a.knots().values().to_vec();
+    let mut extra = vec![];
+    for &x in b.knots().values() {
+        if let Some(i) = ka.iter().position(|&y| y == x) {
+            ka.remove(i);
+        } else {
+            extra.push(x);
+        }
+    }
+    extra
+}
+
+#[test]
+fn fair_3d_curve_and_iterative_method() {
+    let dir = temp_dir("3d");
+    let (out, rep) = (dir.join("out.ron"), dir.join("report.json"));
+    let input = reference("conical_spiral.json");
+    ok(&fairway(&[
+        "fair",
+        s(&input),
+        "--tolerance",
+        "0.02",
+        "-o",
+        s(&out),
+        "--report",
+        s(&rep),
+    ]));
+    let m = fairway::measure::measure(&curve(&input), &curve(&out));
+    assert!(m.dev_max <= 0.02, "{}", m.dev_max);
+    let fast_e = json_file(&rep)["energy"].as_f64().unwrap();
+    // the iterative baseline on a short stretch (it is slow by design)
+    ok(&fairway(&[
+        "fair",
+        s(&input),
+        "--tolerance",
+        "0.02",
+        "--region",
+        "0.2,0.5",
+        "--method",
+        "iterative",
+        "-o",
+        s(&out),
+        "--report",
+        s(&rep),
+    ]));
+    let r = json_file(&rep);
+    assert_eq!(r["method"], "iterative");
+    assert!(r["energy"].as_f64().unwrap() <= r["energy_before"].as_f64().unwrap());
+    assert!(r["measures"]["dev_max"].as_f64().unwrap() <= 0.02);
+    assert!(fast_e.is_finite());
+}
+
+#[test]
+fn fair_surface_region_and_surface_measures() {
+    let dir = temp_dir("surface");
+    let (out, rep) = (dir.join("out.json"), dir.join("report.json"));
+    let input = reference("saddle.json");
+    ok(&fairway(&[
+        "fair",
+        s(&input),
+        "--tolerance",
+        "0.01",
+        "--region",
+        "0.2,0.8,0.2,0.8",
+        "-o",
+        s(&out),
+        "--report",
+        s(&rep),
+    ]));
+    let (a, b) = (surface(&input), surface(&out));
+    let r = json_file(&rep);
+    assert_eq!(r["kind"], "surface");
+    let (fu, fv) = (&r["free_u"], &r["free_v"]);
+    let fu = fu[0].as_u64().unwrap() as usize..fu[1].as_u64().unwrap() as usize;
+    let fv = fv[0].as_u64().unwrap() as usize..fv[1].as_u64().unwrap() as usize;
+    let (nu, nv) = (a.nu(), a.nv());
+    let mut moved = 0;
+    for i in 0..nu {
+        for j in 0..nv {
+            let d = a.points()[i * nv + j].distance(b.points()[i * nv + j]);
+            if fu.contains(&i) && fv.contains(&j) {
+                moved += usize::from(d > 1e-9);
+            } else {
+                assert!(d <= 1e-12, "held control point ({i}, {j}) moved by {d}");
+            }
+        }
+    }
+    assert!(moved > 0);
+    let m = &r["measures"];
+    for k in [
+        "dev_max",
+        "dev_rms",
+        "hausdorff",
+        "n_curv_extrema",
+        "E_var",
+        "mean_curv_var",
+    ] {
+        assert!(m.get(k).is_some(), "surface report lacks {k}");
+    }
+    assert!(m["dev_max"].as_f64().unwrap() <= 0.01);
+    let o = fairway(&["measure", s(&input), s(&out), "--json"]);
+    ok(&o);
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["dev_max"], m["dev_max"]);
+    // a curve region on a surface is a usage error with a message
+    let bad = fairway(&[
+        "fair",
+        s(&input),
+        "--tolerance",
+        "0.01",
+        "--region",
+        "0.2,0.8",
+        "-o",
+        s(&out),
+    ]);
+    fails_with(&bad, 1, "u1,u2,v1,v2");
+    let bad = fairway(&["measure", s(&input), s(&reference("s_curve.json")), "--json"]);
+    fails_with(&bad, 1, "cannot measure a curve against a surface");
+}
+
+#[test]
+fn measure_with_a_target() {
+    let dir = temp_dir("target");
+    let t = dir.join("target.json");
+    let input = reference("s_curve.json");
+    std::fs::write(&t, "[0.0, 0.0]").unwrap();
+    let o = fairway(&["measure", s(&input), s(&input), "--target", s(&t), "--json"]);
+    ok(&o);
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    // against a zero target, E is Σ κ² over the 200 samples
+    let c = curve(&input);
+    let want: f64 = fairway::measure::arc_params(&c, 200)
+        .into_iter()
+        .map(|u| c.curvature(u).powi(2))
+        .sum();
+    let got = v["E_paper_target"].as_f64().unwrap();
+    assert!((got - want).abs() <= 1e-12 * want, "{got} {want}");
+    std::fs::write(&t, "[1.0]").unwrap();
+    fails_with(
+        &fairway(&["measure", s(&input), s(&input), "--target", s(&t)]),
+        1,
+        "at least 2",
+    );
+    std::fs::write(&t, "{\"a\": 1}").unwrap();
+    fails_with(
+        &fairway(&["measure", s(&input), s(&input), "--target", s(&t)]),
+        1,
+        "JSON array",
+    );
+}
+
+#[test]
+fn fair_bad_input_gives_clear_errors() {
+    let dir = temp_dir("bad");
+    let out = dir.join("out.json");
+    let input = reference("s_curve.json");
+    let run = |extra: &[&str]| {
+        let mut args = vec!["fair", s(&input), "-o", s(&out)];
+        args.extend_from_slice(extra);
+        fairway(&args)
+    };
+    for t in ["0", "-1", "NaN", "inf"] {
+        fails_with(&run(&["--tolerance", t]), 1, "tolerance must be a positive");
+    }
+    fails_with(&run(&["--tolerance", "0.01", "--region", "1.5,2"]), 1, "region");
+    fails_with(&run(&["--tolerance", "0.01", "--region", "0.6,0.4"]), 1, "empty");
+    fails_with(&run(&["--tolerance", "0.01", "--region", "0.5,0.51"]), 1, "too small");
+    fails_with(&run(&["--tolerance", "0.01", "--region", "a,b"]), 2, "region");
+    fails_with(&run(&["--tolerance", "0.01", "--ends", "g5"]), 2, "g0, g1 or g2");
+    fails_with(
+        &run(&["--tolerance", "0.01", "--target", "median"]),
+        2,
+        "average, binomial or fit",
+    );
+    fails_with(
+        &run(&["--tolerance", "0.01", "--integrator", "rk9"]),
+        2,
+        "euler, rk2 or arc",
+    );
+    fails_with(&run(&["--tolerance", "0.01", "--method", "slow"]), 1, "unknown method");
+    fails_with(
+        &run(&["--tolerance", "0.01", "--region", "0.2,0.4,0.1,0.9"]),
+        1,
+        "u1,u2",
+    );
+    let missing = fairway(&["fair", s(&dir.join("nope.json")), "--tolerance", "0.01", "-o", s(&out)]);
+    fails_with(&missing, 1, "nope.json");
+    assert!(!out.exists(), "no output written on errors");
+}
