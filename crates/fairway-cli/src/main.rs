@@ -8,6 +8,7 @@
 //! 2 usage error (clap's default: unknown option, bad value).
 
 mod common;
+mod convert;
 mod eval;
 mod fair;
 mod info;
@@ -35,6 +36,8 @@ enum Command {
     Fair(fair::Args),
     /// Measure a faired curve against its original (deviation, extrema, inflections, energies).
     Measure(measure::Args),
+    /// Convert between formats by extension: JSON, RON, IGES, point lists (input), SVG (output).
+    Convert(convert::Args),
 }
 
 fn main() -> ExitCode {
@@ -44,6 +47,7 @@ fn main() -> ExitCode {
         Command::Info(a) => info::run(a),
         Command::Fair(a) => fair::run(a),
         Command::Measure(a) => measure::run(a),
+        Command::Convert(a) => convert::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

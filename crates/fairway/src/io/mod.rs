@@ -14,6 +14,7 @@ pub mod iges;
 pub mod json;
 pub mod points;
 pub mod record;
+pub mod svg;
 
 use std::io::Write;
 use std::path::Path;

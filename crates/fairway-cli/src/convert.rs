@@ -1,0 +1,129 @@
+//! `fairway convert IN OUT`: convert geometry between formats, chosen by
+//! extension: JSON (`.json`), Fairway document (`.ron`, `.fairway`), IGES
+//! (`.igs`, `.iges`), point lists (`.csv`, `.txt`, `.xyz`, input only:
+//! fitted by a B-spline), SVG (`.svg`, output only: curve, control polygon,
+//! curvature comb).
+//!
+//! An IGES input with several objects converts the first one unless
+//! `--index` picks another; skipped entities are listed on stderr.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, anyhow, bail};
+use fairway::Geometry;
+use fairway::io::{self, Document, iges, points, svg};
+
+/// Arguments of `fairway convert`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Input file (.json, .ron, .fairway, .igs, .iges, .csv, .txt, .xyz).
+    pub input: PathBuf,
+    /// Output file (.json, .ron, .fairway, .igs, .iges, .svg).
+    pub output: PathBuf,
+    /// Point input: number of control points of the fitted curve (default: half the points, 4 to 40).
+    #[arg(long)]
+    pub control_points: Option<usize>,
+    /// Point input: degree of the fitted curve.
+    #[arg(long, default_value_t = 3)]
+    pub degree: usize,
+    /// Point input: parametrisation, `chord` or `centripetal`.
+    #[arg(long, default_value = "chord")]
+    pub param: String,
+    /// IGES input: which object to convert (0 = the first).
+    #[arg(long, default_value_t = 0)]
+    pub index: usize,
+    /// SVG output: also draw the tolerance band of this half-width (model units).
+    #[arg(long)]
+    pub band: Option<f64>,
+}
+
+fn ext(p: &Path) -> String {
+    p.extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+        .unwrap_or_default()
+}
+
+fn with_path(path: &Path, e: fairway::Error) -> anyhow::Error {
+    match e {
+        e @ fairway::Error::Io { .. } => anyhow!("{e}"),
+        e => anyhow!("{}: {e}", path.display()),
+    }
+}
+
+/// Read the input as a document.
+pub fn read_input(a: &Args) -> Result<Document> {
+    let path = &a.input;
+    match ext(path).as_str() {
+        "igs" | "iges" => {
+            let bytes = std::fs::read(path).with_context(|| path.display().to_string())?;
+            let f = iges::read_all(&bytes).map_err(|e| with_path(path, e))?;
+            for n in &f.notices {
+                eprintln!("fairway: {}: {n}", path.display());
+            }
+            let count = f.objects.len();
+            if count == 0 {
+                bail!(
+                    "{}: no B-spline curve (126) or surface (128) in the file",
+                    path.display()
+                );
+            }
+            if count > 1 {
+                eprintln!(
+                    "fairway: {}: {count} objects, converting number {} (choose with --index)",
+                    path.display(),
+                    a.index
+                );
+            }
+            let g = f.objects.into_iter().nth(a.index).ok_or_else(|| {
+                anyhow!(
+                    "{}: --index {} but the file holds {count} objects",
+                    path.display(),
+                    a.index
+                )
+            })?;
+            Ok(Document::new(g))
+        }
+        "csv" | "txt" | "xyz" => {
+            let text = io::read_text(path).map_err(|e| with_path(path, e))?;
+            let set = points::parse(&text).map_err(|e| with_path(path, e))?;
+            let opts = points::FitOptions {
+                control_points: a.control_points,
+                degree: a.degree,
+                param: a.param.parse().map_err(|e| anyhow!("--param: {e}"))?,
+            };
+            let c = points::fit_points(&set, &opts).map_err(|e| with_path(path, e))?;
+            Ok(Document::new(c.into()))
+        }
+        _ => io::load(path).map_err(|e| with_path(path, e)),
+    }
+}
+
+/// Run the conversion.
+pub fn run(a: &Args) -> Result<()> {
+    if ext(&a.output) == "svg" && ext(&a.input) != "svg" {
+        // checked before reading so a bad --band fails fast
+        if let Some(m) = a.band
+            && !(m.is_finite() && m > 0.0)
+        {
+            bail!("--band {m}: must be a positive number");
+        }
+    }
+    let doc = read_input(a)?;
+    match ext(&a.output).as_str() {
+        "svg" => {
+            let Geometry::Curve(c) = &doc.geometry else {
+                bail!(
+                    "{}: SVG export draws curves; the input is a surface",
+                    a.output.display()
+                );
+            };
+            let opts = svg::SvgOptions {
+                band: a.band.or(doc.settings.tolerance),
+                ..Default::default()
+            };
+            io::write_atomic(&a.output, svg::curve_svg(c, None, &opts).as_bytes()).map_err(|e| with_path(&a.output, e))
+        }
+        _ => io::save(&a.output, &doc).map_err(|e| with_path(&a.output, e)),
+    }
+}
