@@ -84,21 +84,20 @@ pub fn curve_svg(curve: &BSplineCurve, faired: Option<&BSplineCurve>, opts: &Svg
     let us = samples(curve, opts.samples_per_span);
     let pts: Vec<DVec2> = us.iter().map(|&u| xy(curve.point(u))).collect();
     let frames: Vec<(DVec2, f64)> = us.iter().map(|&u| normal_xy(curve, u)).collect();
-    let mut lo = DVec2::splat(f64::INFINITY);
-    let mut hi = DVec2::splat(f64::NEG_INFINITY);
-    let mut grow = |p: DVec2| {
+    let mut bounds = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+    let grow = |b: &mut (DVec2, DVec2), p: DVec2| {
         if p.is_finite() {
-            lo = lo.min(p);
-            hi = hi.max(p);
+            b.0 = b.0.min(p);
+            b.1 = b.1.max(p);
         }
     };
     for p in &pts {
-        grow(*p);
+        grow(&mut bounds, *p);
     }
     for p in curve.points() {
-        grow(xy(*p));
+        grow(&mut bounds, xy(*p));
     }
-    let diag0 = (hi - lo).length();
+    let diag0 = (bounds.1 - bounds.0).length();
     let diag = if diag0 > 0.0 && diag0.is_finite() { diag0 } else { 1.0 };
     let kmax = frames.iter().map(|f| f.1.abs()).fold(0.0, f64::max);
     let scale = opts.comb_scale.unwrap_or(if kmax > 0.0 {
@@ -113,7 +112,7 @@ pub fn curve_svg(curve: &BSplineCurve, faired: Option<&BSplineCurve>, opts: &Svg
         .collect();
     if opts.comb {
         for q in &needles {
-            grow(*q);
+            grow(&mut bounds, *q);
         }
     }
     let band: Option<(Vec<DVec2>, Vec<DVec2>)> = opts.band.filter(|m| *m > 0.0 && curve.dim() == 2).map(|m| {
@@ -124,7 +123,7 @@ pub fn curve_svg(curve: &BSplineCurve, faired: Option<&BSplineCurve>, opts: &Svg
     });
     if let Some((a, b)) = &band {
         for q in a.iter().chain(b) {
-            grow(*q);
+            grow(&mut bounds, *q);
         }
     }
     let fpts: Option<Vec<DVec2>> = faired.map(|f| {
@@ -135,9 +134,10 @@ pub fn curve_svg(curve: &BSplineCurve, faired: Option<&BSplineCurve>, opts: &Svg
     });
     if let Some(f) = &fpts {
         for q in f {
-            grow(*q);
+            grow(&mut bounds, *q);
         }
     }
+    let (mut lo, mut hi) = bounds;
     if !lo.is_finite() || !hi.is_finite() {
         lo = DVec2::ZERO;
         hi = DVec2::ONE;
@@ -168,7 +168,7 @@ pub fn curve_svg(curve: &BSplineCurve, faired: Option<&BSplineCurve>, opts: &Svg
     if let Some((a, b)) = &band {
         let _ = writeln!(
             out,
-            r#"<g id="band" fill="none" stroke="#8fc98f" stroke-width="1" stroke-dasharray="4 3"><path d="{}"/><path d="{}"/></g>"#,
+            r##"<g id="band" fill="none" stroke="#8fc98f" stroke-width="1" stroke-dasharray="4 3"><path d="{}"/><path d="{}"/></g>"##,
             path(a),
             path(b)
         );
