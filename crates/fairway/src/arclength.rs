@@ -18,6 +18,10 @@ pub struct ArcLengthTable {
     s: Vec<f64>,
     speed: Vec<f64>,
     accuracy: f64,
+    // absolute rounding floor of the speed per unit parameter in the current span, and the
+    // number of refinements left (guarantees termination whatever the input)
+    noise: f64,
+    budget: usize,
 }
 
 fn speed(c: &BSplineCurve, u: f64) -> f64 {
@@ -45,7 +49,20 @@ impl ArcLengthTable {
             s: vec![0.0],
             speed: vec![speed(curve, u0)],
             accuracy,
+            noise: 0.0,
+            budget: 0,
         };
+        // Rounding floor: c'(u) = Σ N'_i(u) P_i sums terms of size up to p/Δ·|P|max, so its
+        // absolute error is ≈ ε·p/Δ·|P|max (Δ the span width). For a curve far from the
+        // origin (coordinates 1e9, size 10) that is far above `accuracy` × length, and
+        // halving the pieces would never reach it: accept differences at that floor.
+        let pmax = curve.points().iter().map(|q| q.abs().max_element()).fold(0.0, f64::max);
+        let wmax = curve.weights().map_or(1.0, |w| {
+            let (lo, hi) = w
+                .iter()
+                .fold((f64::INFINITY, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));
+            hi / lo
+        });
         let mut bps: Vec<f64> = curve
             .knots()
             .breakpoints()
@@ -54,8 +71,13 @@ impl ArcLengthTable {
             .collect();
         bps.insert(0, u0);
         bps.push(u1);
+        t.budget = 4096 + 512 * bps.len();
         for w in bps.windows(2) {
             if w[1] > w[0] {
+                let span = curve.knots().find_span(0.5 * (w[0] + w[1]));
+                let kv = curve.knots().values();
+                let width = kv[span + 1] - kv[span];
+                t.noise = 64.0 * f64::EPSILON * curve.degree() as f64 * pmax * wmax / width;
                 // two pieces per span at least: keeps the Hermite guess good
                 let m = 0.5 * (w[0] + w[1]);
                 t.refine(curve, w[0], m, piece(curve, w[0], m), 0);
@@ -69,7 +91,12 @@ impl ArcLengthTable {
         let m = 0.5 * (a + b);
         let l = piece(c, a, m);
         let r = piece(c, m, b);
-        if depth >= 40 || (whole - (l + r)).abs() <= self.accuracy * (l + r) || b - a <= 1e-14 * (1.0 + b.abs()) {
+        self.budget = self.budget.saturating_sub(1);
+        if depth >= 40
+            || self.budget == 0
+            || (whole - (l + r)).abs() <= self.accuracy * (l + r) + self.noise * (b - a)
+            || b - a <= 1e-14 * (1.0 + b.abs())
+        {
             let s0 = *self.s.last().unwrap();
             self.u.push(m);
             self.s.push(s0 + l);
@@ -207,5 +234,36 @@ impl BSplineCurve {
     /// Arc length of `[u0, u1]` to relative `accuracy`.
     pub fn length_between(&self, u0: f64, u1: f64, accuracy: f64) -> f64 {
         ArcLengthTable::new_range(self, u0.min(u1), u0.max(u1), accuracy).length()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    #[test]
+    fn far_from_origin_the_table_stops_at_the_rounding_floor() {
+        // a cubic of size ~10 at 1e9: before the floor, halving never met 1e-12 and ran to depth 40
+        let pts: Vec<DVec3> = (0..12)
+            .map(|i| DVec3::new(i as f64, ((i * 7) % 3) as f64 * 0.05, 0.0))
+            .collect();
+        let mut knots = vec![0.0; 4];
+        knots.extend((1..9).map(|i| i as f64 / 9.0));
+        knots.extend([1.0; 4]);
+        let near = BSplineCurve::try_new(3, knots.clone(), pts.clone(), None, 2).unwrap();
+        let far_pts = pts.iter().map(|q| *q + DVec3::new(1e9, -1e9, 0.0)).collect();
+        let far = BSplineCurve::try_new(3, knots, far_pts, None, 2).unwrap();
+        let a = ArcLengthTable::new(&near, 1e-12);
+        let b = ArcLengthTable::new(&far, 1e-12);
+        assert!(b.u.len() < 2000, "{} pieces", b.u.len());
+        assert!((a.length() - b.length()).abs() < 1e-5 * a.length());
+        // near the origin the floor is far below the accuracy: same table as before
+        assert!(a.u.len() < 200);
+        let n = 20000;
+        let ref_len: f64 = (0..n)
+            .map(|k| gl5().integrate(k as f64 / n as f64, (k + 1) as f64 / n as f64, |x| speed(&near, x)))
+            .sum();
+        assert!((a.length() - ref_len).abs() < 1e-12 * ref_len);
     }
 }

@@ -281,6 +281,14 @@ impl FairingSetup {
             .filter(|&i| !((at_start && i < keep_end) || (at_end && i >= n - keep_end)))
             .collect();
         free.sort_unstable();
+        if free.is_empty() && at_start && at_end {
+            return Err(Error::InvalidInput(format!(
+                "the curve has only {n} control points: with {:?} ends the first and last {keep_end} are held, \
+                 so fairing needs at least {} (insert knots to refine the curve)",
+                opts.ends,
+                2 * keep_end + 1
+            )));
+        }
         if free.is_empty() {
             return Err(Error::InvalidInput(format!(
                 "region [{u1}, {u2}] is too small: no control point of this degree-{p} curve has its support inside it \
@@ -310,7 +318,7 @@ impl FairingSetup {
             let (lo, hi) = work.control_bounds();
             (hi - lo).length()
         };
-        if !(length > 1e-12 * size.max(1e-300)) {
+        if size == 0.0 || !(length > 1e-12 * size) {
             return Err(Error::Degenerate(format!(
                 "the region [{}, {}] has zero length (coincident control points)",
                 range.0, range.1

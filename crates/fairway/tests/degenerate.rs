@@ -1,0 +1,256 @@
+//! The degenerate input table of docs/DEGENERATE_INPUTS.md: every case of
+//! issue 8 with its exact message (errors) or its checked outcome (inputs
+//! that are legitimately fairable). Inputs are passed by reference, so the
+//! caller's document cannot change; the editor and CLI show these messages.
+
+use fairway::fair::{FairingOptions, fair_curve};
+use fairway::io::{self, points};
+use fairway::{BSplineCurve, DVec2, DVec3};
+
+fn knots10() -> Vec<f64> {
+    let mut k = vec![0.0; 4];
+    k.extend((1..7).map(|i| i as f64 / 7.0));
+    k.extend([1.0; 4]);
+    k
+}
+
+/// A wiggly cubic of 10 control points, size ~9.
+fn wiggly() -> BSplineCurve {
+    let pts: Vec<DVec2> = (0..10)
+        .map(|i| DVec2::new(i as f64, ((i * 7) % 3) as f64 * 0.3))
+        .collect();
+    BSplineCurve::new_2d(3, knots10(), &pts).unwrap()
+}
+
+fn moved(c: &BSplineCurve, f: impl Fn(DVec3) -> DVec3) -> BSplineCurve {
+    BSplineCurve::try_new(
+        3,
+        c.knots().values().to_vec(),
+        c.points().iter().map(|q| f(*q)).collect(),
+        None,
+        2,
+    )
+    .unwrap()
+}
+
+fn opts(tolerance: f64, region: Option<(f64, f64)>) -> FairingOptions {
+    FairingOptions {
+        tolerance,
+        region,
+        ..Default::default()
+    }
+}
+
+fn fair_err(c: &BSplineCurve, o: FairingOptions) -> String {
+    fair_curve(c, o).unwrap_err().to_string()
+}
+
+/// Cases whose answer is an error: (case, what is done, exact message).
+fn error_table() -> Vec<(&'static str, String, &'static str)> {
+    let curve = |t: &str| io::json::from_str(t).map(|_| ()).unwrap_err().to_string();
+    let w = wiggly();
+    vec![
+        ("empty file (JSON)", curve("  \n"), "JSON: the file is empty"),
+        (
+            "empty file (RON)",
+            io::Document::from_ron("").unwrap_err().to_string(),
+            "RON: the file is empty",
+        ),
+        (
+            "empty file (IGES)",
+            io::iges::read_all(b"").unwrap_err().to_string(),
+            "IGES: the file is empty",
+        ),
+        ("empty file (CSV)", points::parse("").unwrap_err().to_string(), "CSV: the file is empty"),
+        (
+            "wrong JSON type: degree a string",
+            curve(r#"{"degree": "3", "knots": [0,0,1,1], "points": [[0,0],[1,1]]}"#),
+            r#"JSON: degree: expected a non-negative integer, found string "3""#,
+        ),
+        (
+            "wrong JSON type: coordinate a string",
+            curve(r#"{"degree": 1, "knots": [0,0,1,1], "points": [[0,"a"],[1,1]]}"#),
+            r#"JSON: points[0][1]: expected a number, found string "a""#,
+        ),
+        (
+            "wrong JSON type: not an object",
+            curve("[1, 2, 3]"),
+            r#"JSON: expected an object with "degree" (curve) or "degree_u" (surface)"#,
+        ),
+        (
+            "infinite coordinate (JSON 1e999)",
+            curve(r#"{"degree": 1, "knots": [0,0,1,1], "points": [[0,1e999],[1,1]]}"#),
+            "JSON: number out of range at line 1 column 53",
+        ),
+        (
+            "NaN coordinate (JSON has no NaN)",
+            curve(r#"{"degree": 1, "knots": [0,0,1,1], "points": [[0,NaN],[1,1]]}"#),
+            "JSON: expected value at line 1 column 49",
+        ),
+        (
+            "NaN coordinate (RON)",
+            io::Document::from_ron(
+                r#"(format: "fairway", version: 1, geometry: Curve((degree: 1, knots: [0.0, 0.0, 1.0, 1.0], points: [[0.0, NaN], [1.0, 1.0]])))"#,
+            )
+            .unwrap_err()
+            .to_string(),
+            "points: value at index 0 is not a finite number",
+        ),
+        (
+            "inf coordinate (CSV)",
+            points::parse("0,0\n1,inf\n2,2\n").unwrap_err().to_string(),
+            "CSV: line 2: coordinate 2 is not a finite number (inf)",
+        ),
+        (
+            "too few points for the degree",
+            curve(r#"{"degree": 3, "knots": [0,0,0,0,1,1,1], "points": [[0,0],[1,1],[2,0]]}"#),
+            "points: 3 control points, a curve of degree 3 needs at least 4",
+        ),
+        (
+            "too few points to fair (whole curve, G2 ends)",
+            fair_err(
+                &BSplineCurve::new_2d(3, vec![0., 0., 0., 0., 1., 1., 1., 1.], &[DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y])
+                    .unwrap(),
+                opts(0.01, None),
+            ),
+            "the curve has only 4 control points: with G2 ends the first and last 3 are held, so fairing needs at least 7 (insert knots to refine the curve)",
+        ),
+        (
+            "non-clamped knots",
+            curve(r#"{"degree": 2, "knots": [0,1,2,3,4,5,6], "points": [[0,0],[1,1],[2,0],[3,1]]}"#),
+            "knots: not clamped: the first and the last value must each appear 3 times (degree + 1)",
+        ),
+        (
+            "decreasing knots",
+            curve(r#"{"degree": 2, "knots": [0,0,0,0.7,0.3,1,1,1], "points": [[0,0],[1,1],[2,0],[3,1],[4,0]]}"#),
+            "knots: knots decrease at index 4 (0.7 > 0.3)",
+        ),
+        (
+            "zero-length curve (all control points equal)",
+            fair_err(&BSplineCurve::new_2d(3, knots10(), &[DVec2::new(3.0, 4.0); 10]).unwrap(), opts(0.01, None)),
+            "degenerate geometry: the region [0, 1] has zero length (coincident control points)",
+        ),
+        (
+            "all points coincident (point import)",
+            points::fit_points(&points::parse("1,2\n1,2\n1,2\n1,2\n1,2\n").unwrap(), &Default::default())
+                .unwrap_err()
+                .to_string(),
+            "degenerate geometry: all 5 points coincide (or their extent overflows): no curve can be fitted",
+        ),
+        (
+            "tolerance zero",
+            fair_err(&w, opts(0.0, None)),
+            "tolerance must be a positive finite number, got 0",
+        ),
+        (
+            "tolerance NaN",
+            fair_err(&w, opts(f64::NAN, None)),
+            "tolerance must be a positive finite number, got NaN",
+        ),
+        (
+            "region of zero width",
+            fair_err(&w, opts(0.01, Some((0.5, 0.5)))),
+            "region [0.5, 0.5] is empty (u1 must be < u2)",
+        ),
+        (
+            "region reversed",
+            fair_err(&w, opts(0.01, Some((0.6, 0.4)))),
+            "region [0.6, 0.4] is empty (u1 must be < u2)",
+        ),
+        (
+            "region outside the domain",
+            fair_err(&w, opts(0.01, Some((0.5, 1.5)))),
+            "region end: 1.5 is outside the domain [0, 1]",
+        ),
+        (
+            "region narrower than the support of one control point",
+            fair_err(&w, opts(0.01, Some((0.5, 0.5001)))),
+            "region [0.5, 0.5001] is too small: no control point of this degree-3 curve has its support inside it (a region must span at least 4 knot spans)",
+        ),
+        (
+            "region not finite",
+            fair_err(&w, opts(0.01, Some((f64::NAN, 0.4)))),
+            "region [NaN, 0.4] is not finite",
+        ),
+        (
+            "degree 1 (no curvature)",
+            fair_err(&BSplineCurve::new_2d(1, vec![0., 0., 1., 1.], &[DVec2::ZERO, DVec2::X]).unwrap(), opts(0.01, None)),
+            "fairing needs a curve of degree ≥ 2 (curvature), got degree 1",
+        ),
+    ]
+}
+
+#[test]
+fn every_degenerate_input_has_its_exact_message() {
+    for (case, got, want) in error_table() {
+        assert_eq!(got, want, "case: {case}");
+    }
+}
+
+/// Max distance between curves sampled at the same parameters.
+fn max_dist(a: &BSplineCurve, b: &BSplineCurve) -> f64 {
+    (0..=400)
+        .map(|k| (a.point(k as f64 / 400.0) - b.point(k as f64 / 400.0)).length())
+        .fold(0.0, f64::max)
+}
+
+/// The band measure: largest closest-point distance from the original's samples to the result.
+fn band_dev(original: &BSplineCurve, faired: &BSplineCurve) -> f64 {
+    fairway::measure::deviations(original, faired, 2000)
+        .into_iter()
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn fairable_degenerate_inputs_give_checked_results() {
+    let w = wiggly();
+    // straight line: already fair, stays put
+    let line = BSplineCurve::new_2d(
+        3,
+        knots10(),
+        &(0..10)
+            .map(|i| DVec2::new(i as f64, 0.5 * i as f64))
+            .collect::<Vec<_>>(),
+    )
+    .unwrap();
+    let r = fair_curve(&line, opts(0.01, None)).unwrap();
+    assert!(
+        max_dist(&r.curve, &line) < 1e-12 && r.energy < 1e-20,
+        "{}",
+        r.max_deviation
+    );
+
+    // cusp: three coincident control points give a zero derivative; faired within the band
+    let mut c: Vec<DVec2> = (0..10)
+        .map(|i| DVec2::new(i as f64, ((i * 7) % 3) as f64 * 0.3))
+        .collect();
+    c[4] = c[5];
+    c[6] = c[5];
+    let cusp = BSplineCurve::new_2d(3, knots10(), &c).unwrap();
+    let u_cusp = 4.0 / 7.0;
+    assert!(cusp.derivs(u_cusp).d1.length() < 1e-12, "zero derivative at the knot");
+    let r = fair_curve(&cusp, opts(0.01, None)).unwrap();
+    assert!(r.max_deviation <= 0.01 && band_dev(&cusp, &r.curve) <= 0.01);
+    assert!(r.curve.points().iter().all(|q| q.is_finite()));
+
+    // huge coordinates: scaled by 1e9 (tolerance scaled too) the result scales exactly enough
+    let base = fair_curve(&w, opts(0.01, None)).unwrap();
+    let big = moved(&w, |q| q * 1e9);
+    let rb = fair_curve(&big, opts(0.01 * 1e9, None)).unwrap();
+    assert!(rb.max_deviation <= 1e7);
+    assert!(max_dist(&moved(&base.curve, |q| q * 1e9), &rb.curve) < 1e-6 * 1e9);
+    // ... and moved to 1e9 (used to hang in the arc-length table): still within the band
+    let far = moved(&w, |q| q + DVec3::new(1e9, 1e9, 0.0));
+    let rf = fair_curve(&far, opts(0.01, None)).unwrap();
+    assert!(rf.max_deviation <= 0.01 && band_dev(&far, &rf.curve) <= 0.01 + 1e-6);
+
+    // tolerance 1e-15: the step is scaled down, the curve does not move beyond it
+    let r = fair_curve(&w, opts(1e-15, None)).unwrap();
+    assert!(r.max_deviation <= 1e-15 && r.alpha < 1.0);
+    assert!(max_dist(&r.curve, &w) <= 1e-14);
+
+    // tolerance larger than the curve: fairness weight at its cap, deviation well inside
+    let r = fair_curve(&w, opts(1e3, None)).unwrap();
+    assert!(r.max_deviation < 1.0, "{}", r.max_deviation);
+    assert!(r.energy < base.energy);
+}
