@@ -34,10 +34,30 @@ pub fn basis_funs(knots: &[f64], span: usize, u: f64, p: usize, out: &mut [f64])
 /// Derivatives above the degree are zero.
 #[inline]
 pub fn ders_basis_funs<const D: usize>(knots: &[f64], span: usize, u: f64, p: usize, ders: &mut [[f64; MAX_ORDER]; D]) {
+    // The triangular work table is sized for the degree at hand: zeroing a
+    // MAX_ORDER² table (2 KiB) on every call cost more than the algorithm
+    // itself for cubics.
+    if p < 4 {
+        ders_impl::<D, 4>(knots, span, u, p, ders)
+    } else if p < 8 {
+        ders_impl::<D, 8>(knots, span, u, p, ders)
+    } else {
+        ders_impl::<D, MAX_ORDER>(knots, span, u, p, ders)
+    }
+}
+
+#[inline(always)]
+fn ders_impl<const D: usize, const N: usize>(
+    knots: &[f64],
+    span: usize,
+    u: f64,
+    p: usize,
+    ders: &mut [[f64; MAX_ORDER]; D],
+) {
     let nd = D - 1;
-    let mut ndu = [[0.0; MAX_ORDER]; MAX_ORDER];
-    let mut left = [0.0; MAX_ORDER];
-    let mut right = [0.0; MAX_ORDER];
+    let mut ndu = [[0.0; N]; N];
+    let mut left = [0.0; N];
+    let mut right = [0.0; N];
     ndu[0][0] = 1.0;
     for j in 1..=p {
         left[j] = u - knots[span + 1 - j];
@@ -59,7 +79,7 @@ pub fn ders_basis_funs<const D: usize>(knots: &[f64], span: usize, u: f64, p: us
     for j in 0..=p {
         ders[0][j] = ndu[j][p];
     }
-    let mut a = [[0.0; MAX_ORDER]; 2];
+    let mut a = [[0.0; N]; 2];
     for r in 0..=p {
         let (mut s1, mut s2) = (0usize, 1usize);
         a[0][0] = 1.0;

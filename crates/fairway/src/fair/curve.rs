@@ -151,7 +151,8 @@ impl Default for FairingOptions {
 pub struct FairingResult {
     /// The faired curve (original knots; with G0/G1 ends the inserted knots too).
     pub curve: BSplineCurve,
-    /// Verified upper bound of the max deviation over the 2000 check samples.
+    /// Verified upper bound of the max deviation over the check samples
+    /// ([`CHECK_SAMPLES`] unless set with [`FairingSetup::with_check_samples`]).
     pub max_deviation: f64,
     /// Fairness weight μ chosen (0 in paper mode).
     pub mu: f64,
@@ -221,6 +222,22 @@ fn validate_tolerance(m: f64) -> Result<()> {
 impl FairingSetup {
     /// Prepare the fairing of `curve` with `opts` (validates everything).
     pub fn new(curve: &BSplineCurve, opts: FairingOptions) -> Result<Self> {
+        Self::build(curve, opts, CHECK_SAMPLES, 1e-12)
+    }
+
+    /// [`Self::new`] with `check_samples` arc-length samples for the band
+    /// check instead of [`CHECK_SAMPLES`] (0: the fairing samples themselves,
+    /// which saves a second arc-length table), and arc-length tables to a relative
+    /// accuracy of 1e-9 instead of 1e-12 (the samples are then equally spaced
+    /// to 1e-9 of the length, far below anything the fairing resolves). The
+    /// surface engine uses this for its isocurves: it verifies the band itself
+    /// on the surface, and the full setup would dominate its cost.
+    pub fn with_check_samples(curve: &BSplineCurve, opts: FairingOptions, check_samples: usize) -> Result<Self> {
+        Self::build(curve, opts, check_samples, 1e-6)
+    }
+
+    fn build(curve: &BSplineCurve, opts: FairingOptions, check_samples: usize, arc_accuracy: f64) -> Result<Self> {
+        let check_samples = if check_samples == 0 { 0 } else { check_samples.max(2) };
         validate_tolerance(opts.tolerance)?;
         let input = curve.to_polynomial()?;
         let p = input.degree();
@@ -312,7 +329,7 @@ impl FairingSetup {
                 "{ns} samples are too few for {nf} free control points (need more than {nf})"
             )));
         }
-        let table = ArcLengthTable::new_range(&work, range.0, range.1, 1e-12);
+        let table = ArcLengthTable::new_range(&work, range.0, range.1, arc_accuracy);
         let length = table.length();
         let size = {
             let (lo, hi) = work.control_bounds();
@@ -441,9 +458,14 @@ impl FairingSetup {
             }
         }
         // check samples: CHECK_SAMPLES at equal arc length over the whole curve, those inside the stretch
-        let full = ArcLengthTable::new(&work, 1e-12);
-        let all = full.equal_arc_params(&work, CHECK_SAMPLES);
-        s.chk_h = (d1 - d0) / CHECK_SAMPLES as f64 * 4.0;
+        // (check_samples = 0: the fairing samples themselves, no second table)
+        let all = if check_samples == 0 {
+            s.chk_h = 4.0 * du;
+            s.params.clone()
+        } else {
+            s.chk_h = (d1 - d0) / check_samples as f64 * 4.0;
+            ArcLengthTable::new(&work, arc_accuracy).equal_arc_params(&work, check_samples)
+        };
         for u in all {
             if u <= range.0 || u >= range.1 {
                 continue;
@@ -754,6 +776,10 @@ impl FairingSetup {
                 }
                 if let Some(c) = &cand {
                     dist = dist.min(project_near(c, self.chk_q[j], self.chk_u[j], self.chk_h));
+                }
+                if dist > sharpen {
+                    // the band is broken: callers only compare with `sharpen`, so stop here
+                    return dist;
                 }
             }
             worst = worst.max(dist);

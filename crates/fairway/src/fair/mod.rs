@@ -39,5 +39,5 @@ pub mod target;
 pub use curve::{EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, fair_curve};
 pub use integrate::Integrator;
 pub use iterative::{IterativeOptions, fair_iterative};
-pub use surface::{Combine, SurfaceFairingOptions, SurfaceFairingResult, fair_surface};
+pub use surface::{Combine, SurfaceFairingOptions, SurfaceFairingResult, SurfaceTimings, fair_surface};
 pub use target::{Target, TargetMethod};

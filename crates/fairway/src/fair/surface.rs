@@ -60,12 +60,16 @@
 //! vectors work otherwise.
 
 use std::ops::Range;
+use std::time::{Duration, Instant};
 
 use glam::DVec3;
 
-use super::curve::{FairingOptions, fair_curve};
+use super::curve::{FairingOptions, FairingSetup};
+use super::target::TargetMethod;
+use crate::basis::{MAX_ORDER, basis_funs};
 use crate::error::{Error, Result};
 use crate::fit_surface::{SurfaceSmoothing, fit_surface_grid, free_range};
+use crate::knots::KnotVector;
 use crate::measure_surface::newton_project;
 use crate::surface::BSplineSurface;
 
@@ -155,6 +159,29 @@ pub struct SurfaceFairingResult {
     pub free_u: Range<usize>,
     /// Free control columns (v).
     pub free_v: Range<usize>,
+    /// Where the time went.
+    pub timings: SurfaceTimings,
+}
+
+/// Wall-clock time of the phases of one [`fair_surface`] call (summed over
+/// rounds and smoothing candidates).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SurfaceTimings {
+    /// Sampling the original on the grid, extracting and fairing the isocurves (curve engine).
+    pub isocurves: Duration,
+    /// Combining the two clouds (including `Combine::Smoothed`'s smoothing).
+    pub combine: Duration,
+    /// Surface least-squares fits.
+    pub fit: Duration,
+    /// Hard-tolerance verification (coarse and full check grids, α bisection).
+    pub verify: Duration,
+}
+
+impl SurfaceTimings {
+    /// Sum of the phases.
+    pub fn total(&self) -> Duration {
+        self.isocurves + self.combine + self.fit + self.verify
+    }
 }
 
 /// Smoothing strengths tried, largest first, with `auto_smoothing` (see [`SurfaceSmoothing`]).
@@ -164,8 +191,12 @@ pub const AUTO_STRENGTHS: [f64; 8] = [1e5, 1e4, 1e3, 1e2, 1e1, 1.0, 1e-1, 0.0];
 pub const MAX_ROUNDS: usize = 4;
 /// Check samples per knot span and direction of the hard tolerance.
 pub const CHECK_PER_SPAN: usize = 6;
+/// Curve-engine samples per knot span of an isocurve (unless `curve.samples` is set).
+pub const ISO_SAMPLES_PER_SPAN: usize = 4;
+/// Width of the isocurves' default target smoothing, in knot spans (unless `curve.strength` is set).
+pub const ISO_TARGET_SIGMA_SPANS: f64 = 1.6;
 
-fn span_grid(knots: &crate::knots::KnotVector, a: f64, b: f64, per_span: usize) -> Vec<f64> {
+fn span_grid(knots: &KnotVector, a: f64, b: f64, per_span: usize) -> Vec<f64> {
     let bp: Vec<f64> = knots.breakpoints().into_iter().filter(|&t| t >= a && t <= b).collect();
     let mut out = Vec::with_capacity(bp.len() * per_span + 1);
     for w in bp.windows(2) {
@@ -227,14 +258,23 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
     let (av, bv) = (kv.values()[free_v.start], kv.values()[free_v.end - 1 + pv + 1]);
     let us = span_grid(&ku, au, bu, opts.samples_per_span);
     let vs = span_grid(&kv, av, bv, opts.samples_per_span);
+    let t_orig = Instant::now();
     let orig: Vec<DVec3> = us
         .iter()
         .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
         .map(|(u, v)| s.point(u, v))
         .collect();
-    let cu = span_grid(&ku, au, bu, CHECK_PER_SPAN);
-    let cv = span_grid(&kv, av, bv, CHECK_PER_SPAN);
+    let mut full_check = CheckGrid::new(
+        &s,
+        &span_grid(&ku, au, bu, CHECK_PER_SPAN),
+        &span_grid(&kv, av, bv, CHECK_PER_SPAN),
+    );
+    let mut coarse_check = CheckGrid::new(&s, &span_grid(&ku, au, bu, 3), &span_grid(&kv, av, bv, 3));
 
+    let mut tm = SurfaceTimings {
+        isocurves: t_orig.elapsed(),
+        ..Default::default()
+    };
     let mut m_iso = m;
     let mut best: Option<(Vec<DVec3>, f64)> = None;
     let mut rounds = 0;
@@ -243,10 +283,9 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
     } else {
         &[f64::NAN]
     };
-    let (ccu, ccv) = (span_grid(&ku, au, bu, 3), span_grid(&kv, av, bv, 3));
     for _ in 0..MAX_ROUNDS {
         rounds += 1;
-        let data = combined_cloud(&s, &opts, m_iso, (u1, u2), (v1, v2), &us, &vs, &orig)?;
+        let data = combined_cloud(&s, &opts, m_iso, (u1, u2), (v1, v2), &us, &vs, &orig, &mut tm)?;
         for &st in ladder {
             let sm = if st.is_nan() {
                 opts.smoothing
@@ -257,13 +296,18 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
                     order: opts.smoothing.order,
                 }
             };
+            let t0 = Instant::now();
             let pts = fit_surface_grid(&s, &us, &vs, &data, free_u.clone(), free_v.clone(), sm)?;
             let faired = s.with_points(pts.clone())?;
+            let t1 = Instant::now();
+            tm.fit += t1 - t0;
             // coarse check first (cheap), the full check only for a candidate that passes it
-            if check_deviation(&s, &faired, &ccu, &ccv, m) > m {
+            if coarse_check.deviation(&s, &faired, &free_u, &free_v, m, true) > m {
+                tm.verify += t1.elapsed();
                 continue;
             }
-            let dev = check_deviation(&s, &faired, &cu, &cv, m);
+            let dev = full_check.deviation(&s, &faired, &free_u, &free_v, m, false);
+            tm.verify += t1.elapsed();
             if dev <= m {
                 return Ok(SurfaceFairingResult {
                     surface: faired,
@@ -274,6 +318,7 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
                     smoothing: sm,
                     free_u,
                     free_v,
+                    timings: tm,
                 });
             }
             if best.as_ref().is_none_or(|b| dev < b.1) {
@@ -281,8 +326,12 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
             }
         }
         if best.is_none() {
+            let t0 = Instant::now();
             let pts = fit_surface_grid(&s, &us, &vs, &data, free_u.clone(), free_v.clone(), opts.smoothing)?;
-            let dev = check_deviation(&s, &s.with_points(pts.clone())?, &cu, &cv, m);
+            let t1 = Instant::now();
+            tm.fit += t1 - t0;
+            let dev = full_check.deviation(&s, &s.with_points(pts.clone())?, &free_u, &free_v, m, false);
+            tm.verify += t1.elapsed();
             best = Some((pts, dev));
         }
         let dev = best.as_ref().unwrap().1;
@@ -297,12 +346,13 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
             .map(|(a, b)| *a + (*b - *a) * alpha)
             .collect()
     };
+    let t0 = Instant::now();
     let (mut lo, mut hi) = (0.0f64, 1.0f64);
     let mut lo_dev = 0.0;
     for _ in 0..20 {
         let mid = 0.5 * (lo + hi);
         let f = s.with_points(blend(mid))?;
-        let d = check_deviation(&s, &f, &cu, &cv, m);
+        let d = full_check.deviation(&s, &f, &free_u, &free_v, m, true);
         if d <= m {
             lo = mid;
             lo_dev = d;
@@ -313,6 +363,7 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
             break;
         }
     }
+    tm.verify += t0.elapsed();
     Ok(SurfaceFairingResult {
         surface: s.with_points(blend(lo))?,
         max_deviation: lo_dev,
@@ -322,7 +373,43 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
         smoothing: opts.smoothing,
         free_u,
         free_v,
+        timings: tm,
     })
+}
+
+/// The curve-engine setup for one isocurve `c` over the region `r` (holding
+/// `spans_r` knot spans) with the isocurve tolerance `m_iso`.
+///
+/// By default (`opts.curve.samples` / `strength` unset) ISO_SAMPLES_PER_SPAN
+/// samples per knot span of the region and a target smoothing of
+/// ISO_TARGET_SIGMA_SPANS knot spans (σ of the equivalent Gaussian of the
+/// averaging passes), so that the work per isocurve is linear in its number
+/// of spans (the curve engine's default σ = 0.06·n samples costs O(n²)); the
+/// isocurve's band is checked at its own samples only
+/// ([`FairingSetup::with_check_samples`] with 0), since the surface verifies
+/// its own band.
+pub fn isocurve_setup(
+    c: &crate::curve::BSplineCurve,
+    opts: &SurfaceFairingOptions,
+    m_iso: f64,
+    r: (f64, f64),
+    spans_r: usize,
+) -> Result<FairingSetup> {
+    let ns = opts.curve.samples.unwrap_or(ISO_SAMPLES_PER_SPAN * spans_r.max(1) + 1);
+    let sigma = ISO_TARGET_SIGMA_SPANS * ISO_SAMPLES_PER_SPAN as f64;
+    let strength = opts.curve.strength.or(match opts.curve.target {
+        TargetMethod::Average => Some((1.5 * sigma * sigma).round() as usize),
+        TargetMethod::Binomial => Some((2.0 * sigma * sigma).round() as usize),
+        TargetMethod::Fit => None,
+    });
+    let fo = FairingOptions {
+        region: Some(r),
+        tolerance: m_iso,
+        samples: Some(ns),
+        strength,
+        ..opts.curve
+    };
+    FairingSetup::with_check_samples(c, fo, 0)
 }
 
 /// Fair the isocurves and combine the clouds: returns the grid data `S + Δ`.
@@ -335,25 +422,24 @@ fn combined_cloud(
     us: &[f64],
     vs: &[f64],
     orig: &[DVec3],
+    tm: &mut SurfaceTimings,
 ) -> Result<Vec<DVec3>> {
+    let t0 = Instant::now();
     let (mu, mv) = (us.len(), vs.len());
     let mut du = vec![DVec3::ZERO; mu * mv];
     let mut dv = vec![DVec3::ZERO; mu * mv];
-    let iso_opts = |r: (f64, f64)| FairingOptions {
-        region: Some(r),
-        tolerance: m_iso,
-        ..opts.curve
-    };
     // A direction whose region holds fewer than p + 1 knot spans has no movable isocurve control point for
     // the curve engine (e.g. a cubic direction with one span): its isocurves stay, Δ = 0.
     let spans_in = |k: &crate::knots::KnotVector, (a, b): (f64, f64)| {
         k.breakpoints().windows(2).filter(|w| w[0] >= a && w[1] <= b).count()
     };
-    let fair_u = spans_in(s.knots_u(), ru) > s.degree_u();
-    let fair_v = spans_in(s.knots_v(), rv) > s.degree_v();
+    let (spans_u, spans_v) = (spans_in(s.knots_u(), ru), spans_in(s.knots_v(), rv));
+    let fair_u = spans_u > s.degree_u();
+    let fair_v = spans_v > s.degree_v();
     for (l, &v) in vs.iter().enumerate().filter(|_| fair_u) {
         let iso = s.iso_u(v);
-        let r = fair_curve(&iso, iso_opts(ru))
+        let r = isocurve_setup(&iso, opts, m_iso, ru, spans_u)
+            .and_then(|mut st| st.fair())
             .map_err(|e| Error::InvalidInput(format!("fairing the u-isocurve at v = {v}: {e}")))?;
         for k in 0..mu {
             du[k * mv + l] = r.curve.point(us[k]) - orig[k * mv + l];
@@ -361,12 +447,15 @@ fn combined_cloud(
     }
     for (k, &u) in us.iter().enumerate().filter(|_| fair_v) {
         let iso = s.iso_v(u);
-        let r = fair_curve(&iso, iso_opts(rv))
+        let r = isocurve_setup(&iso, opts, m_iso, rv, spans_v)
+            .and_then(|mut st| st.fair())
             .map_err(|e| Error::InvalidInput(format!("fairing the v-isocurve at u = {u}: {e}")))?;
         for l in 0..mv {
             dv[k * mv + l] = r.curve.point(vs[l]) - orig[k * mv + l];
         }
     }
+    let t1 = Instant::now();
+    tm.isocurves += t1 - t0;
     // normalized distance to the held borders; a side on the domain boundary is no border (its rows are free)
     let ((du0, du1), (dv0, dv1)) = s.domain();
     let border_dist = |t: f64, a: f64, b: f64, lo: f64, hi: f64| {
@@ -401,6 +490,7 @@ fn combined_cloud(
     if opts.combine == Combine::Smoothed {
         umbrella_smooth(&mut data, mu, mv, 3, 0.25);
     }
+    tm.combine += t1.elapsed();
     Ok(data)
 }
 
@@ -423,22 +513,119 @@ fn umbrella_smooth(p: &mut [DVec3], mu: usize, mv: usize, passes: usize, tau: f6
     }
 }
 
-/// Upper bound of the deviation between `a` and `b` on the check grid (module docs, step 6).
-fn check_deviation(a: &BSplineSurface, b: &BSplineSurface, cu: &[f64], cv: &[f64], m: f64) -> f64 {
-    let mut max = 0.0f64;
-    for &u in cu {
-        for &v in cv {
-            let (pa, pb) = (a.point(u, v), b.point(u, v));
-            let mut d = pa.distance(pb);
-            if d > m {
-                let d1 = newton_project(b, pa, (u, v)).distance;
-                let d2 = newton_project(a, pb, (u, v)).distance;
-                d = d.min(d1.max(d2));
-            }
-            max = max.max(d);
+/// Basis values of one direction at the parameters of a check grid.
+struct GridBasis {
+    spans: Vec<usize>,
+    vals: Vec<[f64; MAX_ORDER]>,
+    params: Vec<f64>,
+}
+
+impl GridBasis {
+    fn new(k: &KnotVector, ts: &[f64]) -> Self {
+        let p = k.degree();
+        let mut spans = Vec::with_capacity(ts.len());
+        let mut vals = Vec::with_capacity(ts.len());
+        for &t in ts {
+            let sp = k.find_span(t);
+            let mut n = [0.0; MAX_ORDER];
+            basis_funs(k.values(), sp, k.clamp(t), p, &mut n);
+            spans.push(sp);
+            vals.push(n);
+        }
+        Self {
+            spans,
+            vals,
+            params: ts.to_vec(),
         }
     }
-    max
+}
+
+/// A check grid (module docs, step 6) with its basis values, so that the
+/// change `S_f − S = Σ ΔD_ij N_i(u) M_j(v)` is evaluated separably
+/// (O(grid · p)) instead of by two point evaluations per sample.
+struct CheckGrid {
+    u: GridBasis,
+    v: GridBasis,
+    pu: usize,
+    pv: usize,
+    tmp: Vec<DVec3>,
+}
+
+impl CheckGrid {
+    fn new(s: &BSplineSurface, cu: &[f64], cv: &[f64]) -> Self {
+        Self {
+            u: GridBasis::new(s.knots_u(), cu),
+            v: GridBasis::new(s.knots_v(), cv),
+            pu: s.degree_u(),
+            pv: s.degree_v(),
+            tmp: Vec::new(),
+        }
+    }
+
+    /// Upper bound of the deviation between `a` (the original) and `b` (same
+    /// knots, control points differing only in the block `fu × fv`) on the
+    /// grid: `|S_b − S_a|` at every sample, sharpened by Newton projections
+    /// in both directions where it exceeds `m`. With `stop_early`, returns
+    /// the first sharpened value above `m` (a proof that the band is broken,
+    /// not the maximum).
+    fn deviation(
+        &mut self,
+        a: &BSplineSurface,
+        b: &BSplineSurface,
+        fu: &Range<usize>,
+        fv: &Range<usize>,
+        m: f64,
+        stop_early: bool,
+    ) -> f64 {
+        let nv = a.nv();
+        let nfv = fv.len();
+        let (mu, mv) = (self.u.params.len(), self.v.params.len());
+        // T[k][jj] = Σ_a N_a(u_k) ΔD[i][fv.start + jj]
+        self.tmp.clear();
+        self.tmp.resize(mu * nfv, DVec3::ZERO);
+        let (pa, pb) = (a.points(), b.points());
+        for k in 0..mu {
+            let sp = self.u.spans[k];
+            for ia in 0..=self.pu {
+                let i = sp - self.pu + ia;
+                if !fu.contains(&i) {
+                    continue;
+                }
+                let w = self.u.vals[k][ia];
+                let row = &mut self.tmp[k * nfv..(k + 1) * nfv];
+                for (jj, t) in row.iter_mut().enumerate() {
+                    let idx = i * nv + fv.start + jj;
+                    *t += (pb[idx] - pa[idx]) * w;
+                }
+            }
+        }
+        let mut max = 0.0f64;
+        for k in 0..mu {
+            for l in 0..mv {
+                let sp = self.v.spans[l];
+                let mut d = DVec3::ZERO;
+                for jb in 0..=self.pv {
+                    let j = sp - self.pv + jb;
+                    if fv.contains(&j) {
+                        d += self.tmp[k * nfv + j - fv.start] * self.v.vals[l][jb];
+                    }
+                }
+                let mut dist = d.length();
+                if dist > m {
+                    let (u, v) = (self.u.params[k], self.v.params[l]);
+                    let (qa, qb) = (a.point(u, v), b.point(u, v));
+                    let d1 = newton_project(b, qa, (u, v)).distance;
+                    let d2 = newton_project(a, qb, (u, v)).distance;
+                    dist = dist.min(d1.max(d2));
+                    if stop_early && dist > m {
+                        return dist;
+                    }
+                }
+                max = max.max(dist);
+            }
+        }
+        max
+    }
 }
 
 #[cfg(test)]
@@ -666,14 +853,16 @@ mod tests {
             },
         )
         .unwrap();
-        let fr = fair_curve(
+        // the same curve-engine setup the surface engine uses for its u-isocurves (17 spans)
+        let fr = isocurve_setup(
             &curve,
-            FairingOptions {
-                tolerance: out.iso_tolerance,
-                region: Some((0.0, 1.0)),
-                ..Default::default()
-            },
+            &SurfaceFairingOptions::default(),
+            out.iso_tolerance,
+            (0.0, 1.0),
+            n - 3,
         )
+        .unwrap()
+        .fair()
         .unwrap();
         let fc = fr.curve;
         // the v-isocurves are straight: the curve engine leaves them (|Δ_v| ~ rounding), so Weighted takes Δ_u,
