@@ -1,0 +1,71 @@
+//! Surface fairing benchmarks (issue 5): a full fair of noisy bicubic nets,
+//! 30 × 30 (target ≤ 16 ms) and 100 × 100 (target ≤ 150 ms), and a scaling
+//! series 10 … 100 to show the cost per control point. The phase breakdown
+//! (isocurves / combination / fit / verification) is printed by
+//! `examples/surface_timing.rs` from [`SurfaceTimings`](fairway::fair::SurfaceTimings).
+//!
+//! ```sh
+//! nice cargo bench -p fairway --bench surface_fairing -- --warm-up-time 1 --measurement-time 3
+//! ```
+
+use std::hint::black_box;
+
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use fairway::fair::{SurfaceFairingOptions, fair_surface};
+use fairway::{BSplineSurface, DVec3, KnotVector};
+
+/// `n × n` bicubic net over [0,1]² with uniform knots: a smooth wave with
+/// deterministic noise σ ≈ 1e-3 on z (the same as `examples/surface_timing.rs`).
+fn noisy_net(n: usize) -> BSplineSurface {
+    let k = KnotVector::uniform(3, n).unwrap();
+    let g = k.greville();
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let mut pts = Vec::with_capacity(n * n);
+    for &u in &g {
+        for &v in &g {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let noise = ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 3.4e-3;
+            pts.push(DVec3::new(u, v, 0.3 * (3.0 * u).sin() * (2.0 * v).cos() + noise));
+        }
+    }
+    BSplineSurface::try_new(3, 3, k.values().to_vec(), k.values().to_vec(), n, n, pts, None).unwrap()
+}
+
+fn opts() -> SurfaceFairingOptions {
+    SurfaceFairingOptions {
+        tolerance: 3e-3,
+        ..Default::default()
+    }
+}
+
+fn benches(c: &mut Criterion) {
+    for n in [30, 100] {
+        let s = noisy_net(n);
+        c.bench_function(&format!("surface{n}x{n}/fair full"), |b| {
+            b.iter(|| fair_surface(black_box(&s), opts()).unwrap())
+        });
+    }
+    let s = noisy_net(30);
+    let region = SurfaceFairingOptions {
+        region: Some(((0.3, 0.7), (0.3, 0.7))),
+        ..opts()
+    };
+    c.bench_function("surface30x30/fair region 0.4x0.4", |b| {
+        b.iter(|| fair_surface(black_box(&s), region).unwrap())
+    });
+    let mut g = c.benchmark_group("surface scaling");
+    g.sample_size(10);
+    for n in [10, 20, 40, 60, 80] {
+        let s = noisy_net(n);
+        g.throughput(Throughput::Elements((n * n) as u64));
+        g.bench_with_input(BenchmarkId::from_parameter(n * n), &s, |b, s| {
+            b.iter(|| fair_surface(black_box(s), opts()).unwrap())
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(surface, benches);
+criterion_main!(surface);
