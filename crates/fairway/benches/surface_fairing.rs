@@ -41,9 +41,12 @@ fn opts() -> SurfaceFairingOptions {
 }
 
 fn benches(c: &mut Criterion) {
+    // 10 samples: a 100 × 100 fair takes seconds on a loaded 2-core machine
+    let mut g = c.benchmark_group("surface fair");
+    g.sample_size(10);
     for n in [30, 100] {
         let s = noisy_net(n);
-        c.bench_function(&format!("surface{n}x{n}/fair full"), |b| {
+        g.bench_function(format!("{n}x{n} full"), |b| {
             b.iter(|| fair_surface(black_box(&s), opts()).unwrap())
         });
     }
@@ -52,9 +55,10 @@ fn benches(c: &mut Criterion) {
         region: Some(((0.3, 0.7), (0.3, 0.7))),
         ..opts()
     };
-    c.bench_function("surface30x30/fair region 0.4x0.4", |b| {
+    g.bench_function("30x30 region 0.4x0.4", |b| {
         b.iter(|| fair_surface(black_box(&s), region).unwrap())
     });
+    g.finish();
     let mut g = c.benchmark_group("surface scaling");
     g.sample_size(10);
     for n in [10, 20, 40, 60, 80] {
