@@ -18,7 +18,9 @@
 //!    the moving rectangle (ends included).
 //! 3. **Isocurves.** For each `v_l` the u-isocurve `S(·, v_l)` (a B-spline
 //!    curve with knots U, [`BSplineSurface::iso_u`]) is faired by
-//!    [`fair_curve`] over `[u1, u2]` with the tolerance and options given —
+//!    the curve engine ([`FairingSetup`], set up by [`isocurve_setup`]:
+//!    4 samples per knot span, a target smoothing of 1.6 spans, the band
+//!    checked at the samples) over `[u1, u2]` with the isocurve tolerance —
 //!    target, integration, band, fit and G2 ends are the curve engine's — and
 //!    evaluated at the `u_k`: the cloud `P_u`. Likewise the v-isocurves give
 //!    `P_v`. A direction whose region holds fewer than p + 1 knot spans
