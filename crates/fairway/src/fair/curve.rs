@@ -652,10 +652,16 @@ impl FairingSetup {
             FitMode::Fairway => {
                 let accept = m * (1.0 - 1e-9);
                 let (lo, hi) = (1e-6f64, 1e10f64);
-                self.solve(hi * self.du.powi(4))?;
+                // a failed solve at a large fairness weight (ill-conditioned A2, e.g. next to a
+                // multiple knot of G0/G1 ends) counts as "band not held": smaller μ are tried
+                let ok_hi = self.solve(hi * self.du.powi(4)).is_ok();
                 solves += 1;
                 let sol = self.sol.clone();
-                let d_hi = self.deviation(&sol, accept);
+                let d_hi = if ok_hi {
+                    self.deviation(&sol, accept)
+                } else {
+                    f64::INFINITY
+                };
                 if d_hi <= accept {
                     self.best.copy_from_slice(&sol);
                     (hi, 1.0, d_hi)
@@ -670,10 +676,14 @@ impl FairingSetup {
                         let mut best = (lo, d_lo);
                         for _ in 0..12 {
                             let c = 0.5 * (a + b);
-                            self.solve(c.exp() * self.du.powi(4))?;
+                            let ok = self.solve(c.exp() * self.du.powi(4)).is_ok();
                             solves += 1;
                             let sol = self.sol.clone();
-                            let d = self.deviation(&sol, accept);
+                            let d = if ok {
+                                self.deviation(&sol, accept)
+                            } else {
+                                f64::INFINITY
+                            };
                             if d <= accept {
                                 a = c;
                                 best = (c.exp(), d);

@@ -165,17 +165,20 @@ impl Target {
     }
 
     fn passes(&mut self, a: usize, b: usize, strength: usize, w: [f64; 3]) {
+        // Jacobi sweeps in place: `prev` carries the old value of k − 1, and k + 1 is not yet updated
         let n = self.len();
-        let mut prev = self.values.clone();
+        let (lo, hi) = (a.max(1), b.min(n - 2));
+        if lo > hi {
+            return;
+        }
         for _ in 0..strength {
-            std::mem::swap(&mut prev, &mut self.values);
-            // self.values now stale; rebuild from prev
-            self.values.copy_from_slice(&prev);
-            for k in a..=b {
-                if self.pinned[k] || k == 0 || k == n - 1 {
-                    continue;
+            let mut prev = self.values[lo - 1];
+            for k in lo..=hi {
+                let cur = self.values[k];
+                if !self.pinned[k] {
+                    self.values[k] = w[0] * prev + w[1] * cur + w[2] * self.values[k + 1];
                 }
-                self.values[k] = w[0] * prev[k - 1] + w[1] * prev[k] + w[2] * prev[k + 1];
+                prev = cur;
             }
         }
     }

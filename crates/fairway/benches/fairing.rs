@@ -1,0 +1,90 @@
+//! Fairing benchmarks (issue 4): a noisy cubic curve with 100 control points
+//! and 1000 arc-length samples — full fair (setup + solve), re-fair after a
+//! tolerance change and after a target edit (the editor's live preview);
+//! scaling with 100 / 1,000 / 10,000 control points (10 samples per
+//! control point); the iterative baseline (paper §2.2) on the same setup.
+//!
+//! ```sh
+//! nice cargo bench -p fairway --bench fairing -- --warm-up-time 1 --measurement-time 3
+//! ```
+
+use std::hint::black_box;
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use fairway::fair::{FairingOptions, FairingSetup, IterativeOptions, fair_iterative};
+use fairway::{BSplineCurve, DVec2, KnotVector};
+
+/// A cubic through a sine wave with deterministic noise of ~1 % of the amplitude.
+fn noisy_curve(n: usize) -> BSplineCurve {
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let pts: Vec<DVec2> = (0..n)
+        .map(|i| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let noise = ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.01;
+            let t = i as f64 / (n - 1) as f64;
+            DVec2::new(4.0 * t, 0.5 * (3.0 * t).sin() + noise)
+        })
+        .collect();
+    BSplineCurve::new_2d(3, KnotVector::uniform(3, n).unwrap().values().to_vec(), &pts).unwrap()
+}
+
+fn opts(samples: usize) -> FairingOptions {
+    FairingOptions {
+        tolerance: 2e-3,
+        samples: Some(samples),
+        ..Default::default()
+    }
+}
+
+fn benches(c: &mut Criterion) {
+    let cv = noisy_curve(100);
+    let o = opts(1000);
+    c.bench_function("curve100_s1000/full (setup + fair)", |b| {
+        b.iter(|| FairingSetup::new(black_box(&cv), o).unwrap().fair().unwrap())
+    });
+    c.bench_function("curve100_s1000/setup only", |b| {
+        b.iter(|| FairingSetup::new(black_box(&cv), o).unwrap())
+    });
+    let mut setup = FairingSetup::new(&cv, o).unwrap();
+    let mut flip = false;
+    c.bench_function("curve100_s1000/re-fair after tolerance change", |b| {
+        b.iter(|| {
+            flip = !flip;
+            setup.set_tolerance(if flip { 2e-3 } else { 1.5e-3 }).unwrap();
+            black_box(setup.fair().unwrap())
+        })
+    });
+    let mut k = 0usize;
+    c.bench_function("curve100_s1000/re-fair after target edit", |b| {
+        b.iter(|| {
+            k = (k + 37) % 900 + 50;
+            let g = setup.target().values()[k];
+            setup.target_mut().set(k, g * 1.01);
+            black_box(setup.fair().unwrap())
+        })
+    });
+    let mut group = c.benchmark_group("scaling (10 samples per control point, full fair)");
+    group.sample_size(10);
+    for n in [100usize, 1000, 10_000] {
+        let cv = noisy_curve(n);
+        let o = opts(10 * n);
+        group.bench_with_input(BenchmarkId::new("full", n), &n, |b, _| {
+            b.iter(|| FairingSetup::new(&cv, o).unwrap().fair().unwrap())
+        });
+        let mut s = FairingSetup::new(&cv, o).unwrap();
+        group.bench_with_input(BenchmarkId::new("re-fair", n), &n, |b, _| b.iter(|| s.fair().unwrap()));
+    }
+    group.finish();
+    let mut group = c.benchmark_group("iterative baseline");
+    group.sample_size(10);
+    let setup = FairingSetup::new(&cv, o).unwrap();
+    group.bench_function("curve100_s1000/iterative", |b| {
+        b.iter(|| fair_iterative(black_box(&setup), IterativeOptions::default()).unwrap())
+    });
+    group.finish();
+}
+
+criterion_group!(fairing, benches);
+criterion_main!(fairing);
