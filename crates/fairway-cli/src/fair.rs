@@ -50,8 +50,9 @@ pub struct Args {
     /// Number of arc-length samples (curves; default: 10 per knot span).
     #[arg(long)]
     pub samples: Option<usize>,
-    /// Surfaces: combination of the u- and v-isocurve clouds: average (paper), border, weighted or smoothed.
-    #[arg(long, default_value = "border")]
+    /// Surfaces: combination of the u- and v-isocurve clouds: average (paper), border, weighted (default, as in
+    /// the core) or smoothed.
+    #[arg(long, default_value = "weighted")]
     pub combine: Combine,
     /// Output file (.json or .ron).
     #[arg(short = 'o', long = "output")]
@@ -251,4 +252,36 @@ fn fair_surface_cmd(a: &Args, surface: &BSplineSurface, curve: FairingOptions) -
         write_report(path, &report)?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cmd {
+        #[command(flatten)]
+        args: Args,
+    }
+
+    #[test]
+    fn combine_defaults_to_the_core_default_and_parses_every_variant() {
+        let a = Cmd::try_parse_from(["fair", "in.json", "--tolerance", "1e-3", "-o", "out.json"]).unwrap();
+        assert_eq!(a.args.combine, Combine::default());
+        assert_eq!(a.args.combine, SurfaceFairingOptions::default().combine);
+        for (name, want) in [
+            ("average", Combine::Average),
+            ("border", Combine::Border),
+            ("weighted", Combine::Weighted),
+            ("smoothed", Combine::Smoothed),
+        ] {
+            let a = Cmd::try_parse_from(["fair", "in.json", "--tolerance", "1", "-o", "o.json", "--combine", name])
+                .unwrap();
+            assert_eq!(a.args.combine, want);
+        }
+        assert!(
+            Cmd::try_parse_from(["fair", "in.json", "--tolerance", "1", "-o", "o.json", "--combine", "x"]).is_err()
+        );
+    }
 }

@@ -25,7 +25,7 @@ pub struct ArcLengthTable {
 }
 
 fn speed(c: &BSplineCurve, u: f64) -> f64 {
-    c.derivs(u).d1.length()
+    c.d1(u).length()
 }
 
 fn piece(c: &BSplineCurve, a: f64, b: f64) -> f64 {

@@ -320,10 +320,24 @@ impl BSplineCurve {
         }
     }
 
-    /// c'(u).
+    /// c'(u). For a polynomial curve only the basis functions and their first
+    /// derivatives are computed (A2.3 with n = 1: the first-derivative values are
+    /// the same operations as in [`Self::derivs`], hence bit-identical to
+    /// `derivs(u).d1`, at about half the cost); rational curves use `derivs`.
     #[inline]
     pub fn d1(&self, u: f64) -> DVec3 {
-        self.derivs(u).d1
+        if self.weights.is_some() {
+            return self.derivs(u).d1;
+        }
+        let p = self.degree();
+        let span = self.knots.find_span(u);
+        let mut d = [[0.0; MAX_ORDER]; 2];
+        ders_basis_funs(self.knots.values(), span, self.knots.clamp(u), p, &mut d);
+        let mut out = DVec3::ZERO;
+        for j in 0..=p {
+            out += self.points[span - p + j] * d[1][j];
+        }
+        out
     }
 
     /// Unit tangent c'/|c'| (NaN at a cusp).

@@ -213,6 +213,31 @@ fn check_curve_fd(c: &BSplineCurve, params: &[f64]) {
 }
 
 #[test]
+fn d1_is_bit_identical_to_derivs_d1() {
+    // `d1` computes only first derivatives of the basis (the arc-length tables' speed); it must give exactly
+    // the bits of `derivs(u).d1`, at knots, ends and inside spans, for degrees 1..=4 and rational curves
+    let line = BSplineCurve::new_3d(1, vec![0.0, 0.0, 0.5, 1.0, 1.0], vec![DVec3::X, DVec3::Y, DVec3::Z]).unwrap();
+    for c in [
+        wiggly_2d(),
+        quartic_3d(),
+        rational_3d(),
+        circle(2.0),
+        twisted_cubic(),
+        parabola(),
+        line,
+    ] {
+        let (a, b) = c.domain();
+        for i in 0..=997 {
+            let u = a + (b - a) * i as f64 / 997.0;
+            assert_eq!(c.d1(u), c.derivs(u).d1, "u = {u}");
+        }
+        for &u in c.knots().values() {
+            assert_eq!(c.d1(u), c.derivs(u).d1, "knot u = {u}");
+        }
+    }
+}
+
+#[test]
 fn derivatives_match_finite_differences() {
     // parameters inside spans (derivatives jump at knots)
     check_curve_fd(&wiggly_2d(), &[0.05, 0.1, 0.27, 0.33, 0.5, 0.62, 0.81, 0.95]);
