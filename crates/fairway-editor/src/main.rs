@@ -1,1 +1,96 @@
-fn main() {}
+//! `fairway-editor [FILE]`: opens FILE, or the bundled sample
+//! `assets/car_roof.ron` (looked up in the working directory, then next to
+//! the workspace this binary was built from).
+
+use std::path::PathBuf;
+
+use eframe::egui;
+
+const USAGE: &str = "usage: fairway-editor [FILE.ron|FILE.json] [--region U1 U2] [--tolerance M]
+       fairway-editor --bench-frames N [--demo-points P] [--region U1 U2]
+  --region U1 U2     preselect the region [U1, U2] (curve parameter)
+  --tolerance M      preselect the tolerance (model units)
+  --bench-frames N   N frames: sweep the tolerance, then drag a target point; print CPU times, quit
+  --demo-points P    use the built-in noisy demo curve with P control points";
+
+fn default_sample() -> Option<PathBuf> {
+    let rel = PathBuf::from("assets/car_roof.ron");
+    if rel.exists() {
+        return Some(rel);
+    }
+    let built = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../assets/car_roof.ron");
+    built.exists().then_some(built)
+}
+
+/// Remove `name` and its `count` values from `args`; the parsed values.
+fn take<T: std::str::FromStr>(args: &mut Vec<String>, name: &str, count: usize) -> Result<Option<Vec<T>>, String> {
+    let Some(i) = args.iter().position(|a| a == name) else {
+        return Ok(None);
+    };
+    if i + count >= args.len() {
+        return Err(format!("{name} needs {count} value(s)"));
+    }
+    let vals: Result<Vec<T>, _> = args.drain(i..=i + count).skip(1).map(|v| v.parse::<T>()).collect();
+    vals.map(Some).map_err(|_| format!("{name}: bad value"))
+}
+
+fn main() -> eframe::Result {
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    if args.iter().any(|a| a == "--help" || a == "-h") {
+        println!("{USAGE}");
+        return Ok(());
+    }
+    let parsed = (|| -> Result<_, String> {
+        let region = take::<f64>(&mut args, "--region", 2)?;
+        let tolerance = take::<f64>(&mut args, "--tolerance", 1)?;
+        let bench = take::<usize>(&mut args, "--bench-frames", 1)?;
+        let demo = take::<usize>(&mut args, "--demo-points", 1)?;
+        if let Some(a) = args.iter().find(|a| a.starts_with("--")) {
+            return Err(format!("unknown option {a}"));
+        }
+        Ok((region, tolerance, bench, demo))
+    })();
+    let (region, tolerance, bench, demo) = match parsed {
+        Ok(v) => v,
+        Err(e) => {
+            eprintln!("fairway-editor: {e}\n{USAGE}");
+            std::process::exit(2);
+        }
+    };
+    let path = if demo.is_some() {
+        None
+    } else {
+        args.first().map(PathBuf::from).or_else(default_sample)
+    };
+    let options = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_inner_size([1500.0, 950.0])
+            .with_title("Fairway")
+            .with_drag_and_drop(true),
+        renderer: eframe::Renderer::Wgpu,
+        ..Default::default()
+    };
+    eframe::run_native(
+        "Fairway",
+        options,
+        Box::new(move |cc| {
+            let mut app = fairway_editor::App::new(cc, path.as_deref());
+            if let Some(n) = demo {
+                let prefs = app.prefs.clone();
+                app = fairway_editor::App::with_document(
+                    fairway::io::Document::new(fairway::Geometry::Curve(fairway_editor::demo_curve_n(n[0]))),
+                    None,
+                );
+                app.prefs = prefs;
+            }
+            if let Some(r) = region {
+                app.doc.settings.region = Some((r[0], r[1]));
+            }
+            if let Some(t) = tolerance {
+                app.doc.settings.tolerance = Some(t[0]);
+            }
+            app.bench = bench.map(|f| fairway_editor::Bench::new(f[0]));
+            Ok(Box::new(app))
+        }),
+    )
+}

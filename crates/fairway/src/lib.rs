@@ -4,7 +4,8 @@
 //! dependencies: knot vectors and basis functions ([`knots`], [`basis`]),
 //! curves and surfaces ([`curve`], [`surface`]), arc length
 //! ([`arclength`]), closest points ([`closest`]), least-squares fitting
-//! ([`fit`]), the fairing engine ([`fair`]) and file formats ([`io`]).
+//! ([`fit`]), the fairing engine ([`fair`]) and file formats ([`io`]), suggested
+//! fairing regions ([`suggest`]).
 //!
 //! f64 throughout; points are [`glam::DVec3`] (2D curves keep z = 0).
 #![deny(missing_docs)]
@@ -26,6 +27,7 @@ pub mod measure;
 pub mod measure_surface;
 pub mod mesh;
 pub mod quadrature;
+pub mod suggest;
 pub mod surface;
 
 pub use arclength::ArcLengthTable;

@@ -222,7 +222,13 @@ fn validate_tolerance(m: f64) -> Result<()> {
 impl FairingSetup {
     /// Prepare the fairing of `curve` with `opts` (validates everything).
     pub fn new(curve: &BSplineCurve, opts: FairingOptions) -> Result<Self> {
-        Self::build(curve, opts, CHECK_SAMPLES, 1e-12)
+        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, [opts.ends; 2])
+    }
+
+    /// As [`Self::new`], with its own end condition at each region end:
+    /// `ends[0]` at `u1`, `ends[1]` at `u2` (`opts.ends` is ignored).
+    pub fn new_with_ends(curve: &BSplineCurve, opts: FairingOptions, ends: [EndCondition; 2]) -> Result<Self> {
+        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, ends)
     }
 
     /// [`Self::new`] with `check_samples` arc-length samples for the band
@@ -233,10 +239,16 @@ impl FairingSetup {
     /// surface engine uses this for its isocurves: it verifies the band itself
     /// on the surface, and the full setup would dominate its cost.
     pub fn with_check_samples(curve: &BSplineCurve, opts: FairingOptions, check_samples: usize) -> Result<Self> {
-        Self::build(curve, opts, check_samples, 1e-6)
+        Self::build(curve, opts, check_samples, 1e-6, [opts.ends; 2])
     }
 
-    fn build(curve: &BSplineCurve, opts: FairingOptions, check_samples: usize, arc_accuracy: f64) -> Result<Self> {
+    fn build(
+        curve: &BSplineCurve,
+        opts: FairingOptions,
+        check_samples: usize,
+        arc_accuracy: f64,
+        ends: [EndCondition; 2],
+    ) -> Result<Self> {
         let check_samples = if check_samples == 0 { 0 } else { check_samples.max(2) };
         validate_tolerance(opts.tolerance)?;
         let input = curve.to_polynomial()?;
@@ -272,12 +284,13 @@ impl FairingSetup {
         let at_end = u2 >= d1 - eps;
         // G1/G0 freedom at interior ends: knot insertion (curve unchanged)
         let mut work = input.clone();
-        let want = match opts.ends {
+        let want = |e: EndCondition| match e {
             EndCondition::G2 => 0,
             EndCondition::G1 => p - 1,
             EndCondition::G0 => p,
         };
-        for (u, interior) in [(u1, !at_start), (u2, !at_end)] {
+        for (u, interior, e) in [(u1, !at_start, ends[0]), (u2, !at_end, ends[1])] {
+            let want = want(e);
             if interior && want > 0 {
                 let have = work.knots().multiplicity(u);
                 if have < want {
@@ -287,23 +300,26 @@ impl FairingSetup {
         }
         let n = work.n_points();
         let kv = work.knots().values();
-        let keep_end = match opts.ends {
-            EndCondition::G2 => 3,
-            EndCondition::G1 => 2,
-            EndCondition::G0 => 1,
-        }
-        .min(n);
+        let keep = |e: EndCondition| {
+            match e {
+                EndCondition::G2 => 3,
+                EndCondition::G1 => 2,
+                EndCondition::G0 => 1,
+            }
+            .min(n)
+        };
+        let (keep_start, keep_end) = (keep(ends[0]), keep(ends[1]));
         let mut free: Vec<usize> = (0..n)
             .filter(|&i| kv[i] >= u1 - eps && kv[i + p + 1] <= u2 + eps)
-            .filter(|&i| !((at_start && i < keep_end) || (at_end && i >= n - keep_end)))
+            .filter(|&i| !((at_start && i < keep_start) || (at_end && i >= n - keep_end)))
             .collect();
         free.sort_unstable();
         if free.is_empty() && at_start && at_end {
             return Err(Error::InvalidInput(format!(
                 "the curve has only {n} control points: with {:?} ends the first and last {keep_end} are held, \
                  so fairing needs at least {} (insert knots to refine the curve)",
-                opts.ends,
-                2 * keep_end + 1
+                ends[1],
+                keep_start + keep_end + 1
             )));
         }
         if free.is_empty() {

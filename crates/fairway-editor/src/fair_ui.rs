@@ -1,0 +1,570 @@
+//! Fairing controls: target tools, end conditions, advanced options,
+//! compare (overlay, Space toggle, blend, tight/medium/loose trio), measures,
+//! accept.
+
+use eframe::egui;
+use egui::{Color32, Pos2, Rect, RichText, Sense, Shape, Stroke};
+use fairway::DVec2;
+use fairway::fair::{EndCondition, Integrator, TargetMethod};
+
+use crate::canvas::colors;
+use crate::fairing::{Preview, default_strength};
+use crate::{App, Command};
+
+/// What a drag on the κ plot does to the target.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum TargetTool {
+    /// Drag target points up and down with a soft falloff.
+    #[default]
+    Drag,
+    /// Click to pin / unpin a target sample.
+    Pin,
+    /// Drag across a stretch to smooth it.
+    Smooth,
+    /// Drag across a stretch to flatten it to constant curvature.
+    Flatten,
+}
+
+/// Compare settings.
+#[derive(Debug, Clone)]
+pub struct Compare {
+    /// Show the faired result (Space toggles before/after).
+    pub show_after: bool,
+    /// Draw the original dimmed under the result.
+    pub overlay: bool,
+    /// Blend original (0) ↔ faired (1).
+    pub blend: f64,
+    /// Show the tight / medium / loose trio.
+    pub trio: bool,
+}
+
+impl Default for Compare {
+    fn default() -> Self {
+        Self {
+            show_after: true,
+            overlay: true,
+            blend: 1.0,
+            trio: false,
+        }
+    }
+}
+
+/// A target drag in progress.
+#[derive(Debug, Clone)]
+pub struct TargetDrag {
+    /// Sample index grabbed (Drag tool) or where the stretch starts (brushes).
+    pub k0: usize,
+    /// κ under the pointer when the drag started.
+    pub k_start: f64,
+    /// Target values when the drag started.
+    pub start: Vec<f64>,
+}
+
+impl App {
+    /// The preview, if fairing succeeded.
+    pub fn preview(&self) -> Option<&Preview> {
+        self.fairing.preview.as_ref().and_then(|r| r.as_ref().ok())
+    }
+
+    /// Arc length (on the original) of target sample k.
+    pub fn target_s(&self, p: &Preview, k: usize) -> f64 {
+        self.view.sampled.s_at_u(p.params[k])
+    }
+
+    /// The fairing section of the side panel.
+    pub fn fairing_ui(&mut self, ui: &mut egui::Ui) {
+        ui.heading("Fairing");
+        if self.region().is_none() {
+            ui.weak("Select a region to see the faired preview.");
+            return;
+        }
+        match &self.fairing.preview {
+            Some(Err(e)) => {
+                ui.label(RichText::new(format!("⚠ {e}")).color(Color32::from_rgb(230, 80, 60)));
+            }
+            Some(Ok(p)) => {
+                let m = self.tolerance();
+                let ok = p.result.max_deviation <= m * (1.0 + 1e-9);
+                ui.label(
+                    RichText::new(format!(
+                        "max deviation {:.3e} {} m = {:.3e}",
+                        p.result.max_deviation,
+                        if ok { "≤" } else { ">" },
+                        m
+                    ))
+                    .color(if ok {
+                        colors::FAIRED
+                    } else {
+                        Color32::from_rgb(230, 80, 60)
+                    }),
+                );
+                ui.weak(format!("re-fair {:.2} ms", p.fair_ms));
+            }
+            None => {}
+        }
+        if self.fairing.target_mismatch {
+            ui.colored_label(
+                Color32::YELLOW,
+                "The saved target does not fit this region's samples; using the automatic target.",
+            );
+        }
+        ui.horizontal(|ui| {
+            let can = self.preview().is_some();
+            if ui
+                .add_enabled(can, egui::Button::new(RichText::new("✔ Accept").strong()))
+                .on_hover_text("Replace the region by the faired curve (one undo step)")
+                .clicked()
+                && let Some(c) = self.preview().map(|p| p.result.curve.clone())
+            {
+                self.push(Command::ReplaceCurve(Box::new(c)));
+            }
+        });
+        ui.add_space(4.0);
+        ui.strong("Target");
+        ui.horizontal_wrapped(|ui| {
+            for (t, name, tip) in [
+                (
+                    TargetTool::Drag,
+                    "Drag",
+                    "Drag target points on the κ plot (soft falloff)",
+                ),
+                (TargetTool::Pin, "Pin", "Click the κ plot to pin / unpin a target value"),
+                (
+                    TargetTool::Smooth,
+                    "Smooth",
+                    "Drag across the κ plot to smooth a stretch of the target",
+                ),
+                (
+                    TargetTool::Flatten,
+                    "Flatten",
+                    "Drag across the κ plot to flatten a stretch (constant κ)",
+                ),
+            ] {
+                ui.selectable_value(&mut self.tool, t, name).on_hover_text(tip);
+            }
+        });
+        ui.add(
+            egui::Slider::new(&mut self.falloff, 0.005..=0.5)
+                .logarithmic(true)
+                .text("Falloff"),
+        )
+        .on_hover_text("Radius of a target drag, as a fraction of the region length");
+        let n = self.preview().map(|p| p.target.len()).unwrap_or(100);
+        let hand_edited = self.doc.settings.target.is_some();
+        let mut strength = self
+            .prefs
+            .fair
+            .strength
+            .unwrap_or(default_strength(self.prefs.fair.method, n));
+        let r = ui
+            .add_enabled(
+                !hand_edited,
+                egui::Slider::new(&mut strength, 0..=(4 * n).max(10)).text("Strength"),
+            )
+            .on_hover_text("Automatic smoothing strength (passes); disabled while the target is hand-edited")
+            .on_disabled_hover_text("The target is hand-edited: Reset to use automatic smoothing");
+        if r.changed() {
+            self.prefs.fair.strength = Some(strength);
+        }
+        if ui
+            .button("Reset target")
+            .on_hover_text("Forget hand edits and pins; back to the automatic target")
+            .clicked()
+        {
+            self.push(Command::SetTarget {
+                values: None,
+                pinned: vec![],
+            });
+        }
+        ui.add_space(4.0);
+        ui.strong("End conditions");
+        for (side, label) in [(0, "Start"), (1, "End")] {
+            ui.horizontal(|ui| {
+                ui.label(label);
+                for (e, name, tip) in [
+                    (EndCondition::G0, "G0", "position only"),
+                    (EndCondition::G1, "G1", "position and tangent"),
+                    (EndCondition::G2, "G2", "position, tangent and curvature"),
+                ] {
+                    ui.selectable_value(&mut self.prefs.fair.ends[side], e, name)
+                        .on_hover_text(format!("{label} of the region joins its neighbour with {name}: {tip}"));
+                }
+            });
+        }
+        egui::CollapsingHeader::new("Advanced").show(ui, |ui| {
+            ui.horizontal(|ui| {
+                ui.label("Integrator:");
+                for (i, name, tip) in [
+                    (Integrator::Euler, "Euler", "Explicit Euler (the paper's first scheme)"),
+                    (
+                        Integrator::Rk2,
+                        "RK2",
+                        "Second-order Runge–Kutta (the paper's second scheme)",
+                    ),
+                    (Integrator::Arc, "Arc", "Exact circular-arc steps (default)"),
+                ] {
+                    ui.selectable_value(&mut self.prefs.fair.integrator, i, name)
+                        .on_hover_text(tip);
+                }
+            });
+            ui.horizontal(|ui| {
+                ui.label("Target:");
+                for (m, name, tip) in [
+                    (TargetMethod::Average, "Average", "Neighbour averaging (the paper's)"),
+                    (TargetMethod::Binomial, "Binomial", "(1,2,1)/4 kernel, damps zig-zag"),
+                    (TargetMethod::Fit, "Fit", "Smoothing-spline fit of the curvature"),
+                ] {
+                    ui.selectable_value(&mut self.prefs.fair.method, m, name)
+                        .on_hover_text(tip);
+                }
+            });
+        });
+        ui.add_space(4.0);
+        ui.strong("Compare");
+        ui.checkbox(&mut self.compare.show_after, "Show result (Space)")
+            .on_hover_text("Toggle between before and after (Space)");
+        ui.checkbox(&mut self.compare.overlay, "Overlay original")
+            .on_hover_text("Draw the original dimmed under the result");
+        ui.add(egui::Slider::new(&mut self.compare.blend, 0.0..=1.0).text("Blend"))
+            .on_hover_text("Blend the drawn curve between the original (0) and the faired result (1)");
+        ui.checkbox(&mut self.compare.trio, "Tight / medium / loose")
+            .on_hover_text("Three side-by-side previews at m/3, m and 3m");
+    }
+
+    /// Measures before / after.
+    pub fn measures_ui(&mut self, ui: &mut egui::Ui) {
+        ui.heading("Measures");
+        let Some(p) = self.preview() else {
+            ui.weak("(no preview)");
+            return;
+        };
+        let max_dev = p.result.max_deviation;
+        let dragging = ui.input(|i| i.pointer.any_down());
+        self.fairing.update_measures(dragging);
+        if self.fairing.measures_stale() {
+            ui.weak("(updated when the drag ends)");
+        }
+        let Some((b, a)) = self.fairing.measures.as_ref() else {
+            return;
+        };
+        egui::Grid::new("measures").striped(true).show(ui, |ui| {
+            ui.strong("");
+            ui.strong("before");
+            ui.strong("after");
+            ui.strong("change");
+            ui.end_row();
+            let rows = [
+                (
+                    "max deviation",
+                    "Largest distance from the original (2000 arc-length samples)",
+                    b.dev_max,
+                    a.dev_max,
+                ),
+                (
+                    "κ extrema",
+                    "Curvature extrema (zig-zag pivots beyond δ = 1% of max|g|)",
+                    b.n_curv_extrema as f64,
+                    a.n_curv_extrema as f64,
+                ),
+                (
+                    "κ extrema (raw)",
+                    "Every sign change of dκ/ds between 4000 samples",
+                    b.n_curv_extrema_raw as f64,
+                    a.n_curv_extrema_raw as f64,
+                ),
+                (
+                    "inflections",
+                    "Sign changes of κ across the dead band ±δ",
+                    b.n_inflections as f64,
+                    a.n_inflections as f64,
+                ),
+                (
+                    "E (paper)",
+                    "Σ (κ − g)² over 200 samples, g the original's smoothed curvature",
+                    b.E_paper,
+                    a.E_paper,
+                ),
+                ("∫(dκ/ds)² ds", "Variation of curvature energy", b.E_var, a.E_var),
+                ("∫κ² ds", "Bending energy", b.E_bend, a.E_bend),
+            ];
+            for (name, tip, bv, av) in rows {
+                ui.label(name).on_hover_text(tip);
+                ui.label(fmt_num(bv));
+                ui.label(fmt_num(av));
+                let ch = if bv != 0.0 {
+                    format!("{:+.0}%", (av / bv - 1.0) * 100.0)
+                } else {
+                    "—".into()
+                };
+                ui.label(ch);
+                ui.end_row();
+            }
+        });
+        ui.weak(format!("core's verified bound on the deviation: {}", fmt_num(max_dev)));
+    }
+
+    /// Target editing input on the κ plot; returns true if it took the drag.
+    pub fn target_plot_input(&mut self, ui: &egui::Ui, resp: &egui::Response) -> bool {
+        let Some(p) = self.preview().cloned() else { return false };
+        let len = self.view.sampled.length;
+        let near = |app: &App, q: Pos2, need_y: bool| -> Option<usize> {
+            let mut best = (usize::MAX, f32::INFINITY);
+            for k in 0..p.target.len() {
+                let x = app.plot.x(app.target_s(&p, k), len);
+                let d = if need_y {
+                    Pos2::new(x, app.plot.y(p.target[k])).distance(q)
+                } else {
+                    (x - q.x).abs()
+                };
+                if d < best.1 {
+                    best = (k, d);
+                }
+            }
+            (best.1 < if need_y { 10.0 } else { 8.0 }).then_some(best.0)
+        };
+        let pinned_idx = |pinned: &[bool]| -> Vec<usize> {
+            pinned.iter().enumerate().filter(|(_, b)| **b).map(|(k, _)| k).collect()
+        };
+        if self.tool == TargetTool::Pin {
+            if resp.clicked()
+                && let Some(q) = resp.interact_pointer_pos()
+                && let Some(k) = near(&*self, q, false)
+            {
+                let mut pins = pinned_idx(&p.pinned);
+                if let Some(i) = pins.iter().position(|&j| j == k) {
+                    pins.remove(i);
+                } else {
+                    pins.push(k);
+                }
+                self.push(Command::SetTarget {
+                    values: Some(p.target.clone()),
+                    pinned: pins,
+                });
+                return true;
+            }
+            return false;
+        }
+        if resp.drag_started_by(egui::PointerButton::Primary)
+            && let Some(q) = ui.input(|i| i.pointer.press_origin())
+        {
+            let k = near(&*self, q, self.tool == TargetTool::Drag);
+            self.target_drag = k.map(|k0| TargetDrag {
+                k0,
+                k_start: self.plot.k(q.y),
+                start: p.target.clone(),
+            });
+        }
+        let Some(d) = self.target_drag.clone() else {
+            return false;
+        };
+        if resp.dragged_by(egui::PointerButton::Primary)
+            && let Some(q) = resp.interact_pointer_pos()
+            && let Some(setup) = self.fairing.setup()
+        {
+            let mut t = setup.target().clone();
+            for (k, &g) in d.start.iter().enumerate() {
+                t.set(k, g);
+            }
+            match self.tool {
+                TargetTool::Drag => {
+                    let dk = self.plot.k(q.y) - d.k_start;
+                    let s0 = self.target_s(&p, d.k0);
+                    let (u1, u2) = self.region().unwrap_or((0.0, 0.0));
+                    let radius =
+                        (self.falloff * (self.view.sampled.s_at_u(u2) - self.view.sampled.s_at_u(u1))).max(1e-12);
+                    for k in 0..d.start.len() {
+                        if p.pinned[k] {
+                            continue;
+                        }
+                        let r = (self.target_s(&p, k) - s0).abs() / radius;
+                        if r < 1.0 {
+                            t.set(k, d.start[k] + dk * fairway::fair::target::quintic(1.0 - r));
+                        }
+                    }
+                }
+                TargetTool::Smooth | TargetTool::Flatten => {
+                    let s = self.plot.s(q.x, len);
+                    let mut k1 = 0;
+                    let mut best = f64::INFINITY;
+                    for k in 0..p.params.len() {
+                        let e = (self.target_s(&p, k) - s).abs();
+                        if e < best {
+                            best = e;
+                            k1 = k;
+                        }
+                    }
+                    let (a, b) = (d.k0.min(k1), d.k0.max(k1));
+                    if self.tool == TargetTool::Smooth {
+                        let strength = default_strength(self.prefs.fair.method, p.target.len()).max(4);
+                        t.smooth_range(a, b, self.prefs.fair.method, strength);
+                    } else {
+                        t.flatten_range(a, b);
+                    }
+                }
+                TargetTool::Pin => {}
+            }
+            self.push(Command::SetTarget {
+                values: Some(t.values().to_vec()),
+                pinned: pinned_idx(t.pinned()),
+            });
+        }
+        if resp.drag_stopped() {
+            self.target_drag = None;
+        }
+        true
+    }
+
+    /// Draw target and faired curvature on the κ plot.
+    pub fn draw_plot_fairing(&self, painter: &egui::Painter) {
+        let Some(p) = self.preview() else { return };
+        let len = self.view.sampled.length;
+        let pl = &self.plot;
+        // faired κ over the region's samples
+        let fs = &p.sampled;
+        let (u1, u2) = self.region().unwrap_or((0.0, 0.0));
+        // the reach of a target drag (falloff radius) around the pointer
+        if self.tool == TargetTool::Drag
+            && let Some(hs) = self.hover_s
+        {
+            let o = &self.view.sampled;
+            let r = self.falloff * (o.s_at_u(u2) - o.s_at_u(u1));
+            let y = pl.rect.unwrap_or(Rect::NOTHING).y_range();
+            let (x1, x2) = (pl.x(hs - r, len), pl.x(hs + r, len));
+            if x2 > x1 {
+                painter.rect_filled(
+                    Rect::from_x_y_ranges(x1..=x2, y),
+                    0.0,
+                    colors::TARGET.gamma_multiply(0.08),
+                );
+            }
+        }
+        let (i1, i2) = (fs.index_at_u(u1).floor() as usize, fs.index_at_u(u2).ceil() as usize);
+        let pts: Vec<Pos2> = (i1..=i2.min(fs.len() - 1))
+            .map(|i| Pos2::new(pl.x(self.view.sampled.s_at_u(fs.u[i]), len), pl.y(fs.kappa[i])))
+            .collect();
+        painter.add(Shape::line(pts, Stroke::new(1.8, colors::FAIRED)));
+        let tpts: Vec<Pos2> = (0..p.target.len())
+            .map(|k| Pos2::new(pl.x(self.target_s(p, k), len), pl.y(p.target[k])))
+            .collect();
+        painter.add(Shape::line(tpts.clone(), Stroke::new(1.8, colors::TARGET)));
+        for (k, q) in tpts.iter().enumerate() {
+            if p.pinned[k] {
+                painter.rect_filled(Rect::from_center_size(*q, egui::vec2(6.0, 6.0)), 0.0, colors::TARGET);
+            }
+        }
+    }
+
+    /// Target comb envelope on the canvas (model units).
+    pub fn target_envelope(&self, p: &Preview) -> Vec<DVec2> {
+        let o = &self.view.sampled;
+        let mut tmp = crate::Sampled {
+            p: Vec::with_capacity(p.params.len()),
+            n: Vec::with_capacity(p.params.len()),
+            ..Default::default()
+        };
+        for &u in &p.params {
+            let i = o.index_at_u(u).round() as usize;
+            tmp.p.push(o.p[i]);
+            tmp.n.push(o.n[i]);
+        }
+        let mut out = vec![];
+        self.comb_tips(&tmp, &p.target, &mut out);
+        out
+    }
+
+    /// The tight / medium / loose trio window.
+    pub fn trio_ui(&mut self, ctx: &egui::Context) {
+        if !self.compare.trio {
+            return;
+        }
+        let mut open = true;
+        egui::Window::new("Tight / medium / loose")
+            .open(&mut open)
+            .default_size([900.0, 260.0])
+            .show(ctx, |ui| {
+                let Some(trio) = self.fairing.trio.clone() else {
+                    ui.weak("Select a region first.");
+                    return;
+                };
+                ui.columns(3, |cols| {
+                    for (col, (m, res)) in cols.iter_mut().zip(trio.iter()) {
+                        col.strong(format!("m = {m:.2e}"));
+                        match res {
+                            Err(e) => {
+                                col.colored_label(Color32::from_rgb(230, 80, 60), e.as_str());
+                            }
+                            Ok(p) => {
+                                let (ex, inf) = region_counts(&p.sampled, self.region());
+                                col.label(format!(
+                                    "dev {:.2e} · κ extrema {ex} · inflections {inf} (in region)",
+                                    p.result.max_deviation
+                                ));
+                                let (rect, _) =
+                                    col.allocate_exact_size(egui::vec2(col.available_width(), 180.0), Sense::hover());
+                                self.draw_mini(col.painter_at(rect), rect, p);
+                            }
+                        }
+                    }
+                });
+            });
+        if !open {
+            self.compare.trio = false;
+        }
+    }
+
+    fn draw_mini(&self, painter: egui::Painter, rect: Rect, p: &Preview) {
+        painter.rect_filled(rect, 0.0, Color32::from_gray(24));
+        let s = &p.sampled;
+        let (u1, u2) = self.region().unwrap_or((0.0, 1.0));
+        let (i1, i2) = (
+            s.index_at_u(u1).floor() as usize,
+            (s.index_at_u(u2).ceil() as usize).min(s.len() - 1),
+        );
+        let mut tips = vec![];
+        self.comb_tips(s, &s.kappa, &mut tips);
+        let (mut a, mut b) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+        for i in i1..=i2 {
+            for q in [s.p[i], tips[i]] {
+                a = a.min(q);
+                b = b.max(q);
+            }
+        }
+        let size = (b - a).max(DVec2::splat(1e-12));
+        let k = ((rect.width() as f64 - 10.0) / size.x).min((rect.height() as f64 - 10.0) / size.y);
+        let c = 0.5 * (a + b);
+        let scr = |q: DVec2| {
+            let d = (q - c) * k;
+            Pos2::new(rect.center().x + d.x as f32, rect.center().y - d.y as f32)
+        };
+        for i in (i1..=i2).step_by(((i2 - i1) / 80).max(1)) {
+            let col = if s.kappa[i] >= 0.0 { colors::POS } else { colors::NEG };
+            painter.line_segment([scr(s.p[i]), scr(tips[i])], Stroke::new(1.0, col.gamma_multiply(0.5)));
+        }
+        painter.add(Shape::line(
+            (i1..=i2).map(|i| scr(tips[i])).collect(),
+            Stroke::new(1.0, colors::POS),
+        ));
+        painter.add(Shape::line(
+            (i1..=i2).map(|i| scr(s.p[i])).collect(),
+            Stroke::new(2.0, colors::FAIRED),
+        ));
+    }
+}
+
+fn fmt_num(v: f64) -> String {
+    if v == 0.0 {
+        "0".into()
+    } else if v.abs() >= 1e4 || v.abs() < 1e-3 {
+        format!("{v:.3e}")
+    } else {
+        format!("{v:.4}")
+    }
+}
+
+/// Curvature extrema and inflections of a sampled curve inside the region.
+fn region_counts(s: &crate::Sampled, region: Option<(f64, f64)>) -> (usize, usize) {
+    let (a, b) = region.unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+    let ex = s.extrema.iter().filter(|&&i| s.u[i] >= a && s.u[i] <= b).count();
+    let inf = s.inflections.iter().filter(|&&u| u >= a && u <= b).count();
+    (ex, inf)
+}

@@ -1,0 +1,269 @@
+//! Live fairing preview: keeps a [`FairingSetup`] of the core for the
+//! current curve and region, and re-runs it when the tolerance, the target
+//! or the options change. No fairing maths here — it all lives in
+//! `fairway::fair`.
+
+use std::time::Instant;
+
+use fairway::BSplineCurve;
+use fairway::fair::{EndCondition, FairingOptions, FairingResult, FairingSetup, Integrator, Target, TargetMethod};
+use fairway::io::DocumentSettings;
+use fairway::measure::{Measures, arc_params, deviations, measure};
+use serde::{Deserialize, Serialize};
+
+use crate::Sampled;
+
+/// Fairing options chosen in the editor (persisted with the settings).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct FairOptions {
+    /// Continuity at the region's start and end.
+    pub ends: [EndCondition; 2],
+    /// Target smoothing method.
+    pub method: TargetMethod,
+    /// Smoothing strength (`None`: the core's default).
+    pub strength: Option<usize>,
+    /// Integration scheme.
+    pub integrator: Integrator,
+}
+
+impl Default for FairOptions {
+    fn default() -> Self {
+        let d = FairingOptions::default();
+        Self {
+            ends: [d.ends; 2],
+            method: d.target,
+            strength: None,
+            integrator: d.integrator,
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+struct SetupKey {
+    curve_rev: u64,
+    region: (f64, f64),
+    ends: [EndCondition; 2],
+}
+
+#[derive(Debug, Clone, PartialEq)]
+struct RunKey {
+    tolerance: f64,
+    opts: FairOptions,
+    target: Option<Vec<f64>>,
+    pinned: Vec<usize>,
+}
+
+/// The current faired preview.
+#[derive(Debug, Clone)]
+pub struct Preview {
+    /// The core's result (faired curve, max deviation, energy, ...).
+    pub result: FairingResult,
+    /// The faired curve sampled for drawing.
+    pub sampled: Sampled,
+    /// Sample parameters of the target (the setup's p_k).
+    pub params: Vec<f64>,
+    /// Target values g_k.
+    pub target: Vec<f64>,
+    /// Original curvature κ_k at the samples.
+    pub original: Vec<f64>,
+    /// Pin flags.
+    pub pinned: Vec<bool>,
+    /// Wall time of the last re-fair, milliseconds.
+    pub fair_ms: f64,
+}
+
+/// Live fairing state.
+#[derive(Debug, Default)]
+pub struct Fairing {
+    setup: Option<FairingSetup>,
+    setup_key: Option<SetupKey>,
+    run_key: Option<RunKey>,
+    /// The preview, or the core's error message.
+    pub preview: Option<Result<Preview, String>>,
+    /// Tight / medium / loose results (tolerance m/3, m, 3m), when asked for.
+    pub trio: Option<[(f64, Result<Preview, String>); 3]>,
+    trio_key: Option<RunKey>,
+    /// A hand-edited target did not match the setup's samples and was ignored.
+    pub target_mismatch: bool,
+    /// Measures of the original (against itself) and of the preview.
+    pub measures: Option<(Measures, Measures)>,
+    /// Parameter (on the original) where the preview deviates most.
+    pub dev_at: Option<f64>,
+    measures_key: Option<RunKey>,
+    before: Option<(SetupKey, Measures)>,
+}
+
+impl Fairing {
+    /// Forget everything (no region).
+    pub fn clear(&mut self) {
+        *self = Self::default();
+    }
+
+    /// The prepared setup (for target edits: clone its target).
+    pub fn setup(&self) -> Option<&FairingSetup> {
+        self.setup.as_ref()
+    }
+
+    /// Bring the preview up to date; does nothing when nothing changed.
+    /// Returns whether the preview was recomputed.
+    pub fn update(
+        &mut self,
+        curve: &BSplineCurve,
+        curve_rev: u64,
+        settings: &DocumentSettings,
+        tolerance: f64,
+        opts: FairOptions,
+        want_trio: bool,
+    ) -> bool {
+        let Some(region) = settings.region else {
+            if self.setup.is_some() || self.preview.is_some() {
+                self.clear();
+            }
+            return false;
+        };
+        let sk = SetupKey {
+            curve_rev,
+            region,
+            ends: opts.ends,
+        };
+        if self.setup_key.as_ref() != Some(&sk) {
+            self.setup_key = Some(sk);
+            self.run_key = None;
+            self.trio_key = None;
+            self.trio = None;
+            let fo = FairingOptions {
+                region: Some(region),
+                tolerance,
+                target: opts.method,
+                strength: opts.strength,
+                integrator: opts.integrator,
+                ..FairingOptions::default()
+            };
+            match FairingSetup::new_with_ends(curve, fo, opts.ends) {
+                Ok(s) => self.setup = Some(s),
+                Err(e) => {
+                    self.setup = None;
+                    self.preview = Some(Err(e.to_string()));
+                    return true;
+                }
+            }
+        }
+        let rk = RunKey {
+            tolerance,
+            opts,
+            target: settings.target.clone(),
+            pinned: settings.pinned.clone(),
+        };
+        let mut changed = false;
+        if self.run_key.as_ref() != Some(&rk) {
+            self.run_key = Some(rk.clone());
+            changed = true;
+            let Some(setup) = self.setup.as_mut() else { return true };
+            self.target_mismatch = !prepare(setup, &rk);
+            self.preview = Some(run(setup, tolerance));
+        }
+        if want_trio && self.trio_key.as_ref() != Some(&rk) {
+            if let Some(setup) = self.setup.as_ref() {
+                let mut s = setup.clone();
+                let trio = [tolerance / 3.0, tolerance, tolerance * 3.0].map(|m| (m, run(&mut s, m)));
+                self.trio = Some(trio);
+                self.trio_key = Some(rk);
+                changed = true;
+            }
+        } else if !want_trio {
+            self.trio = None;
+            self.trio_key = None;
+        }
+        changed
+    }
+
+    /// Whether the measures belong to an older preview.
+    pub fn measures_stale(&self) -> bool {
+        self.measures_key != self.run_key
+    }
+
+    /// Measure the preview (before / after) if it changed since the last
+    /// call; cheap to call every frame. With `defer` (a drag in progress)
+    /// existing measures are kept stale: the full measures (4000 curvature
+    /// samples, 2 × 2000 closest points) cost more than the frame budget.
+    pub fn update_measures(&mut self, defer: bool) {
+        if !self.measures_stale() || (defer && self.measures.is_some()) {
+            return;
+        }
+        self.measures_key = self.run_key.clone();
+        self.measures = None;
+        self.dev_at = None;
+        let (Some(setup), Some(Ok(p))) = (self.setup.as_ref(), self.preview.as_ref()) else {
+            return;
+        };
+        let orig = setup.original();
+        let before = match &self.before {
+            Some((k, m)) if Some(k) == self.setup_key.as_ref() => m.clone(),
+            _ => measure(orig, orig),
+        };
+        if let Some(k) = self.setup_key.clone() {
+            self.before = Some((k, before.clone()));
+        }
+        let n = 2000;
+        let dev = deviations(orig, &p.result.curve, n);
+        let at = arc_params(orig, n);
+        if let Some((i, _)) = dev.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)) {
+            self.dev_at = Some(at[i]);
+        }
+        self.measures = Some((before, measure(orig, &p.result.curve)));
+    }
+}
+
+/// Put the automatic or hand-edited target into `setup`; false if the
+/// hand-edited target does not fit the samples (then it is ignored).
+fn prepare(setup: &mut FairingSetup, rk: &RunKey) -> bool {
+    setup.set_integrator(rk.opts.integrator);
+    let t: &mut Target = setup.target_mut();
+    t.reset();
+    let n = t.len();
+    let strength = rk.opts.strength.unwrap_or(default_strength(rk.opts.method, n));
+    for &k in &rk.pinned {
+        t.pin(k);
+    }
+    match &rk.target {
+        Some(v) if v.len() == n => {
+            for (k, &g) in v.iter().enumerate() {
+                t.set(k, g);
+            }
+            true
+        }
+        Some(_) => {
+            t.smooth(rk.opts.method, strength);
+            false
+        }
+        None => {
+            t.smooth(rk.opts.method, strength);
+            true
+        }
+    }
+}
+
+fn run(setup: &mut FairingSetup, tolerance: f64) -> Result<Preview, String> {
+    let t0 = Instant::now();
+    setup.set_tolerance(tolerance).map_err(|e| e.to_string())?;
+    let result = setup.fair().map_err(|e| e.to_string())?;
+    let fair_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let spans = result.curve.knots().breakpoints().len().saturating_sub(1).max(1);
+    let sampled = Sampled::new(&result.curve, (spans * 24).clamp(400, 4000));
+    let t = setup.target();
+    Ok(Preview {
+        sampled,
+        params: setup.params().to_vec(),
+        target: t.values().to_vec(),
+        original: t.original().to_vec(),
+        pinned: t.pinned().to_vec(),
+        result,
+        fair_ms,
+    })
+}
+
+/// The default smoothing strength for `n` samples (as the core's default).
+pub fn default_strength(method: TargetMethod, n: usize) -> usize {
+    if method == TargetMethod::Fit { 20 } else { n / 4 }
+}

@@ -1,0 +1,954 @@
+//! Fairway's editor: an eframe app for fairing B-spline curves.
+//!
+//! [`App`] owns the [`Document`] (geometry + region + tolerance + target),
+//! the UI state and the undo [`History`]. Each panel is a `fn xxx_ui(&mut
+//! self, ui)`; user actions become [`Command`]s queued during the frame and
+//! applied after the panels, so one drag is one undo step. No fairing maths
+//! lives here: the editor calls the core.
+
+pub mod bench;
+pub mod canvas;
+pub mod fair_ui;
+pub mod fairing;
+pub mod history;
+pub mod plot;
+pub mod sampled;
+pub mod suggest;
+
+use std::path::{Path, PathBuf};
+
+use eframe::egui;
+use egui::{Color32, RichText};
+use fairway::io::Document;
+use fairway::{BSplineCurve, DVec2, Geometry};
+use serde::{Deserialize, Serialize};
+
+pub use bench::Bench;
+pub use fair_ui::{Compare, TargetDrag, TargetTool};
+pub use fairing::{FairOptions, Fairing};
+pub use history::{Gesture, History};
+pub use sampled::Sampled;
+
+/// How comb tooth length grows with |κ|.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum CombScaling {
+    /// Proportional to |κ|.
+    Linear,
+    /// Proportional to √|κ| (tames large peaks).
+    Sqrt,
+    /// Proportional to ln(1 + |κ|/κ̄).
+    Log,
+}
+
+/// Settings kept between sessions (eframe storage), not in documents.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Prefs {
+    /// Comb length multiplier.
+    pub comb_scale: f64,
+    /// Comb scaling law.
+    pub comb_scaling: CombScaling,
+    /// Draw the curvature comb.
+    pub show_comb: bool,
+    /// Draw the control polygon.
+    pub show_polygon: bool,
+    /// Draw inflection and curvature-extremum markers.
+    pub show_markers: bool,
+    /// Recently opened files, newest first.
+    pub recent: Vec<PathBuf>,
+    /// Fairing options.
+    pub fair: FairOptions,
+}
+
+impl Default for Prefs {
+    fn default() -> Self {
+        Self {
+            comb_scale: 1.0,
+            comb_scaling: CombScaling::Linear,
+            show_comb: true,
+            show_polygon: true,
+            show_markers: true,
+            recent: vec![],
+            fair: FairOptions::default(),
+        }
+    }
+}
+
+/// A user action, applied after the panels have been drawn.
+#[derive(Debug, Clone)]
+pub enum Command {
+    /// Set (or clear) the fairing region `[u1, u2]`.
+    SetRegion(Option<(f64, f64)>),
+    /// Set the tolerance band width.
+    SetTolerance(f64),
+    /// Open a file (after the unsaved-work check).
+    Open(PathBuf),
+    /// Save to a file.
+    SaveTo(PathBuf),
+    /// Undo one step.
+    Undo,
+    /// Redo one step.
+    Redo,
+    /// Replace the curve (accepting a faired result); one undo step.
+    ReplaceCurve(Box<BSplineCurve>),
+    /// Set the hand-edited target (`None`: automatic) and the pinned samples.
+    SetTarget {
+        /// Target values g_k over the region's samples.
+        values: Option<Vec<f64>>,
+        /// Pinned sample indices.
+        pinned: Vec<usize>,
+    },
+}
+
+/// An action waiting for the user to confirm discarding unsaved work.
+#[derive(Debug, Clone)]
+pub enum Pending {
+    /// Open this file.
+    Open(PathBuf),
+    /// Show the open dialog.
+    OpenDialog,
+    /// Quit the app.
+    Quit,
+}
+
+/// Data derived from the document's curve, rebuilt when the curve changes.
+#[derive(Debug, Clone, Default)]
+pub struct CurveView {
+    /// Dense samples of the curve.
+    pub sampled: Sampled,
+    /// Control points projected onto the view plane.
+    pub control: Vec<DVec2>,
+    /// Diagonal of the bounding box (model units).
+    pub diag: f64,
+}
+
+impl CurveView {
+    fn new(curve: &BSplineCurve) -> Self {
+        let spans = curve.knots().breakpoints().len().saturating_sub(1).max(1);
+        let sampled = Sampled::new(curve, (spans * 24).clamp(400, 4000));
+        let control: Vec<DVec2> = curve.points().iter().map(|p| p.truncate()).collect();
+        let (a, b) = sampled.bbox;
+        let diag = (b - a).length().max(1e-12);
+        Self { sampled, control, diag }
+    }
+}
+
+/// The editor.
+pub struct App {
+    /// The open document.
+    pub doc: Document,
+    /// Where the document lives on disk.
+    pub path: Option<PathBuf>,
+    /// The document as last saved or opened (for the unsaved marker).
+    saved: Document,
+    /// Undo history.
+    pub history: History,
+    /// Persisted settings.
+    pub prefs: Prefs,
+    /// Derived drawing data of the document's curve.
+    pub view: CurveView,
+    /// Commands queued this frame.
+    commands: Vec<Command>,
+    /// Canvas camera and interaction state.
+    pub canvas: canvas::CanvasState,
+    /// κ plot interaction state.
+    pub plot: plot::PlotState,
+    /// Arc length under the pointer (canvas or κ plot), shared by both.
+    pub hover_s: Option<f64>,
+    next_hover_s: Option<f64>,
+    /// Last error, shown until dismissed.
+    pub error: Option<String>,
+    /// Status line message.
+    pub status: String,
+    /// The path field (fallback when no file dialog is available).
+    pub path_input: String,
+    /// Waiting for the user to confirm discarding unsaved work.
+    pub confirm: Option<Pending>,
+    allow_close: bool,
+    last_title: String,
+    /// Live fairing preview.
+    pub fairing: Fairing,
+    /// Bumped whenever the document's curve changes.
+    pub curve_rev: u64,
+    /// Compare settings.
+    pub compare: Compare,
+    /// Target tool on the κ plot.
+    pub tool: TargetTool,
+    /// Falloff radius of a target drag (fraction of the region length).
+    pub falloff: f64,
+    /// Target drag in progress.
+    pub target_drag: Option<TargetDrag>,
+    /// CPU time of the last frames' `show` (ms), for the status bar.
+    pub frame_ms: f64,
+    /// Benchmark mode: sweep the tolerance every frame and report timings.
+    pub bench: Option<Bench>,
+    /// "Suggest regions" results.
+    pub suggest: suggest::Suggestions,
+}
+
+impl Default for App {
+    fn default() -> Self {
+        Self::with_document(Document::new(Geometry::Curve(demo_curve())), None)
+    }
+}
+
+impl App {
+    /// An editor showing `doc`, loaded from `path`.
+    pub fn with_document(doc: Document, path: Option<PathBuf>) -> Self {
+        let curve = doc_curve(&doc).cloned().unwrap_or_else(demo_curve);
+        let doc = if doc_curve(&doc).is_some() {
+            doc
+        } else {
+            Document::new(Geometry::Curve(curve.clone()))
+        };
+        Self {
+            view: CurveView::new(&curve),
+            saved: doc.clone(),
+            doc,
+            path: path.clone(),
+            history: History::default(),
+            prefs: Prefs::default(),
+            commands: vec![],
+            canvas: Default::default(),
+            plot: Default::default(),
+            hover_s: None,
+            next_hover_s: None,
+            error: None,
+            status: String::new(),
+            path_input: path.map(|p| p.display().to_string()).unwrap_or_default(),
+            confirm: None,
+            allow_close: false,
+            last_title: String::new(),
+            fairing: Fairing::default(),
+            curve_rev: 0,
+            compare: Compare::default(),
+            tool: TargetTool::default(),
+            falloff: 0.08,
+            target_drag: None,
+            frame_ms: 0.0,
+            bench: None,
+            suggest: Default::default(),
+        }
+    }
+
+    /// Open `path` in a new editor; on error, the demo curve and the error
+    /// message.
+    pub fn open_or_demo(path: Option<&Path>) -> Self {
+        match path {
+            None => Self::default(),
+            Some(p) => {
+                let mut app = Self::default();
+                app.open_now(p);
+                app
+            }
+        }
+    }
+
+    /// The editor for eframe: settings restored from storage, `path` opened.
+    pub fn new(cc: &eframe::CreationContext<'_>, path: Option<&Path>) -> Self {
+        let mut app = Self::open_or_demo(path);
+        if let Some(storage) = cc.storage
+            && let Some(prefs) = eframe::get_value::<Prefs>(storage, "prefs")
+        {
+            let recent = std::mem::take(&mut app.prefs.recent);
+            app.prefs = prefs;
+            for r in recent.into_iter().rev() {
+                app.push_recent(r);
+            }
+        }
+        app
+    }
+
+    /// The document's curve.
+    pub fn curve(&self) -> &BSplineCurve {
+        doc_curve(&self.doc).expect("the editor only holds curve documents")
+    }
+
+    /// Whether the document differs from the saved file.
+    pub fn is_dirty(&self) -> bool {
+        self.doc != self.saved
+    }
+
+    /// The tolerance in effect (document value or a default from the size).
+    pub fn tolerance(&self) -> f64 {
+        self.doc.settings.tolerance.unwrap_or(self.view.diag * 1e-3)
+    }
+
+    /// The region `[u1, u2]`, if one is selected.
+    pub fn region(&self) -> Option<(f64, f64)> {
+        self.doc.settings.region
+    }
+
+    /// Queue a command for the end of the frame.
+    pub fn push(&mut self, c: Command) {
+        self.commands.push(c);
+    }
+
+    /// Load `path` now, replacing the document (no unsaved check). Errors go
+    /// to [`App::error`] and leave the open document untouched.
+    pub fn open_now(&mut self, path: &Path) {
+        match load_curve_doc(path) {
+            Ok(doc) => {
+                let curve = doc_curve(&doc).unwrap().clone();
+                self.view = CurveView::new(&curve);
+                self.curve_rev += 1;
+                self.saved = doc.clone();
+                self.doc = doc;
+                self.path = Some(path.to_path_buf());
+                self.path_input = path.display().to_string();
+                self.history.clear();
+                self.canvas.needs_fit = true;
+                self.error = None;
+                self.status = format!("Opened {}", path.display());
+                self.push_recent(path.to_path_buf());
+            }
+            Err(e) => self.error = Some(format!("Could not open {}: {e}", path.display())),
+        }
+    }
+
+    fn push_recent(&mut self, p: PathBuf) {
+        let p = std::fs::canonicalize(&p).unwrap_or(p);
+        self.prefs.recent.retain(|q| q != &p);
+        self.prefs.recent.insert(0, p);
+        self.prefs.recent.truncate(10);
+    }
+
+    fn save_now(&mut self, path: &Path) {
+        match fairway::io::save(path, &self.doc) {
+            Ok(()) => {
+                self.saved = self.doc.clone();
+                self.path = Some(path.to_path_buf());
+                self.path_input = path.display().to_string();
+                self.status = format!("Saved {}", path.display());
+                self.push_recent(path.to_path_buf());
+            }
+            Err(e) => self.error = Some(format!("Could not save {}: {e}", path.display())),
+        }
+    }
+
+    /// Ask before `p` if there is unsaved work, else do it.
+    fn request(&mut self, p: Pending) {
+        if self.is_dirty() {
+            self.confirm = Some(p);
+        } else {
+            self.do_pending(p);
+        }
+    }
+
+    fn do_pending(&mut self, p: Pending) {
+        match p {
+            Pending::Open(path) => self.push(Command::Open(path)),
+            Pending::OpenDialog => {
+                if let Some(path) = self.pick_file(false) {
+                    self.push(Command::Open(path));
+                }
+            }
+            Pending::Quit => self.allow_close = true,
+        }
+    }
+
+    /// A native file dialog, or `None` with a message when none can run.
+    fn pick_file(&mut self, save: bool) -> Option<PathBuf> {
+        if !dialog_available() {
+            self.error = Some(
+                "No file dialog is available here (no desktop portal on the session bus). \
+                 Type a path in the File menu's path field, drag a file onto the window, \
+                 or pass it on the command line."
+                    .into(),
+            );
+            return None;
+        }
+        let mut d = rfd::FileDialog::new().add_filter("Fairway document or geometry", &["ron", "fairway", "json"]);
+        if let Some(dir) = self.path.as_ref().and_then(|p| p.parent()) {
+            d = d.set_directory(dir);
+        }
+        if save {
+            let name = self
+                .path
+                .as_ref()
+                .and_then(|p| p.file_name())
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "curve.ron".into());
+            d.set_file_name(name).save_file()
+        } else {
+            d.pick_file()
+        }
+    }
+
+    /// Apply the queued commands (after the panels).
+    pub fn apply_commands(&mut self) {
+        for c in std::mem::take(&mut self.commands) {
+            self.apply(c);
+        }
+    }
+
+    /// Apply one command now.
+    pub fn apply(&mut self, c: Command) {
+        match c {
+            Command::SetRegion(r) => {
+                let r = r.map(|(a, b)| (a.min(b), a.max(b)));
+                if self.doc.settings.region != r {
+                    self.history.record(&self.doc, Gesture::Region);
+                    self.doc.settings.region = r;
+                    // a hand-edited target belongs to the old region's samples
+                    self.doc.settings.target = None;
+                    self.doc.settings.pinned.clear();
+                }
+            }
+            Command::SetTolerance(t) => {
+                if t.is_finite() && t > 0.0 && self.doc.settings.tolerance != Some(t) {
+                    self.history.record(&self.doc, Gesture::Tolerance);
+                    self.doc.settings.tolerance = Some(t);
+                }
+            }
+            Command::Open(p) => self.open_now(&p),
+            Command::SaveTo(p) => self.save_now(&p),
+            Command::Undo => {
+                if let Some(d) = self.history.undo(&self.doc) {
+                    self.set_doc(d);
+                    self.status = "Undone".into();
+                }
+            }
+            Command::Redo => {
+                if let Some(d) = self.history.redo(&self.doc) {
+                    self.set_doc(d);
+                    self.status = "Redone".into();
+                }
+            }
+            Command::ReplaceCurve(c) => {
+                self.history.record(&self.doc, Gesture::Single);
+                self.doc.geometry = Geometry::Curve(*c);
+                self.doc.settings.region = None;
+                self.doc.settings.target = None;
+                self.doc.settings.pinned.clear();
+                self.view = CurveView::new(self.curve());
+                self.curve_rev += 1;
+                self.status = "Accepted the faired region (Ctrl+Z to undo)".into();
+            }
+            Command::SetTarget { values, pinned } => {
+                let s = &self.doc.settings;
+                if s.target != values || s.pinned != pinned {
+                    self.history.record(&self.doc, Gesture::Target);
+                    self.doc.settings.target = values;
+                    self.doc.settings.pinned = pinned;
+                }
+            }
+        }
+    }
+
+    fn set_doc(&mut self, d: Document) {
+        let geometry_changed = d.geometry != self.doc.geometry;
+        self.doc = d;
+        if geometry_changed {
+            self.view = CurveView::new(self.curve());
+            self.curve_rev += 1;
+        }
+    }
+
+    /// Draw the whole editor into `ui` and apply the frame's commands.
+    pub fn show(&mut self, ui: &mut egui::Ui) {
+        self.next_hover_s = None;
+        self.shortcuts(ui);
+        self.dropped_files(ui);
+        egui::Panel::top("menu").show(ui, |ui| self.menu_ui(ui));
+        egui::Panel::bottom("status").show(ui, |ui| self.status_ui(ui));
+        egui::Panel::right("controls")
+            .resizable(true)
+            .default_size(270.0)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| self.controls_ui(ui));
+            });
+        egui::Panel::bottom("kappa")
+            .resizable(true)
+            .default_size(210.0)
+            .show(ui, |ui| self.plot_ui(ui));
+        egui::CentralPanel::default().show(ui, |ui| self.canvas_ui(ui));
+        self.trio_ui(&ui.ctx().clone());
+        self.confirm_ui(ui);
+        self.apply_commands();
+        if self.update_fairing() {
+            ui.ctx().request_repaint();
+        }
+        if !ui.input(|i| i.pointer.any_down()) {
+            self.history.end_gesture();
+        }
+        if self.hover_s != self.next_hover_s {
+            self.hover_s = self.next_hover_s;
+            ui.ctx().request_repaint();
+        }
+        let title = self.title();
+        if title != self.last_title {
+            ui.ctx().send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
+            self.last_title = title;
+        }
+    }
+
+    /// Bring the fairing preview up to date with the document; true if it
+    /// was recomputed.
+    pub fn update_fairing(&mut self) -> bool {
+        let tol = self.tolerance();
+        let curve = doc_curve(&self.doc).expect("curve document");
+        self.fairing.update(
+            curve,
+            self.curve_rev,
+            &self.doc.settings,
+            tol,
+            self.prefs.fair,
+            self.compare.trio,
+        )
+    }
+
+    /// Window title: file name and an unsaved marker.
+    pub fn title(&self) -> String {
+        let name = self
+            .path
+            .as_ref()
+            .and_then(|p| p.file_name())
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "untitled".into());
+        format!("{}{name} — Fairway", if self.is_dirty() { "● " } else { "" })
+    }
+
+    fn shortcuts(&mut self, ui: &egui::Ui) {
+        use egui::{Key, KeyboardShortcut, Modifiers};
+        let sc = |m, k| KeyboardShortcut::new(m, k);
+        let (redo, undo, open, save_as, save) = ui.input_mut(|i| {
+            let redo = i.consume_shortcut(&sc(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z))
+                || i.consume_shortcut(&sc(Modifiers::COMMAND, Key::Y));
+            let undo = i.consume_shortcut(&sc(Modifiers::COMMAND, Key::Z));
+            let open = i.consume_shortcut(&sc(Modifiers::COMMAND, Key::O));
+            let save_as = i.consume_shortcut(&sc(Modifiers::COMMAND | Modifiers::SHIFT, Key::S));
+            let save = i.consume_shortcut(&sc(Modifiers::COMMAND, Key::S));
+            (redo, undo, open, save_as, save)
+        });
+        if redo {
+            self.push(Command::Redo);
+        } else if undo {
+            self.push(Command::Undo);
+        }
+        if open {
+            self.request(Pending::OpenDialog);
+        }
+        if save_as {
+            self.save_as();
+        } else if save {
+            self.save();
+        }
+        if !ui.ctx().egui_wants_keyboard_input() {
+            if ui.input(|i| i.key_pressed(Key::F)) {
+                self.canvas.needs_fit = true;
+            }
+            if ui.input(|i| i.key_pressed(Key::Space)) {
+                self.compare.show_after = !self.compare.show_after;
+            }
+        }
+    }
+
+    fn dropped_files(&mut self, ui: &egui::Ui) {
+        let dropped: Vec<PathBuf> = ui.input(|i| i.raw.dropped_files.iter().map(|f| f.path().to_path_buf()).collect());
+        if let Some(p) = dropped.into_iter().next() {
+            self.request(Pending::Open(p));
+        }
+    }
+
+    fn save(&mut self) {
+        match self.path.clone() {
+            Some(p) => self.push(Command::SaveTo(p)),
+            None => self.save_as(),
+        }
+    }
+
+    fn save_as(&mut self) {
+        if let Some(p) = self.pick_file(true) {
+            self.push(Command::SaveTo(p));
+        }
+    }
+
+    fn menu_ui(&mut self, ui: &mut egui::Ui) {
+        egui::MenuBar::new().ui(ui, |ui| {
+            ui.menu_button("File", |ui| {
+                if ui
+                    .button("Open…")
+                    .on_hover_text("Open a .ron document or .json curve (Ctrl+O)")
+                    .clicked()
+                {
+                    self.request(Pending::OpenDialog);
+                    ui.close();
+                }
+                if ui.button("Save").on_hover_text("Save the document (Ctrl+S)").clicked() {
+                    self.save();
+                    ui.close();
+                }
+                if ui
+                    .button("Save As…")
+                    .on_hover_text("Save under a new name (Ctrl+Shift+S)")
+                    .clicked()
+                {
+                    self.save_as();
+                    ui.close();
+                }
+                ui.separator();
+                ui.label("Path:");
+                ui.add(
+                    egui::TextEdit::singleline(&mut self.path_input)
+                        .hint_text("/path/to/curve.ron")
+                        .desired_width(320.0),
+                )
+                .on_hover_text("Type a file path when no file dialog is available");
+                ui.horizontal(|ui| {
+                    let p = PathBuf::from(self.path_input.trim());
+                    if ui
+                        .button("Open path")
+                        .on_hover_text("Open the file at the typed path")
+                        .clicked()
+                    {
+                        self.request(Pending::Open(p.clone()));
+                        ui.close();
+                    }
+                    if ui
+                        .button("Save to path")
+                        .on_hover_text("Save the document to the typed path")
+                        .clicked()
+                    {
+                        self.push(Command::SaveTo(p));
+                        ui.close();
+                    }
+                });
+                ui.separator();
+                ui.menu_button("Recent", |ui| {
+                    if self.prefs.recent.is_empty() {
+                        ui.label("(none)");
+                    }
+                    for p in self.prefs.recent.clone() {
+                        if ui
+                            .button(p.display().to_string())
+                            .on_hover_text("Open this file")
+                            .clicked()
+                        {
+                            self.request(Pending::Open(p));
+                            ui.close();
+                        }
+                    }
+                });
+                ui.separator();
+                if ui
+                    .button("Quit")
+                    .on_hover_text("Close Fairway (asks about unsaved work)")
+                    .clicked()
+                {
+                    ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
+                }
+            });
+            ui.menu_button("Edit", |ui| {
+                if ui
+                    .add_enabled(self.history.can_undo(), egui::Button::new("Undo"))
+                    .on_hover_text("Ctrl+Z")
+                    .clicked()
+                {
+                    self.push(Command::Undo);
+                }
+                if ui
+                    .add_enabled(self.history.can_redo(), egui::Button::new("Redo"))
+                    .on_hover_text("Ctrl+Shift+Z or Ctrl+Y")
+                    .clicked()
+                {
+                    self.push(Command::Redo);
+                }
+            });
+            ui.menu_button("View", |ui| {
+                if ui.button("Fit to view").on_hover_text("F").clicked() {
+                    self.canvas.needs_fit = true;
+                }
+                ui.checkbox(&mut self.prefs.show_polygon, "Control polygon")
+                    .on_hover_text("Show the control points and polygon");
+                ui.checkbox(&mut self.prefs.show_comb, "Curvature comb")
+                    .on_hover_text("Curvature comb on the canvas");
+                ui.checkbox(&mut self.prefs.show_markers, "Inflections and extrema")
+                    .on_hover_text("Green diamonds: inflections; orange dots: curvature extrema");
+            });
+            ui.separator();
+            if ui
+                .add_enabled(self.history.can_undo(), egui::Button::new("⟲ Undo"))
+                .on_hover_text("Undo (Ctrl+Z)")
+                .clicked()
+            {
+                self.push(Command::Undo);
+            }
+            if ui
+                .add_enabled(self.history.can_redo(), egui::Button::new("⟳ Redo"))
+                .on_hover_text("Redo (Ctrl+Shift+Z / Ctrl+Y)")
+                .clicked()
+            {
+                self.push(Command::Redo);
+            }
+            if ui
+                .button("Fit")
+                .on_hover_text("Fit the curve to the view (F)")
+                .clicked()
+            {
+                self.canvas.needs_fit = true;
+            }
+        });
+    }
+
+    fn status_ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            if let Some(e) = self.error.clone() {
+                ui.label(RichText::new(format!("⚠ {e}")).color(Color32::from_rgb(230, 80, 60)));
+                if ui.small_button("✖").on_hover_text("Dismiss").clicked() {
+                    self.error = None;
+                }
+                return;
+            }
+            let dirty = if self.is_dirty() { "● unsaved" } else { "saved" };
+            ui.label(dirty);
+            if self.frame_ms > 0.0 {
+                ui.weak(format!("frame {:.1} ms", self.frame_ms))
+                    .on_hover_text("CPU time of the last frame's UI code (including any re-fair)");
+            }
+            ui.separator();
+            if let Some(s) = self.hover_s {
+                let k = self.view.sampled.kappa_at_s(s);
+                ui.label(format!("s = {s:.4}  κ = {k:.5}"));
+                ui.separator();
+            }
+            let c = self.curve();
+            ui.label(format!(
+                "{}D, degree {}, {} control points, length {:.4}",
+                c.dim(),
+                c.degree(),
+                c.n_points(),
+                self.view.sampled.length
+            ));
+            ui.separator();
+            if self.status.is_empty() {
+                ui.weak(
+                    "Drag along the curve or the κ plot to select a region · wheel: zoom · right-drag: pan · F: fit",
+                );
+            } else {
+                ui.label(self.status.as_str());
+            }
+        });
+    }
+
+    fn controls_ui(&mut self, ui: &mut egui::Ui) {
+        ui.heading("Region");
+        let (a, b) = self.curve().domain();
+        ui.horizontal(|ui| {
+            if ui
+                .button("Whole curve")
+                .on_hover_text("Select the whole curve as the region")
+                .clicked()
+            {
+                self.push(Command::SetRegion(Some((a, b))));
+            }
+            if ui
+                .add_enabled(self.region().is_some(), egui::Button::new("Clear"))
+                .on_hover_text("Clear the region")
+                .clicked()
+            {
+                self.push(Command::SetRegion(None));
+            }
+        });
+        self.suggest_ui(ui);
+        if let Some((mut u1, mut u2)) = self.region() {
+            let (r1, r2) = ui
+                .horizontal(|ui| {
+                    let l1 = ui.label("u₁");
+                    let r1 = ui
+                        .add(
+                            egui::DragValue::new(&mut u1)
+                                .range(a..=u2)
+                                .speed((b - a) * 1e-3)
+                                .max_decimals(6),
+                        )
+                        .labelled_by(l1.id)
+                        .on_hover_text("Start parameter of the region");
+                    let l2 = ui.label("u₂");
+                    let r2 = ui
+                        .add(
+                            egui::DragValue::new(&mut u2)
+                                .range(u1..=b)
+                                .speed((b - a) * 1e-3)
+                                .max_decimals(6),
+                        )
+                        .labelled_by(l2.id)
+                        .on_hover_text("End parameter of the region");
+                    (r1, r2)
+                })
+                .inner;
+            if r1.changed() || r2.changed() {
+                self.push(Command::SetRegion(Some((u1, u2))));
+            }
+        } else {
+            ui.weak("No region: drag along the curve or across the κ plot.");
+        }
+        ui.separator();
+        ui.heading("Tolerance");
+        let mut tol = self.tolerance();
+        let d = self.view.diag;
+        let r = ui
+            .add(
+                egui::Slider::new(&mut tol, d * 1e-6..=d * 0.05)
+                    .logarithmic(true)
+                    .text("Tolerance")
+                    .custom_formatter(|v, _| format!("{v:.3e}")),
+            )
+            .on_hover_text("Tolerance band width m, model units (log scale). The faired curve stays within m.");
+        let r2 = ui
+            .horizontal(|ui| {
+                let l = ui.label("Tolerance (exact)");
+                let speed = tol * 0.01;
+                ui.add(
+                    egui::DragValue::new(&mut tol)
+                        .range(1e-12..=f64::MAX)
+                        .speed(speed)
+                        .max_decimals(12),
+                )
+                .labelled_by(l.id)
+                .on_hover_text("Type an exact tolerance in model units")
+            })
+            .inner;
+        if r.changed() || r2.changed() {
+            self.push(Command::SetTolerance(tol));
+        }
+        ui.separator();
+        ui.heading("Comb");
+        ui.checkbox(&mut self.prefs.show_comb, "Show comb")
+            .on_hover_text("Curvature comb on the canvas");
+        ui.add(
+            egui::Slider::new(&mut self.prefs.comb_scale, 0.02..=50.0)
+                .logarithmic(true)
+                .text("Comb scale"),
+        )
+        .on_hover_text("Length of the comb teeth");
+        ui.horizontal(|ui| {
+            ui.label("Scaling:");
+            for (m, name, tip) in [
+                (CombScaling::Linear, "linear", "Tooth length ∝ |κ|"),
+                (CombScaling::Sqrt, "sqrt", "Tooth length ∝ √|κ|"),
+                (CombScaling::Log, "log", "Tooth length ∝ ln(1 + |κ|/mean|κ|)"),
+            ] {
+                ui.selectable_value(&mut self.prefs.comb_scaling, m, name)
+                    .on_hover_text(tip);
+            }
+        });
+        ui.checkbox(&mut self.prefs.show_polygon, "Control polygon")
+            .on_hover_text("Show the control points and polygon");
+        ui.checkbox(&mut self.prefs.show_markers, "Inflections and extrema")
+            .on_hover_text("Green diamonds: inflections; orange dots: curvature extrema");
+        let s = &self.view.sampled;
+        ui.weak(format!(
+            "{} inflections, {} curvature extrema, κ ∈ [{:.4}, {:.4}]",
+            s.inflections.len(),
+            s.extrema.len(),
+            s.kappa_range.0,
+            s.kappa_range.1
+        ));
+        ui.separator();
+        self.fairing_ui(ui);
+        ui.separator();
+        self.measures_ui(ui);
+    }
+
+    fn confirm_ui(&mut self, ui: &mut egui::Ui) {
+        let Some(p) = self.confirm.clone() else { return };
+        let mut close = false;
+        egui::Modal::new(egui::Id::unique("discard")).show(ui.ctx(), |ui| {
+            ui.heading("Discard unsaved changes?");
+            ui.label("The document has changes that are not saved.");
+            ui.horizontal(|ui| {
+                if ui
+                    .button("Discard changes")
+                    .on_hover_text("Lose the unsaved changes and go on")
+                    .clicked()
+                {
+                    self.do_pending(p.clone());
+                    if matches!(p, Pending::Quit) {
+                        ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
+                    }
+                    close = true;
+                }
+                if ui.button("Cancel").on_hover_text("Keep the document open").clicked() {
+                    close = true;
+                }
+            });
+        });
+        if close {
+            self.confirm = None;
+        }
+    }
+
+    /// Handle a window close request (ask when there is unsaved work).
+    fn handle_close(&mut self, ctx: &egui::Context) {
+        if ctx.input(|i| i.viewport().close_requested()) && self.is_dirty() && !self.allow_close {
+            ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
+            self.confirm = Some(Pending::Quit);
+        }
+    }
+}
+
+impl eframe::App for App {
+    fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+        self.handle_close(&ui.ctx().clone());
+        if self.bench.is_some() {
+            self.bench_frame(ui, frame.info().cpu_usage);
+            return;
+        }
+        let t0 = std::time::Instant::now();
+        self.show(ui);
+        self.frame_ms = t0.elapsed().as_secs_f64() * 1e3;
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        eframe::set_value(storage, "prefs", &self.prefs);
+    }
+}
+
+fn doc_curve(doc: &Document) -> Option<&BSplineCurve> {
+    match &doc.geometry {
+        Geometry::Curve(c) => Some(c),
+        Geometry::Surface(_) => None,
+    }
+}
+
+/// Load a document that holds a curve.
+pub fn load_curve_doc(path: &Path) -> anyhow::Result<Document> {
+    let doc = fairway::io::load(path)?;
+    if doc_curve(&doc).is_none() {
+        anyhow::bail!("this file holds a surface; the editor fairs curves only (for now)");
+    }
+    Ok(doc)
+}
+
+/// Whether a native file dialog can run: rfd's portal backend needs a
+/// session bus.
+fn dialog_available() -> bool {
+    std::env::var_os("DBUS_SESSION_BUS_ADDRESS").is_some()
+}
+
+/// A noisy car-roof-like cubic curve (used when no file is given and no
+/// sample is found): 40 control points on a flat arc with a deterministic
+/// ripple.
+pub fn demo_curve() -> BSplineCurve {
+    demo_curve_n(40)
+}
+
+/// The demo curve with `n` (≥ 4) control points.
+pub fn demo_curve_n(n: usize) -> BSplineCurve {
+    let n = n.max(4);
+    let p = 3;
+    let pts: Vec<DVec2> = (0..n)
+        .map(|i| {
+            let t = i as f64 / (n - 1) as f64;
+            let x = 2.0 * t;
+            let y = 0.35 * (std::f64::consts::PI * t).sin() + 0.004 * ((i * 7919 % 13) as f64 / 6.0 - 1.0);
+            DVec2::new(x, y)
+        })
+        .collect();
+    let inner = n - p - 1;
+    let mut knots = vec![0.0; p + 1];
+    knots.extend((1..=inner).map(|k| k as f64 / (inner + 1) as f64));
+    knots.extend(vec![1.0; p + 1]);
+    BSplineCurve::new_2d(p, knots, &pts).expect("valid demo curve")
+}

@@ -1,0 +1,243 @@
+//! The curvature plot κ(s) over arc length: original curvature, region
+//! shading, shared hover cursor; drag across it to select a region, drag a
+//! region edge to adjust it.
+
+use eframe::egui;
+use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Shape, Stroke};
+
+use crate::canvas::colors;
+use crate::{App, Command};
+
+/// What a drag on the plot does.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum PlotDrag {
+    /// Nothing.
+    #[default]
+    None,
+    /// Select a region from the anchor arc length.
+    Select {
+        /// Arc length where the drag started.
+        anchor: f64,
+    },
+    /// Move one region end (0 = start, 1 = end).
+    Handle(usize),
+}
+
+/// Interaction state of the κ plot.
+#[derive(Debug, Clone, Default)]
+pub struct PlotState {
+    /// Current drag.
+    pub drag: PlotDrag,
+    /// Plot area of the last frame.
+    pub rect: Option<Rect>,
+    /// κ range shown (bottom, top).
+    pub y_range: (f64, f64),
+}
+
+impl PlotState {
+    /// Arc length → screen x.
+    pub fn x(&self, s: f64, length: f64) -> f32 {
+        let r = self.rect.unwrap_or(Rect::NOTHING);
+        r.left() + (s / length.max(1e-300)) as f32 * r.width()
+    }
+
+    /// Screen x → arc length (clamped).
+    pub fn s(&self, x: f32, length: f64) -> f64 {
+        let r = self.rect.unwrap_or(Rect::NOTHING);
+        (((x - r.left()) / r.width().max(1.0)) as f64).clamp(0.0, 1.0) * length
+    }
+
+    /// κ → screen y.
+    pub fn y(&self, k: f64) -> f32 {
+        let r = self.rect.unwrap_or(Rect::NOTHING);
+        let (lo, hi) = self.y_range;
+        r.bottom() - ((k - lo) / (hi - lo).max(1e-300)) as f32 * r.height()
+    }
+
+    /// Screen y → κ.
+    pub fn k(&self, y: f32) -> f64 {
+        let r = self.rect.unwrap_or(Rect::NOTHING);
+        let (lo, hi) = self.y_range;
+        lo + ((r.bottom() - y) / r.height().max(1.0)) as f64 * (hi - lo)
+    }
+}
+
+impl App {
+    /// The κ(s) plot panel.
+    pub fn plot_ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            ui.strong("Curvature κ(s)");
+            ui.weak("— drag across the plot to select a region, drag its edges to adjust");
+        });
+        let (outer, resp) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
+        resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "Curvature plot"));
+        let rect = Rect::from_min_max(outer.min + egui::vec2(56.0, 6.0), outer.max - egui::vec2(8.0, 18.0));
+        self.plot.rect = Some(rect);
+        let s = &self.view.sampled;
+        let (mut lo, mut hi) = s.kappa_range;
+        for k in self.extra_kappa_ranges() {
+            lo = lo.min(k.0);
+            hi = hi.max(k.1);
+        }
+        lo = lo.min(0.0);
+        hi = hi.max(0.0);
+        let pad = 0.08 * (hi - lo).max(1e-12);
+        self.plot.y_range = (lo - pad, hi + pad);
+        self.plot_input(ui, &resp);
+        let painter = ui.painter_at(outer);
+        painter.rect_filled(outer, 0.0, Color32::from_gray(20));
+        self.draw_plot(&painter, rect);
+    }
+
+    /// κ ranges of other drawn curves (target, faired) so the plot fits them.
+    fn extra_kappa_ranges(&self) -> Vec<(f64, f64)> {
+        let mut out = vec![];
+        if let Some(p) = self.preview() {
+            let r = |v: &mut dyn Iterator<Item = f64>| {
+                v.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), k| (a.min(k), b.max(k)))
+            };
+            out.push(r(&mut p.target.iter().copied()));
+            let (u1, u2) = self.region().unwrap_or((0.0, 0.0));
+            out.push(r(&mut p
+                .sampled
+                .u
+                .iter()
+                .zip(&p.sampled.kappa)
+                .filter(|(u, _)| **u >= u1 && **u <= u2)
+                .map(|(_, k)| *k)));
+        }
+        out.retain(|(a, b)| a.is_finite() && b.is_finite());
+        out
+    }
+
+    fn plot_input(&mut self, ui: &egui::Ui, resp: &egui::Response) {
+        let len = self.view.sampled.length;
+        if let Some(q) = resp.hover_pos() {
+            self.next_hover_s = Some(self.plot.s(q.x, len));
+        }
+        if self.target_plot_input(ui, resp) {
+            return;
+        }
+        if resp.drag_started_by(egui::PointerButton::Primary)
+            && let Some(q) = ui.input(|i| i.pointer.press_origin())
+        {
+            let handle = self.region().and_then(|(u1, u2)| {
+                [u1, u2]
+                    .iter()
+                    .map(|&u| (self.plot.x(self.view.sampled.s_at_u(u), len) - q.x).abs())
+                    .enumerate()
+                    .filter(|(_, d)| *d < 6.0)
+                    .min_by(|a, b| a.1.total_cmp(&b.1))
+                    .map(|(k, _)| k)
+            });
+            self.plot.drag = match handle {
+                Some(k) => PlotDrag::Handle(k),
+                None => PlotDrag::Select {
+                    anchor: self.plot.s(q.x, len),
+                },
+            };
+        }
+        if resp.dragged_by(egui::PointerButton::Primary)
+            && let Some(q) = resp.interact_pointer_pos()
+        {
+            let s = self.plot.s(q.x, len);
+            let u = self.view.sampled.u_at_s(s);
+            match self.plot.drag {
+                PlotDrag::Select { anchor } => {
+                    let ua = self.view.sampled.u_at_s(anchor);
+                    if ua != u {
+                        self.push(Command::SetRegion(Some((ua, u))));
+                    }
+                }
+                PlotDrag::Handle(k) => {
+                    if let Some((u1, u2)) = self.region() {
+                        self.push(Command::SetRegion(Some(if k == 0 { (u, u2) } else { (u1, u) })));
+                    }
+                }
+                PlotDrag::None => {}
+            }
+        }
+        if resp.drag_stopped() {
+            self.plot.drag = PlotDrag::None;
+        }
+    }
+
+    fn draw_plot(&self, painter: &egui::Painter, rect: Rect) {
+        let s = &self.view.sampled;
+        let p = &self.plot;
+        let len = s.length;
+        let font = FontId::proportional(11.0);
+        let axis = Color32::from_gray(110);
+        // axes and zero line
+        painter.rect_stroke(
+            rect,
+            0.0,
+            Stroke::new(1.0, Color32::from_gray(60)),
+            egui::StrokeKind::Inside,
+        );
+        let y0 = p.y(0.0);
+        painter.line_segment(
+            [Pos2::new(rect.left(), y0), Pos2::new(rect.right(), y0)],
+            Stroke::new(1.0, axis),
+        );
+        for k in [p.y_range.0, 0.0, p.y_range.1] {
+            painter.text(
+                Pos2::new(rect.left() - 4.0, p.y(k)),
+                Align2::RIGHT_CENTER,
+                format!("{k:.3}"),
+                font.clone(),
+                axis,
+            );
+        }
+        for f in [0.0, 0.25, 0.5, 0.75, 1.0] {
+            let x = rect.left() + f as f32 * rect.width();
+            painter.text(
+                Pos2::new(x, rect.bottom() + 2.0),
+                if f == 0.0 {
+                    Align2::LEFT_TOP
+                } else if f == 1.0 {
+                    Align2::RIGHT_TOP
+                } else {
+                    Align2::CENTER_TOP
+                },
+                format!("s={:.3}", f * len),
+                font.clone(),
+                axis,
+            );
+        }
+        // region shading
+        if let Some((u1, u2)) = self.region() {
+            let (x1, x2) = (p.x(s.s_at_u(u1), len), p.x(s.s_at_u(u2), len));
+            painter.rect_filled(
+                Rect::from_x_y_ranges(x1..=x2, rect.y_range()),
+                0.0,
+                colors::REGION.gamma_multiply(0.15),
+            );
+            for x in [x1, x2] {
+                painter.line_segment(
+                    [Pos2::new(x, rect.top()), Pos2::new(x, rect.bottom())],
+                    Stroke::new(2.0, colors::REGION),
+                );
+            }
+        }
+        self.draw_plot_suggestions(painter, rect);
+        // original κ
+        let pts: Vec<Pos2> =
+            s.s.iter()
+                .zip(&s.kappa)
+                .map(|(&si, &k)| Pos2::new(p.x(si, len), p.y(k)))
+                .collect();
+        painter.add(Shape::line(pts, Stroke::new(1.5, Color32::from_rgb(150, 190, 255))));
+        self.draw_plot_fairing(painter);
+        // cursor
+        if let Some(hs) = self.hover_s {
+            let x = p.x(hs, len);
+            painter.line_segment(
+                [Pos2::new(x, rect.top()), Pos2::new(x, rect.bottom())],
+                Stroke::new(1.0, Color32::from_white_alpha(140)),
+            );
+            let k = s.kappa_at_s(hs);
+            painter.circle_stroke(Pos2::new(x, p.y(k)), 4.0, Stroke::new(1.5, Color32::WHITE));
+        }
+    }
+}

@@ -1,0 +1,105 @@
+//! Live fairing through the UI: select a region on the canvas, set the
+//! tolerance, drag a target point on the κ plot, accept, undo, redo.
+
+use eframe::egui;
+use egui::{Pos2, Role};
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use fairway_editor::App;
+
+fn harness(app: App) -> Harness<'static, App> {
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1400.0, 900.0))
+        .build_ui_state(|ui, app: &mut App| app.show(ui), app);
+    h.run();
+    h
+}
+
+fn drag(h: &mut Harness<'static, App>, path: &[Pos2]) {
+    h.hover_at(path[0]);
+    h.step();
+    h.drag_at(path[0]);
+    h.step();
+    for &p in &path[1..] {
+        h.hover_at(p);
+        h.step();
+    }
+    h.drop_at(*path.last().unwrap());
+    h.run();
+}
+
+#[test]
+fn select_fair_edit_target_accept_undo_redo() {
+    let mut h = harness(App::default());
+    let original = h.state().doc.clone();
+    let c0 = h.state().curve().clone();
+    // region by dragging along the curve on the canvas
+    let path: Vec<Pos2> = (0..=8)
+        .map(|k| {
+            let app = h.state();
+            app.canvas
+                .to_screen(app.view.sampled.point_at_u(0.25 + 0.05 * k as f64))
+        })
+        .collect();
+    drag(&mut h, &path);
+    let (u1, u2) = h.state().region().expect("region");
+    // tolerance through the slider
+    let m = h.state().view.diag * 2e-3;
+    h.get_by_role_and_label(Role::Slider, "Tolerance")
+        .set_value_accesskit(m);
+    h.run();
+    let m = h.state().doc.settings.tolerance.unwrap();
+    let p = h.state().preview().expect("a faired preview").clone();
+    assert!(
+        p.result.max_deviation <= m * (1.0 + 1e-9),
+        "{} > {m}",
+        p.result.max_deviation
+    );
+
+    // drag a target point in the middle of the region upwards on the κ plot
+    let k0 = p.target.len() / 2;
+    let (x, y) = {
+        let app = h.state();
+        let len = app.view.sampled.length;
+        (app.plot.x(app.target_s(&p, k0), len), app.plot.y(p.target[k0]))
+    };
+    drag(
+        &mut h,
+        &[Pos2::new(x, y), Pos2::new(x, y - 10.0), Pos2::new(x, y - 25.0)],
+    );
+    let t = h.state().doc.settings.target.clone().expect("hand-edited target");
+    assert!(t[k0] > p.target[k0], "target point did not move up");
+    assert_eq!(t[0], p.target[0], "the pinned end moved");
+    let p2 = h.state().preview().expect("re-faired").clone();
+    assert_eq!(p2.target, t, "the preview uses the edited target");
+    assert!(p2.result.max_deviation <= m * (1.0 + 1e-9));
+
+    // accept: one undo step; outside the region the curve is unchanged
+    h.get_by_role_and_label(Role::Button, "✔ Accept").click();
+    h.run();
+    let faired = h.state().curve().clone();
+    assert_ne!(faired.points(), c0.points());
+    for u in (0..=200).map(|i| i as f64 / 200.0) {
+        if u < u1 - 1e-9 || u > u2 + 1e-9 {
+            assert!(
+                (faired.point(u) - c0.point(u)).length() < 1e-12,
+                "moved outside the region at u = {u}"
+            );
+        }
+    }
+    let dev = fairway::measure::deviations(&c0, &faired, 2000);
+    let max = dev.iter().copied().fold(0.0, f64::max);
+    assert!(max <= m * (1.0 + 1e-6), "max deviation {max} > tolerance {m}");
+
+    // undo the accept, the target drag, the tolerance and the region: exactly the original
+    for _ in 0..4 {
+        h.get_by_role_and_label(Role::Button, "⟲ Undo").click();
+        h.run();
+    }
+    assert_eq!(h.state().doc, original);
+    for _ in 0..4 {
+        h.get_by_role_and_label(Role::Button, "⟳ Redo").click();
+        h.run();
+    }
+    assert_eq!(h.state().curve(), &faired);
+}

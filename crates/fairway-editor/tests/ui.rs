@@ -1,0 +1,233 @@
+//! GUI tests driving the real editor through egui_kittest: widgets are found
+//! by their accessible labels, the canvas and the κ plot by their labels and
+//! rectangles; assertions are on the document.
+
+use eframe::egui;
+use egui::{Pos2, Role};
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use fairway_editor::App;
+
+fn harness(app: App) -> Harness<'static, App> {
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1400.0, 900.0))
+        .build_ui_state(|ui, app: &mut App| app.show(ui), app);
+    h.run();
+    h
+}
+
+/// Drag with the primary button through `path` (first point: press, last: release).
+fn drag(h: &mut Harness<'static, App>, path: &[Pos2]) {
+    h.hover_at(path[0]);
+    h.step();
+    h.drag_at(path[0]);
+    h.step();
+    for &p in &path[1..] {
+        h.hover_at(p);
+        h.step();
+    }
+    h.drop_at(*path.last().unwrap());
+    h.run();
+}
+
+fn curve_screen_point(h: &Harness<'static, App>, u: f64) -> Pos2 {
+    let app = h.state();
+    app.canvas.to_screen(app.view.sampled.point_at_u(u))
+}
+
+#[test]
+fn drag_along_the_curve_selects_a_region_and_undo_redo_restore_it() {
+    let mut h = harness(App::default());
+    assert!(h.state().region().is_none());
+    let before = h.state().doc.clone();
+    let path: Vec<Pos2> = (0..=6).map(|k| curve_screen_point(&h, 0.3 + 0.05 * k as f64)).collect();
+    drag(&mut h, &path);
+    let (u1, u2) = h.state().region().expect("a region after dragging along the curve");
+    assert!((u1 - 0.3).abs() < 0.01 && (u2 - 0.6).abs() < 0.01, "region {u1} {u2}");
+    // one drag = one undo step: undo goes straight back to no region
+    h.get_by_role_and_label(Role::Button, "⟲ Undo").click();
+    h.run();
+    assert_eq!(h.state().doc, before);
+    h.get_by_role_and_label(Role::Button, "⟳ Redo").click();
+    h.run();
+    assert_eq!(h.state().region(), Some((u1, u2)));
+}
+
+#[test]
+fn dragging_off_the_curve_pans_without_editing() {
+    let mut h = harness(App::default());
+    let rect = h.get_by_label("Canvas").rect();
+    let c0 = h.state().canvas.center;
+    let a = rect.left_top() + egui::vec2(30.0, 30.0);
+    drag(&mut h, &[a, a + egui::vec2(40.0, 0.0), a + egui::vec2(80.0, 20.0)]);
+    assert!(h.state().region().is_none());
+    assert!(!h.state().is_dirty());
+    assert!((h.state().canvas.center - c0).length() > 0.0, "view did not pan");
+}
+
+#[test]
+fn drag_across_the_kappa_plot_selects_a_region() {
+    let mut h = harness(App::default());
+    let r = h.state().plot.rect.unwrap();
+    let y = r.center().y;
+    let (x1, x2) = (r.left() + 0.2 * r.width(), r.left() + 0.5 * r.width());
+    drag(
+        &mut h,
+        &[Pos2::new(x1, y), Pos2::new(0.5 * (x1 + x2), y), Pos2::new(x2, y)],
+    );
+    let app = h.state();
+    let (u1, u2) = app.region().expect("region from the κ plot");
+    let len = app.view.sampled.length;
+    let (s1, s2) = (app.view.sampled.s_at_u(u1), app.view.sampled.s_at_u(u2));
+    assert!(
+        (s1 / len - 0.2).abs() < 0.01 && (s2 / len - 0.5).abs() < 0.01,
+        "{s1} {s2} of {len}"
+    );
+}
+
+#[test]
+fn tolerance_slider_sets_the_document_tolerance_in_one_undo_step() {
+    let mut h = harness(App::default());
+    let t0 = h.state().doc.settings.tolerance;
+    let d = h.state().view.diag;
+    h.get_by_role_and_label(Role::Slider, "Tolerance")
+        .set_value_accesskit(d * 0.01);
+    h.run();
+    let t = h.state().doc.settings.tolerance.expect("tolerance set");
+    assert!((t / (d * 0.01) - 1.0).abs() < 1e-9, "{t}");
+    assert!(h.state().is_dirty());
+    h.get_by_role_and_label(Role::Button, "⟲ Undo").click();
+    h.run();
+    assert_eq!(h.state().doc.settings.tolerance, t0);
+}
+
+#[test]
+fn whole_curve_button_and_bad_file_keep_the_document() {
+    let mut h = harness(App::default());
+    h.get_by_role_and_label(Role::Button, "Whole curve").click();
+    h.run();
+    assert_eq!(h.state().region(), Some(h.state().curve().domain()));
+    let doc = h.state().doc.clone();
+    let dir = std::env::temp_dir().join(format!("fairway-editor-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.json");
+    std::fs::write(&bad, "{\"degree\": 3, \"knots\": [0,1], \"points\": [[0,0]]}").unwrap();
+    h.state_mut().open_now(&bad);
+    h.run();
+    assert!(h.state().error.as_deref().unwrap_or("").contains("bad.json"));
+    assert_eq!(h.state().doc, doc);
+    // save, then reopen: the same document, not dirty
+    let good = dir.join("saved.ron");
+    h.state_mut().apply(fairway_editor::Command::SaveTo(good.clone()));
+    assert!(!h.state().is_dirty());
+    h.state_mut().open_now(&good);
+    assert_eq!(h.state().doc, doc);
+    assert!(h.state().title().contains("saved.ron"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn sample_path() -> std::path::PathBuf {
+    std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../assets/car_roof.ron")
+}
+
+/// Open a file through the File menu's path field and the "Open path" button.
+fn open_via_menu(h: &mut Harness<'static, App>, path: &std::path::Path) {
+    h.state_mut().path_input.clear();
+    h.get_by_role_and_label(Role::Button, "File").click();
+    h.run();
+    let field = h.get_by_role(Role::TextInput);
+    field.focus();
+    field.type_text(&path.display().to_string());
+    h.run();
+    h.get_by_role_and_label(Role::Button, "Open path").click();
+    h.run();
+}
+
+#[test]
+fn open_the_sample_suggest_a_region_and_fair_it() {
+    let mut h = harness(App::default());
+    let path = sample_path();
+    open_via_menu(&mut h, &path);
+    let expected = fairway::io::load(&path).unwrap();
+    assert_eq!(h.state().doc, expected, "{:?}", h.state().error);
+    assert!(h.state().title().contains("car_roof.ron"));
+    // suggest, then one click on the best suggestion selects it
+    h.get_by_role_and_label(Role::Button, "Suggest regions").click();
+    h.run();
+    let best = h.state().suggestions().expect("suggestions")[0];
+    h.get_by_label_contains("#1 ").click();
+    h.run();
+    assert_eq!(h.state().region(), Some((best.u1, best.u2)));
+    let m = h.state().tolerance();
+    let p = h.state().preview().expect("a faired preview of the suggested region");
+    assert!(p.result.max_deviation <= m * (1.0 + 1e-9));
+    // the suggested stretch is wiggly and fairing it removes extrema there
+    assert!(best.extrema >= 3);
+    h.state_mut().fairing.update_measures(false);
+    let (before, after) = h.state().fairing.measures.clone().unwrap();
+    assert!(
+        after.n_curv_extrema < before.n_curv_extrema,
+        "{} -> {}",
+        before.n_curv_extrema,
+        after.n_curv_extrema
+    );
+}
+
+#[test]
+fn opening_over_unsaved_work_asks_first() {
+    let mut h = harness(App::default());
+    h.get_by_role_and_label(Role::Button, "Whole curve").click();
+    h.run();
+    let edited = h.state().doc.clone();
+    assert!(h.state().is_dirty());
+    assert!(h.state().title().starts_with('●'), "{}", h.state().title());
+    open_via_menu(&mut h, &sample_path());
+    assert!(h.state().confirm.is_some(), "no prompt");
+    h.get_by_role_and_label(Role::Button, "Cancel").click();
+    h.run();
+    assert_eq!(h.state().doc, edited, "cancel kept the work");
+    open_via_menu(&mut h, &sample_path());
+    h.get_by_role_and_label(Role::Button, "Discard changes").click();
+    h.run();
+    assert_eq!(h.state().doc, fairway::io::load(&sample_path()).unwrap());
+    assert!(!h.state().is_dirty());
+}
+
+#[test]
+fn flatten_tool_makes_a_stretch_of_the_target_constant() {
+    let mut h = harness(App::default());
+    h.get_by_role_and_label(Role::Button, "Whole curve").click();
+    h.run();
+    let p = h.state().preview().expect("preview").clone();
+    h.get_by_label("Flatten").click();
+    h.run();
+    let n = p.target.len();
+    let (a, b) = (n / 4, n / 2);
+    let (xa, xb, y) = {
+        let app = h.state();
+        let len = app.view.sampled.length;
+        (
+            app.plot.x(app.target_s(&p, a), len),
+            app.plot.x(app.target_s(&p, b), len),
+            app.plot.rect.unwrap().center().y,
+        )
+    };
+    drag(
+        &mut h,
+        &[Pos2::new(xa, y), Pos2::new(0.5 * (xa + xb), y), Pos2::new(xb, y)],
+    );
+    let t = h.state().doc.settings.target.clone().expect("hand-edited target");
+    let (lo, hi) = t[a + 1..b]
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, u), &v| (l.min(v), u.max(v)));
+    assert!(hi - lo < 1e-12, "not flat: [{lo}, {hi}]");
+    assert_eq!(
+        t[..a.saturating_sub(2)],
+        p.target[..a.saturating_sub(2)],
+        "outside the stretch changed"
+    );
+    // one drag = one undo step
+    h.get_by_role_and_label(Role::Button, "⟲ Undo").click();
+    h.run();
+    assert!(h.state().doc.settings.target.is_none());
+}
