@@ -8,12 +8,15 @@
 
 pub mod bench;
 pub mod canvas;
+pub mod curve3d;
 pub mod fair_ui;
 pub mod fairing;
 pub mod history;
 pub mod plot;
 pub mod sampled;
 pub mod suggest;
+pub mod surface_ui;
+pub mod view3d;
 
 use std::path::{Path, PathBuf};
 
@@ -184,6 +187,10 @@ pub struct App {
     pub bench: Option<Bench>,
     /// "Suggest regions" results.
     pub suggest: suggest::Suggestions,
+    /// The surface workspace, when a surface is open (replaces the curve screens).
+    pub surface: Option<Box<surface_ui::SurfaceEditor>>,
+    /// The curve's 3D view (3D comb, extrusion isophotes).
+    pub curve3d: curve3d::Curve3dState,
 }
 
 impl Default for App {
@@ -228,6 +235,8 @@ impl App {
             frame_ms: 0.0,
             bench: None,
             suggest: Default::default(),
+            surface: None,
+            curve3d: Default::default(),
         }
     }
 
@@ -246,6 +255,7 @@ impl App {
 
     /// The editor for eframe: settings restored from storage, `path` opened.
     pub fn new(cc: &eframe::CreationContext<'_>, path: Option<&Path>) -> Self {
+        view3d::install(cc);
         let mut app = Self::open_or_demo(path);
         if let Some(storage) = cc.storage
             && let Some(prefs) = eframe::get_value::<Prefs>(storage, "prefs")
@@ -266,7 +276,7 @@ impl App {
 
     /// Whether the document differs from the saved file.
     pub fn is_dirty(&self) -> bool {
-        self.doc != self.saved
+        self.doc != self.saved || self.surface.as_ref().is_some_and(|s| s.is_dirty())
     }
 
     /// The tolerance in effect (document value or a default from the size).
@@ -287,6 +297,9 @@ impl App {
     /// Load `path` now, replacing the document (no unsaved check). Errors go
     /// to [`App::error`] and leave the open document untouched.
     pub fn open_now(&mut self, path: &Path) {
+        if self.try_open_surface(path) {
+            return;
+        }
         match load_curve_doc(path) {
             Ok(doc) => {
                 let curve = doc_curve(&doc).unwrap().clone();
@@ -447,6 +460,9 @@ impl App {
 
     /// Draw the whole editor into `ui` and apply the frame's commands.
     pub fn show(&mut self, ui: &mut egui::Ui) {
+        if self.surface_show(ui) {
+            return;
+        }
         self.next_hover_s = None;
         self.shortcuts(ui);
         self.dropped_files(ui);
@@ -462,7 +478,13 @@ impl App {
             .resizable(true)
             .default_size(210.0)
             .show(ui, |ui| self.plot_ui(ui));
-        egui::CentralPanel::default().show(ui, |ui| self.canvas_ui(ui));
+        egui::CentralPanel::default().show(ui, |ui| {
+            if self.curve3d.enabled {
+                self.curve3d_ui(ui)
+            } else {
+                self.canvas_ui(ui)
+            }
+        });
         self.trio_ui(&ui.ctx().clone());
         self.confirm_ui(ui);
         self.apply_commands();
@@ -688,6 +710,8 @@ impl App {
             {
                 self.canvas.needs_fit = true;
             }
+            ui.toggle_value(&mut self.curve3d.enabled, "3D view")
+                .on_hover_text("The curve and its comb in 3D; extrusion isophotes for planar curves");
         });
     }
 

@@ -11,7 +11,11 @@ const USAGE: &str = "usage: fairway-editor [FILE.ron|FILE.json] [--region U1 U2]
   --region U1 U2     preselect the region [U1, U2] (curve parameter)
   --tolerance M      preselect the tolerance (model units)
   --bench-frames N   N frames: sweep the tolerance, then drag a target point; print CPU times, quit
-  --demo-points P    use the built-in noisy demo curve with P control points";
+  --demo-points P    use the built-in noisy demo curve with P control points
+  --region-uv U1 U2 V1 V2   preselect a surface region
+  --shade MODE       3D shading: shaded, isophotes, zebra, mean, gauss, kmax, kmin
+  --side-by-side     surfaces: before and after side by side
+  --view3d           curves: open the 3D view (--extrusion: extrusion isophotes)";
 
 fn default_sample() -> Option<PathBuf> {
     let rel = PathBuf::from("assets/car_roof.ron");
@@ -45,12 +49,19 @@ fn main() -> eframe::Result {
         let tolerance = take::<f64>(&mut args, "--tolerance", 1)?;
         let bench = take::<usize>(&mut args, "--bench-frames", 1)?;
         let demo = take::<usize>(&mut args, "--demo-points", 1)?;
+        let v3 = View3dArgs {
+            region_uv: take::<f64>(&mut args, "--region-uv", 4)?,
+            shade: take::<fairway_editor::view3d::ShadeMode>(&mut args, "--shade", 1)?.map(|v| v[0]),
+            side_by_side: take::<String>(&mut args, "--side-by-side", 0)?.is_some(),
+            view3d: take::<String>(&mut args, "--view3d", 0)?.is_some(),
+            extrusion: take::<String>(&mut args, "--extrusion", 0)?.is_some(),
+        };
         if let Some(a) = args.iter().find(|a| a.starts_with("--")) {
             return Err(format!("unknown option {a}"));
         }
-        Ok((region, tolerance, bench, demo))
+        Ok((region, tolerance, bench, demo, v3))
     })();
-    let (region, tolerance, bench, demo) = match parsed {
+    let (region, tolerance, bench, demo, v3) = match parsed {
         Ok(v) => v,
         Err(e) => {
             eprintln!("fairway-editor: {e}\n{USAGE}");
@@ -89,8 +100,40 @@ fn main() -> eframe::Result {
             if let Some(t) = tolerance {
                 app.doc.settings.tolerance = Some(t[0]);
             }
+            v3.apply(&mut app, tolerance.as_ref().map(|t| t[0]));
             app.bench = bench.map(|f| fairway_editor::Bench::new(f[0]));
             Ok(Box::new(app))
         }),
     )
+}
+
+/// Command-line presets of the 3D views (for screenshots and demos).
+struct View3dArgs {
+    region_uv: Option<Vec<f64>>,
+    shade: Option<fairway_editor::view3d::ShadeMode>,
+    side_by_side: bool,
+    view3d: bool,
+    extrusion: bool,
+}
+
+impl View3dArgs {
+    fn apply(&self, app: &mut fairway_editor::App, tolerance: Option<f64>) {
+        if let Some(s) = app.surface.as_mut() {
+            if let Some(r) = &self.region_uv {
+                s.doc.settings.region_uv = Some(((r[0], r[1]), (r[2], r[3])));
+            }
+            if let Some(t) = tolerance {
+                s.doc.settings.tolerance = Some(t);
+            }
+            if let Some(m) = self.shade {
+                s.shading.mode = m;
+            }
+            s.compare.side_by_side = self.side_by_side;
+        }
+        app.curve3d.enabled |= self.view3d || self.extrusion;
+        app.curve3d.extrusion |= self.extrusion;
+        if let Some(m) = self.shade {
+            app.curve3d.shading.mode = m;
+        }
+    }
 }

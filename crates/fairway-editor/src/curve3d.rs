@@ -1,0 +1,270 @@
+//! 3D views of the curve editor (the κ plot, region and target editing stay
+//! as they are):
+//! - the curve in 3D with its curvature comb (teeth along κN, the principal
+//!   normal scaled by the curvature), the control polygon and the faired
+//!   preview — drawn with the painter through the orbit camera, so it works
+//!   without a GPU too;
+//! - for planar curves, **extrusion isophotes** (the paper's interrogation of
+//!   curves): the curve extruded along z, shown with isophotes, before and
+//!   after fairing side by side.
+
+use std::sync::Arc;
+
+use eframe::egui;
+use egui::{Color32, Pos2, Rect, Sense, Stroke};
+use fairway::{BSplineCurve, DVec3};
+
+use crate::view3d::mesh_shim::{SurfaceMesh, curve_comb_3d, extrude_curve};
+use crate::view3d::scene::surface_scene;
+use crate::view3d::{self, ShadeMode, Shading, View3d};
+
+/// State of the curve editor's 3D view.
+pub struct Curve3dState {
+    /// Show the 3D view instead of the 2D canvas.
+    pub enabled: bool,
+    /// Camera.
+    pub view: View3d,
+    /// Show extrusion isophotes (planar curves).
+    pub extrusion: bool,
+    /// Shading of the extrusions.
+    pub shading: Shading,
+    key: Option<(u64, u64)>,
+    scenes: Vec<Arc<view3d::Scene>>,
+    origin: DVec3,
+}
+
+impl Default for Curve3dState {
+    fn default() -> Self {
+        Self {
+            enabled: false,
+            view: View3d::default(),
+            extrusion: false,
+            shading: Shading {
+                mode: ShadeMode::Isophotes,
+                show_iso: false,
+                density: 160,
+                ..Default::default()
+            },
+            key: None,
+            scenes: vec![],
+            origin: DVec3::ZERO,
+        }
+    }
+}
+
+/// Comb teeth of `c`: `samples` bases and tips, the longest tooth
+/// `frac` of `size` long (κN scaled by `frac·size / max κ`).
+pub fn comb(c: &BSplineCurve, samples: usize, size: f64, frac: f64) -> Vec<(DVec3, DVec3)> {
+    let unit = curve_comb_3d(c, samples, 1.0);
+    let kmax = unit.iter().map(|(a, b)| (*b - *a).length()).fold(0.0, f64::max);
+    let scale = if kmax > 0.0 { frac * size / kmax } else { 0.0 };
+    unit.into_iter().map(|(a, b)| (a, a + (b - a) * scale)).collect()
+}
+
+/// Extrusion height for a curve of bounding-box diagonal `diag`.
+pub fn extrusion_height(diag: f64) -> f64 {
+    0.35 * diag
+}
+
+impl crate::App {
+    /// The 3D view of the curve (replaces the canvas when enabled).
+    pub(crate) fn curve3d_ui(&mut self, ui: &mut egui::Ui) {
+        let curve = self.curve().clone();
+        let faired = self.preview().map(|p| p.result.curve.clone());
+        let planar = curve.dim() == 2;
+        ui.horizontal(|ui| {
+            ui.selectable_value(&mut self.curve3d.enabled, false, "2D canvas")
+                .on_hover_text("Back to the 2D canvas");
+            self.curve3d.view.toolbar_ui(ui);
+            ui.separator();
+            ui.add_enabled(planar, egui::Checkbox::new(&mut self.curve3d.extrusion, "Extrusion isophotes"))
+                .on_hover_text("Extrude the planar curve along z and show isophotes, before and after fairing");
+            if self.curve3d.extrusion {
+                ui.add(egui::Slider::new(&mut self.curve3d.shading.stripe_deg, 0.5..=30.0).text("Stripe width °"))
+                    .on_hover_text("Angular width of one isophote stripe");
+            }
+        });
+        let full = ui.available_rect_before_wrap();
+        let diag = self.view.diag;
+        let extrude = planar && self.curve3d.extrusion;
+        // content box
+        let mut pts: Vec<DVec3> = curve.points().to_vec();
+        if extrude {
+            let h = extrusion_height(diag);
+            pts.extend(curve.points().iter().map(|p| *p + DVec3::Z * h));
+        }
+        let bb = view3d::camera::bbox(pts).unwrap_or((DVec3::splat(-1.0), DVec3::splat(1.0)));
+        if bb != self.curve3d.view.bbox {
+            self.curve3d.view.set_bbox(bb, true);
+        }
+        if extrude {
+            self.extrusion_panes(ui, full, &curve, faired.as_ref());
+        } else {
+            let resp = ui.interact(full, ui.id().with("curve3d"), Sense::click_and_drag());
+            resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "3D curve view"));
+            self.curve3d.view.fit_if_needed(full);
+            self.curve3d.view.interact(ui, &resp, true);
+            let painter = ui.painter_at(full);
+            painter.rect_filled(full, 0.0, Color32::from_gray(24));
+            self.draw_curve3d(&painter, full, &curve, faired.as_ref());
+        }
+    }
+
+    fn draw_curve3d(&self, painter: &egui::Painter, rect: Rect, curve: &BSplineCurve, faired: Option<&BSplineCurve>) {
+        let v = &self.curve3d.view;
+        let proj = |p: DVec3| v.to_screen(p, rect);
+        // axes at the box corner
+        let (lo, hi) = v.bbox;
+        let len = 0.15 * (hi - lo).length();
+        for (d, c) in [
+            (DVec3::X, Color32::from_rgb(200, 70, 70)),
+            (DVec3::Y, Color32::from_rgb(70, 180, 70)),
+            (DVec3::Z, Color32::from_rgb(80, 120, 230)),
+        ] {
+            if let (Some(a), Some(b)) = (proj(lo), proj(lo + d * len)) {
+                painter.line_segment([a, b], Stroke::new(1.5, c));
+            }
+        }
+        let line = |pts: &[DVec3], stroke: Stroke| {
+            let s: Vec<Pos2> = pts.iter().filter_map(|p| proj(*p)).collect();
+            if s.len() >= 2 {
+                painter.add(egui::Shape::line(s, stroke));
+            }
+        };
+        if self.prefs.show_polygon {
+            line(curve.points(), Stroke::new(1.0, Color32::from_gray(90)));
+            for p in curve.points() {
+                if let Some(q) = proj(*p) {
+                    painter.circle_filled(q, 2.5, Color32::from_gray(140));
+                }
+            }
+        }
+        let size = self.view.diag * 0.25 * self.prefs.comb_scale;
+        let n = (curve.n_points() * 12).clamp(200, 1500);
+        let dim = faired.is_some();
+        for (c, alpha, color) in [
+            (Some(curve), if dim { 90 } else { 255 }, Color32::from_rgb(90, 160, 255)),
+            (faired, 255, Color32::from_rgb(255, 150, 60)),
+        ] {
+            let Some(c) = c else { continue };
+            if self.prefs.show_comb {
+                let teeth = comb(c, n, self.view.diag, 0.25 * self.prefs.comb_scale.min(4.0));
+                let _ = size;
+                let tooth = Color32::from_rgba_unmultiplied(color.r(), color.g(), color.b(), alpha / 3);
+                for (k, (a, b)) in teeth.iter().enumerate() {
+                    if k % 3 == 0
+                        && let (Some(p), Some(q)) = (proj(*a), proj(*b))
+                    {
+                        painter.line_segment([p, q], Stroke::new(1.0, tooth));
+                    }
+                }
+                line(&teeth.iter().map(|t| t.1).collect::<Vec<_>>(), Stroke::new(1.2, tooth));
+            }
+            let (a, b) = c.domain();
+            let pts: Vec<DVec3> = (0..=n).map(|k| c.point(a + (b - a) * k as f64 / n as f64)).collect();
+            let col = Color32::from_rgba_unmultiplied(230, 230, 230, alpha);
+            line(&pts, Stroke::new(2.0, if faired.is_some() && std::ptr::eq(c, faired.unwrap()) { color } else { col }));
+        }
+        painter.text(
+            rect.left_bottom() + egui::vec2(8.0, -8.0),
+            egui::Align2::LEFT_BOTTOM,
+            "drag: orbit · right-drag: pan · wheel: zoom · comb: κN (blue original, orange faired)",
+            egui::FontId::proportional(12.0),
+            Color32::GRAY,
+        );
+    }
+
+    fn extrusion_panes(&mut self, ui: &mut egui::Ui, full: Rect, curve: &BSplineCurve, faired: Option<&BSplineCurve>) {
+        let key = (self.curve_rev, faired.map(|c| hash_points(c.points())).unwrap_or(0));
+        let sh_key = self.curve3d.shading;
+        if self.curve3d.key != Some(key) || self.curve3d.scenes.is_empty() {
+            let h = extrusion_height(self.view.diag);
+            let (lo, hi) = self.curve3d.view.bbox;
+            self.curve3d.origin = 0.5 * (lo + hi);
+            let mut scenes = vec![];
+            for c in [Some(curve), faired] {
+                let Some(c) = c else { continue };
+                match extrude_curve(c, h).and_then(|s| {
+                    let nu = (c.n_points() * 8).clamp(100, 800);
+                    SurfaceMesh::tessellate(&s, nu, 8).map(|m| (s, m))
+                }) {
+                    Ok((s, m)) => scenes.push(Arc::new(surface_scene(&s, &m, &sh_key, 1.0, None, self.curve3d.origin))),
+                    Err(e) => self.error = Some(format!("extrusion failed: {e}")),
+                }
+            }
+            self.curve3d.scenes = scenes;
+            self.curve3d.key = Some(key);
+        }
+        let n = self.curve3d.scenes.len().max(1);
+        let w = full.width() / n as f32;
+        for k in 0..self.curve3d.scenes.len() {
+            let rect = Rect::from_min_size(full.min + egui::vec2(w * k as f32, 0.0), egui::vec2(w, full.height()))
+                .shrink(1.0);
+            let resp = ui.interact(rect, ui.id().with(("extr", k)), Sense::click_and_drag());
+            resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "Extrusion view"));
+            self.curve3d.view.fit_if_needed(rect);
+            self.curve3d.view.interact(ui, &resp, true);
+            let scene = self.curve3d.scenes[k].clone();
+            let origin = self.curve3d.origin;
+            let shading = self.curve3d.shading;
+            self.curve3d
+                .view
+                .paint(ui, rect, ui.id().with(("extr_paint", k)), &scene, origin, &shading);
+            let name = if k == 0 { "Before (original)" } else { "After (faired preview)" };
+            ui.painter_at(rect).text(
+                rect.left_top() + egui::vec2(8.0, 6.0),
+                egui::Align2::LEFT_TOP,
+                name,
+                egui::FontId::proportional(15.0),
+                Color32::WHITE,
+            );
+        }
+        if faired.is_none() {
+            ui.painter_at(full).text(
+                full.center_bottom() + egui::vec2(0.0, -10.0),
+                egui::Align2::CENTER_BOTTOM,
+                "select a region to see the faired extrusion next to the original",
+                egui::FontId::proportional(13.0),
+                Color32::GRAY,
+            );
+        }
+    }
+}
+
+fn hash_points(p: &[DVec3]) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    for q in p {
+        q.x.to_bits().hash(&mut h);
+        q.y.to_bits().hash(&mut h);
+        q.z.to_bits().hash(&mut h);
+    }
+    h.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn comb_of_a_circle_points_to_the_centre_with_the_requested_length() {
+        // quarter circle of radius 2 as a rational quadratic
+        let w = std::f64::consts::FRAC_1_SQRT_2;
+        let c = BSplineCurve::try_new(
+            2,
+            vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+            vec![DVec3::new(2.0, 0.0, 0.0), DVec3::new(2.0, 2.0, 0.0), DVec3::new(0.0, 2.0, 0.0)],
+            Some(vec![1.0, w, 1.0]),
+            2,
+        )
+        .unwrap();
+        let teeth = comb(&c, 21, 10.0, 0.1);
+        assert_eq!(teeth.len(), 21);
+        for (a, b) in teeth {
+            assert!((a.length() - 2.0).abs() < 1e-9);
+            let t = b - a;
+            assert!((t.length() - 1.0).abs() < 1e-6, "{}", t.length()); // 0.1 · 10, κ constant
+            assert!(t.normalize().dot(-a.normalize()) > 1.0 - 1e-9);
+        }
+    }
+}

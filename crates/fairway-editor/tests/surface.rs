@@ -1,0 +1,123 @@
+//! kittest tests of the surface workspace: open the bumpy sample surface,
+//! select a region by dragging in the uv view, set the tolerance, accept,
+//! undo — asserting on the document.
+
+use std::path::PathBuf;
+
+use eframe::egui;
+use egui::{Pos2, Role};
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use fairway::measure_surface::deviation;
+use fairway::{BSplineSurface, Geometry};
+use fairway_editor::App;
+
+fn asset(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../assets").join(name)
+}
+
+fn harness(app: App) -> Harness<'static, App> {
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1400.0, 900.0))
+        .build_ui_state(|ui, app: &mut App| app.show(ui), app);
+    h.run();
+    h
+}
+
+fn drag(h: &mut Harness<'static, App>, path: &[Pos2]) {
+    h.hover_at(path[0]);
+    h.step();
+    h.drag_at(path[0]);
+    h.step();
+    for &p in &path[1..] {
+        h.hover_at(p);
+        h.step();
+    }
+    h.drop_at(*path.last().unwrap());
+    h.run();
+}
+
+fn surface(app: &App) -> BSplineSurface {
+    match &app.surface.as_ref().expect("surface workspace").doc.geometry {
+        Geometry::Surface(s) => s.clone(),
+        Geometry::Curve(_) => panic!("not a surface"),
+    }
+}
+
+#[test]
+fn bad_or_curve_files_do_not_open_the_surface_workspace() {
+    let app = App::open_or_demo(Some(&asset("car_roof.json")));
+    assert!(app.surface.is_none());
+    let app = App::open_or_demo(Some(&asset("does_not_exist.json")));
+    assert!(app.surface.is_none() && app.error.is_some());
+}
+
+#[test]
+fn region_in_uv_view_tolerance_accept_undo() {
+    let app = App::open_or_demo(Some(&asset("bumpy_surface.json")));
+    assert!(app.surface.is_some(), "{:?}", app.error);
+    let mut h = harness(app);
+    let original = surface(h.state());
+    let doc0 = h.state().surface.as_ref().unwrap().doc.clone();
+    // without a wgpu renderer the view says so instead of panicking
+    assert!(h.query_by_label_contains("3D view unavailable").is_some());
+
+    // region: drag in the uv view from (0.3, 0.25) to (0.7, 0.75)
+    let r = h.get_by_label("uv domain").rect();
+    let at = |u: f32, v: f32| Pos2::new(r.left() + u * r.width(), r.bottom() - v * r.height());
+    let path: Vec<Pos2> = (0..=4).map(|k| at(0.3 + 0.1 * k as f32, 0.25 + 0.125 * k as f32)).collect();
+    drag(&mut h, &path);
+    let ((u1, u2), (v1, v2)) = h.state().surface.as_ref().unwrap().region().expect("a region after the drag");
+    for (x, want) in [(u1, 0.3), (u2, 0.7), (v1, 0.25), (v2, 0.75)] {
+        assert!((x - want).abs() < 0.01, "region {:?}", ((u1, u2), (v1, v2)));
+    }
+
+    // tolerance
+    let tol = 4e-3;
+    h.get_by_role_and_label(Role::Slider, "Tolerance").set_value_accesskit(tol);
+    h.run();
+    let s = h.state().surface.as_ref().unwrap();
+    assert!((s.tolerance() - tol).abs() < 1e-12 * tol.max(1.0), "{}", s.tolerance());
+    let p = s.preview.as_ref().expect("a live preview");
+    assert!(p.max_deviation <= tol);
+
+    // accept: one undo step
+    h.get_by_role_and_label(Role::Button, "Accept").click();
+    h.run();
+    let faired = surface(h.state());
+    assert_ne!(faired.points(), original.points(), "accept changed nothing");
+    // control points whose support misses the region are unchanged
+    let (ku, kv) = (original.knots_u(), original.knots_v());
+    let mut outside = 0;
+    for i in 0..original.nu() {
+        for j in 0..original.nv() {
+            let (a, b) = ku.support(i);
+            let (c, d) = kv.support(j);
+            if b <= u1 || a >= u2 || d <= v1 || c >= v2 {
+                outside += 1;
+                let diff = (faired.point_at(i, j) - original.point_at(i, j)).length();
+                assert!(diff <= 1e-12, "({i},{j}) moved by {diff}");
+            }
+        }
+    }
+    assert!(outside > 100, "{outside}");
+    // deviation within the tolerance (independent dense check)
+    let (dmax, _) = deviation(&original, &faired, 61);
+    assert!(dmax <= tol * (1.0 + 1e-6), "deviation {dmax} > {tol}");
+
+    // undo restores the document exactly; redo re-applies
+    h.get_by_role_and_label(Role::Button, "⟲ Undo").click();
+    h.run();
+    let s = h.state().surface.as_ref().unwrap();
+    assert_eq!(surface(h.state()).points(), original.points());
+    assert_eq!(s.region(), Some(((u1, u2), (v1, v2))));
+    h.get_by_role_and_label(Role::Button, "⟳ Redo").click();
+    h.run();
+    assert_eq!(surface(h.state()).points(), faired.points());
+    // undo all the way back to the opened document
+    for _ in 0..3 {
+        h.get_by_role_and_label(Role::Button, "⟲ Undo").click();
+        h.run();
+    }
+    assert_eq!(h.state().surface.as_ref().unwrap().doc, doc0);
+}
