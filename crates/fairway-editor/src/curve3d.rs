@@ -14,7 +14,7 @@ use eframe::egui;
 use egui::{Color32, Pos2, Rect, Sense, Stroke};
 use fairway::{BSplineCurve, DVec3};
 
-use crate::view3d::mesh_shim::{SurfaceMesh, curve_comb_3d, extrude_curve};
+use fairway::mesh::{SurfaceMesh, curve_comb_3d, extrude_curve};
 use crate::view3d::scene::surface_scene;
 use crate::view3d::{self, ShadeMode, Shading, View3d};
 
@@ -52,8 +52,9 @@ impl Default for Curve3dState {
     }
 }
 
-/// Comb teeth of `c`: `samples` bases and tips, the longest tooth
-/// `frac` of `size` long (κN scaled by `frac·size / max κ`).
+/// Comb teeth of `c` (the core's `curve_comb_3d`: equal arc length, teeth
+/// on the outside of the bend): `samples` bases and tips, scaled so that the
+/// longest tooth is `frac · size` long.
 pub fn comb(c: &BSplineCurve, samples: usize, size: f64, frac: f64) -> Vec<(DVec3, DVec3)> {
     let unit = curve_comb_3d(c, samples, 1.0);
     let kmax = unit.iter().map(|(a, b)| (*b - *a).length()).fold(0.0, f64::max);
@@ -247,7 +248,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn comb_of_a_circle_points_to_the_centre_with_the_requested_length() {
+    fn comb_of_a_circle_points_away_from_the_centre_with_the_requested_length() {
         // quarter circle of radius 2 as a rational quadratic
         let w = std::f64::consts::FRAC_1_SQRT_2;
         let c = BSplineCurve::try_new(
@@ -264,7 +265,8 @@ mod tests {
             assert!((a.length() - 2.0).abs() < 1e-9);
             let t = b - a;
             assert!((t.length() - 1.0).abs() < 1e-6, "{}", t.length()); // 0.1 · 10, κ constant
-            assert!(t.normalize().dot(-a.normalize()) > 1.0 - 1e-9);
+            // teeth on the outside of the bend (the core's convention)
+            assert!(t.normalize().dot(a.normalize()) > 1.0 - 1e-9);
         }
     }
 }

@@ -18,7 +18,7 @@ use fairway::measure_surface::{SurfaceMeasures, surface_measures};
 use fairway::{BSplineSurface, DVec2, DVec3, Geometry};
 
 use crate::history::{Gesture, History};
-use crate::view3d::mesh_shim::{SurfaceMesh, pick_uv};
+use fairway::mesh::{SurfaceMesh, pick_uv};
 use crate::view3d::scene::{effective_range, mode_values, surface_scene};
 use crate::view3d::{self, ShadeMode, Shading, View3d};
 

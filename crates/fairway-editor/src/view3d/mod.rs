@@ -7,7 +7,6 @@
 
 pub mod camera;
 pub mod colormap;
-pub mod mesh_shim;
 pub mod render;
 pub mod scene;
 

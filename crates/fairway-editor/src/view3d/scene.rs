@@ -6,7 +6,7 @@
 use fairway::{BSplineSurface, DVec3};
 
 use super::colormap::{auto_range, diverging};
-use super::mesh_shim::SurfaceMesh;
+use fairway::mesh::SurfaceMesh;
 use super::render::Scene;
 use super::{ShadeMode, Shading};
 
