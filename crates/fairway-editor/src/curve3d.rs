@@ -14,9 +14,9 @@ use eframe::egui;
 use egui::{Color32, Pos2, Rect, Sense, Stroke};
 use fairway::{BSplineCurve, DVec3};
 
-use fairway::mesh::{SurfaceMesh, curve_comb_3d, extrude_curve};
 use crate::view3d::scene::surface_scene;
 use crate::view3d::{self, ShadeMode, Shading, View3d};
+use fairway::mesh::{SurfaceMesh, curve_comb_3d, extrude_curve};
 
 /// State of the curve editor's 3D view.
 pub struct Curve3dState {
@@ -78,8 +78,11 @@ impl crate::App {
                 .on_hover_text("Back to the 2D canvas");
             self.curve3d.view.toolbar_ui(ui);
             ui.separator();
-            ui.add_enabled(planar, egui::Checkbox::new(&mut self.curve3d.extrusion, "Extrusion isophotes"))
-                .on_hover_text("Extrude the planar curve along z and show isophotes, before and after fairing");
+            ui.add_enabled(
+                planar,
+                egui::Checkbox::new(&mut self.curve3d.extrusion, "Extrusion isophotes"),
+            )
+            .on_hover_text("Extrude the planar curve along z and show isophotes, before and after fairing");
             if self.curve3d.extrusion {
                 ui.add(egui::Slider::new(&mut self.curve3d.shading.stripe_deg, 0.5..=30.0).text("Stripe width °"))
                     .on_hover_text("Angular width of one isophote stripe");
@@ -101,7 +104,7 @@ impl crate::App {
         if extrude {
             self.extrusion_panes(ui, full, &curve, faired.as_ref());
         } else {
-            let resp = ui.interact(full, ui.id().with("curve3d"), Sense::click_and_drag());
+            let resp = ui.interact(full, ui.scope_id().with("curve3d"), Sense::click_and_drag());
             resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "3D curve view"));
             self.curve3d.view.fit_if_needed(full);
             self.curve3d.view.interact(ui, &resp, true);
@@ -140,18 +143,23 @@ impl crate::App {
                 }
             }
         }
-        let size = self.view.diag * 0.25 * self.prefs.comb_scale;
         let n = (curve.n_points() * 12).clamp(200, 1500);
-        let dim = faired.is_some();
-        for (c, alpha, color) in [
-            (Some(curve), if dim { 90 } else { 255 }, Color32::from_rgb(90, 160, 255)),
-            (faired, 255, Color32::from_rgb(255, 150, 60)),
-        ] {
+        let frac = 0.2 * self.prefs.comb_scale;
+        let has_after = faired.is_some();
+        for (c, is_after) in [(Some(curve), false), (faired, true)] {
             let Some(c) = c else { continue };
+            // original: blue comb, white curve (dimmed under a preview); preview: orange
+            let (comb_rgb, curve_col) = if is_after {
+                ((255, 150, 60), Color32::from_rgb(255, 170, 80))
+            } else if has_after {
+                ((90, 160, 255), Color32::from_gray(110))
+            } else {
+                ((90, 160, 255), Color32::from_gray(230))
+            };
             if self.prefs.show_comb {
-                let teeth = comb(c, n, self.view.diag, 0.25 * self.prefs.comb_scale.min(4.0));
-                let _ = size;
-                let tooth = Color32::from_rgba_unmultiplied(color.r(), color.g(), color.b(), alpha / 3);
+                let teeth = comb(c, n, self.view.diag, frac);
+                let a = if is_after || !has_after { 150 } else { 70 };
+                let tooth = Color32::from_rgba_unmultiplied(comb_rgb.0, comb_rgb.1, comb_rgb.2, a);
                 for (k, (a, b)) in teeth.iter().enumerate() {
                     if k % 3 == 0
                         && let (Some(p), Some(q)) = (proj(*a), proj(*b))
@@ -163,8 +171,7 @@ impl crate::App {
             }
             let (a, b) = c.domain();
             let pts: Vec<DVec3> = (0..=n).map(|k| c.point(a + (b - a) * k as f64 / n as f64)).collect();
-            let col = Color32::from_rgba_unmultiplied(230, 230, 230, alpha);
-            line(&pts, Stroke::new(2.0, if faired.is_some() && std::ptr::eq(c, faired.unwrap()) { color } else { col }));
+            line(&pts, Stroke::new(2.0, curve_col));
         }
         painter.text(
             rect.left_bottom() + egui::vec2(8.0, -8.0),
@@ -199,19 +206,28 @@ impl crate::App {
         let n = self.curve3d.scenes.len().max(1);
         let w = full.width() / n as f32;
         for k in 0..self.curve3d.scenes.len() {
-            let rect = Rect::from_min_size(full.min + egui::vec2(w * k as f32, 0.0), egui::vec2(w, full.height()))
-                .shrink(1.0);
-            let resp = ui.interact(rect, ui.id().with(("extr", k)), Sense::click_and_drag());
+            let rect =
+                Rect::from_min_size(full.min + egui::vec2(w * k as f32, 0.0), egui::vec2(w, full.height())).shrink(1.0);
+            let resp = ui.interact(rect, ui.scope_id().with(("extr", k)), Sense::click_and_drag());
             resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "Extrusion view"));
             self.curve3d.view.fit_if_needed(rect);
             self.curve3d.view.interact(ui, &resp, true);
             let scene = self.curve3d.scenes[k].clone();
             let origin = self.curve3d.origin;
             let shading = self.curve3d.shading;
-            self.curve3d
-                .view
-                .paint(ui, rect, ui.id().with(("extr_paint", k)), &scene, origin, &shading);
-            let name = if k == 0 { "Before (original)" } else { "After (faired preview)" };
+            self.curve3d.view.paint(
+                ui,
+                rect,
+                ui.scope_id().with(("extr_paint", k)),
+                &scene,
+                origin,
+                &shading,
+            );
+            let name = if k == 0 {
+                "Before (original)"
+            } else {
+                "After (faired preview)"
+            };
             ui.painter_at(rect).text(
                 rect.left_top() + egui::vec2(8.0, 6.0),
                 egui::Align2::LEFT_TOP,
@@ -254,7 +270,11 @@ mod tests {
         let c = BSplineCurve::try_new(
             2,
             vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
-            vec![DVec3::new(2.0, 0.0, 0.0), DVec3::new(2.0, 2.0, 0.0), DVec3::new(0.0, 2.0, 0.0)],
+            vec![
+                DVec3::new(2.0, 0.0, 0.0),
+                DVec3::new(2.0, 2.0, 0.0),
+                DVec3::new(0.0, 2.0, 0.0),
+            ],
             Some(vec![1.0, w, 1.0]),
             2,
         )

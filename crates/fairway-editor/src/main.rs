@@ -97,7 +97,7 @@ fn main() -> eframe::Result {
             if let Some(r) = region {
                 app.doc.settings.region = Some((r[0], r[1]));
             }
-            if let Some(t) = tolerance {
+            if let Some(t) = &tolerance {
                 app.doc.settings.tolerance = Some(t[0]);
             }
             v3.apply(&mut app, tolerance.as_ref().map(|t| t[0]));
@@ -122,8 +122,8 @@ impl View3dArgs {
             if let Some(r) = &self.region_uv {
                 s.doc.settings.region_uv = Some(((r[0], r[1]), (r[2], r[3])));
             }
-            if let Some(t) = tolerance {
-                s.doc.settings.tolerance = Some(t);
+            if let Some(t) = &tolerance {
+                s.doc.settings.tolerance = Some(*t);
             }
             if let Some(m) = self.shade {
                 s.shading.mode = m;

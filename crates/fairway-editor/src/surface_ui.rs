@@ -18,9 +18,9 @@ use fairway::measure_surface::{SurfaceMeasures, surface_measures};
 use fairway::{BSplineSurface, DVec2, DVec3, Geometry};
 
 use crate::history::{Gesture, History};
-use fairway::mesh::{SurfaceMesh, pick_uv};
 use crate::view3d::scene::{effective_range, mode_values, surface_scene};
 use crate::view3d::{self, ShadeMode, Shading, View3d};
+use fairway::mesh::{SurfaceMesh, pick_uv};
 
 /// A uv rectangle `((u1, u2), (v1, v2))`.
 pub type UvRect = ((f64, f64), (f64, f64));
@@ -373,8 +373,8 @@ impl SurfaceEditor {
                 changed = true;
             }
             if self.measures_before.as_ref().map(|m| m.0) != Some(self.rev) {
-                let s = self.surface();
-                self.measures_before = Some((self.rev, surface_measures(s, s)));
+                let m = surface_measures(self.surface(), self.surface());
+                self.measures_before = Some((self.rev, m));
                 changed = true;
             }
         }
@@ -454,11 +454,19 @@ impl SurfaceEditor {
                 .on_hover_text("A .ron document or .json surface (a curve file returns to the curve editor)");
                 ui.horizontal(|ui| {
                     let p = PathBuf::from(self.path_input.trim());
-                    if ui.button("Open path").on_hover_text("Open the file at the typed path").clicked() {
+                    if ui
+                        .button("Open path")
+                        .on_hover_text("Open the file at the typed path")
+                        .clicked()
+                    {
                         self.push(SurfCommand::Open(p.clone()));
                         ui.close();
                     }
-                    if ui.button("Save to path").on_hover_text("Save the document to the typed path").clicked() {
+                    if ui
+                        .button("Save to path")
+                        .on_hover_text("Save the document to the typed path")
+                        .clicked()
+                    {
                         self.push(SurfCommand::SaveTo(p));
                         ui.close();
                     }
@@ -476,14 +484,14 @@ impl SurfaceEditor {
             });
             ui.separator();
             if ui
-                .add_enabled(self.history.can_undo(), egui::Button::new("⟲ Undo"))
+                .add_enabled(self.history.can_undo(), egui::Button::new("Undo"))
                 .on_hover_text("Undo (Ctrl+Z)")
                 .clicked()
             {
                 self.push(SurfCommand::Undo);
             }
             if ui
-                .add_enabled(self.history.can_redo(), egui::Button::new("⟳ Redo"))
+                .add_enabled(self.history.can_redo(), egui::Button::new("Redo"))
                 .on_hover_text("Redo (Ctrl+Shift+Z / Ctrl+Y)")
                 .clicked()
             {
@@ -497,13 +505,13 @@ impl SurfaceEditor {
     fn status_ui(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
             if let Some(e) = self.error.clone() {
-                ui.label(RichText::new(format!("⚠ {e}")).color(Color32::from_rgb(230, 80, 60)));
-                if ui.small_button("✖").on_hover_text("Dismiss").clicked() {
+                ui.label(RichText::new(format!("! {e}")).color(Color32::from_rgb(230, 80, 60)));
+                if ui.small_button("x").on_hover_text("Dismiss").clicked() {
                     self.error = None;
                 }
                 return;
             }
-            ui.label(if self.is_dirty() { "● unsaved" } else { "saved" });
+            ui.label(if self.is_dirty() { "* unsaved" } else { "saved" });
             ui.separator();
             match view3d::gpu(ui.ctx()) {
                 Some(a) => ui.weak(format!("wgpu: {a}")),
@@ -534,8 +542,8 @@ impl SurfaceEditor {
     fn value_name(&self) -> &'static str {
         match self.shading.mode {
             ShadeMode::Gauss => "K",
-            ShadeMode::KMax => "κ₁",
-            ShadeMode::KMin => "κ₂",
+            ShadeMode::KMax => "κ1",
+            ShadeMode::KMin => "κ2",
             _ => "H",
         }
     }
@@ -544,15 +552,16 @@ impl SurfaceEditor {
         ui.heading("Display");
         ui.horizontal_wrapped(|ui| {
             for m in ShadeMode::ALL {
-                ui.selectable_value(&mut self.shading.mode, m, m.label()).on_hover_text(match m {
-                    ShadeMode::Shaded => "Lit surface",
-                    ShadeMode::Isophotes => "Stripes of equal angle between the normal and the light",
-                    ShadeMode::Zebra => "Reflection lines of parallel light tubes",
-                    ShadeMode::Mean => "Mean curvature H = (κ₁+κ₂)/2, exact per vertex",
-                    ShadeMode::Gauss => "Gaussian curvature K = κ₁κ₂, exact per vertex",
-                    ShadeMode::KMax => "Maximum principal curvature κ₁",
-                    ShadeMode::KMin => "Minimum principal curvature κ₂",
-                });
+                ui.selectable_value(&mut self.shading.mode, m, m.label())
+                    .on_hover_text(match m {
+                        ShadeMode::Shaded => "Lit surface",
+                        ShadeMode::Isophotes => "Stripes of equal angle between the normal and the light",
+                        ShadeMode::Zebra => "Reflection lines of parallel light tubes",
+                        ShadeMode::Mean => "Mean curvature H = (κ1+κ2)/2, exact per vertex",
+                        ShadeMode::Gauss => "Gaussian curvature K = κ1κ2, exact per vertex",
+                        ShadeMode::KMax => "Maximum principal curvature κ1",
+                        ShadeMode::KMin => "Minimum principal curvature κ2",
+                    });
             }
         });
         if matches!(self.shading.mode, ShadeMode::Isophotes | ShadeMode::Zebra) {
@@ -586,7 +595,8 @@ impl SurfaceEditor {
         }
         ui.checkbox(&mut self.shading.show_iso, "Isoparametric lines")
             .on_hover_text("u and v isocurves at the knots");
-        ui.checkbox(&mut self.shading.show_net, "Control net").on_hover_text("Show the control net");
+        ui.checkbox(&mut self.shading.show_net, "Control net")
+            .on_hover_text("Show the control net");
         let mut d = self.shading.density;
         if ui
             .add(egui::Slider::new(&mut d, 8..=200).text("Mesh density"))
@@ -601,7 +611,11 @@ impl SurfaceEditor {
         self.uv_view_ui(ui);
         let ((du0, du1), (dv0, dv1)) = self.surface().domain();
         ui.horizontal(|ui| {
-            if ui.button("Whole surface").on_hover_text("Fair the whole surface").clicked() {
+            if ui
+                .button("Whole surface")
+                .on_hover_text("Fair the whole surface")
+                .clicked()
+            {
                 self.push(SurfCommand::SetRegion(Some(((du0, du1), (dv0, dv1)))));
             }
             if ui
@@ -615,19 +629,29 @@ impl SurfaceEditor {
         if let Some(((mut a, mut b), (mut c, mut d))) = self.region() {
             let mut changed = false;
             ui.horizontal(|ui| {
-                for (v, lo, hi, name) in [(&mut a, du0, du1, "u₁"), (&mut b, du0, du1, "u₂")] {
+                for (v, lo, hi, name) in [(&mut a, du0, du1, "u1"), (&mut b, du0, du1, "u2")] {
                     let l = ui.label(name);
                     changed |= ui
-                        .add(egui::DragValue::new(v).range(lo..=hi).speed((hi - lo) * 1e-3).max_decimals(5))
+                        .add(
+                            egui::DragValue::new(v)
+                                .range(lo..=hi)
+                                .speed((hi - lo) * 1e-3)
+                                .max_decimals(5),
+                        )
                         .labelled_by(l.id)
                         .changed();
                 }
             });
             ui.horizontal(|ui| {
-                for (v, lo, hi, name) in [(&mut c, dv0, dv1, "v₁"), (&mut d, dv0, dv1, "v₂")] {
+                for (v, lo, hi, name) in [(&mut c, dv0, dv1, "v1"), (&mut d, dv0, dv1, "v2")] {
                     let l = ui.label(name);
                     changed |= ui
-                        .add(egui::DragValue::new(v).range(lo..=hi).speed((hi - lo) * 1e-3).max_decimals(5))
+                        .add(
+                            egui::DragValue::new(v)
+                                .range(lo..=hi)
+                                .speed((hi - lo) * 1e-3)
+                                .max_decimals(5),
+                        )
                         .labelled_by(l.id)
                         .changed();
                 }
@@ -653,15 +677,22 @@ impl SurfaceEditor {
         let r2 = ui
             .horizontal(|ui| {
                 let l = ui.label("Tolerance (exact)");
-                ui.add(egui::DragValue::new(&mut tol).range(1e-12..=f64::MAX).speed(tol * 0.01).max_decimals(12))
-                    .labelled_by(l.id)
-                    .on_hover_text("Type an exact tolerance")
+                let speed = tol * 0.01;
+                ui.add(
+                    egui::DragValue::new(&mut tol)
+                        .range(1e-12..=f64::MAX)
+                        .speed(speed)
+                        .max_decimals(12),
+                )
+                .labelled_by(l.id)
+                .on_hover_text("Type an exact tolerance")
             })
             .inner;
         if r1.changed() || r2.changed() {
             self.push(SurfCommand::SetTolerance(tol));
         }
-        ui.checkbox(&mut self.live, "Live preview").on_hover_text("Re-fair whenever region or tolerance change");
+        ui.checkbox(&mut self.live, "Live preview")
+            .on_hover_text("Re-fair whenever region or tolerance change");
         ui.separator();
         ui.heading("Compare");
         ui.horizontal(|ui| {
@@ -671,11 +702,11 @@ impl SurfaceEditor {
                 .on_hover_text("Show the faired preview (Space toggles)");
         });
         ui.add(egui::Slider::new(&mut self.compare.blend, 0.0..=1.0).text("Blend"))
-            .on_hover_text("Blend the control points original (0) → faired (1)");
+            .on_hover_text("Blend the control points original (0) -> faired (1)");
         ui.checkbox(&mut self.compare.side_by_side, "Side by side")
             .on_hover_text("Before and after in two views with one camera");
         if let Some(e) = &self.preview_error {
-            ui.label(RichText::new(format!("⚠ {e}")).color(Color32::from_rgb(230, 80, 60)));
+            ui.label(RichText::new(format!("! {e}")).color(Color32::from_rgb(230, 80, 60)));
         }
         if ui
             .add_enabled(self.preview.is_some(), egui::Button::new("Accept"))
@@ -713,10 +744,30 @@ impl SurfaceEditor {
             ui.strong("change");
             ui.end_row();
             let rows: [(&str, f64, f64, &str); 4] = [
-                ("curvature extrema", b.n_curv_extrema as f64, a.n_curv_extrema as f64, "isocurve κ extrema (20 per direction)"),
-                ("E = Σ∫(dκ/ds)² ds", b.e_var, a.e_var, "curvature variation along the isocurves"),
-                ("∫|∇H|² dA", b.mean_curv_var, a.mean_curv_var, "mean curvature variation over the surface"),
-                ("max deviation", 0.0, a.dev_max, "closest-point deviation on a 101×101 grid"),
+                (
+                    "curvature extrema",
+                    b.n_curv_extrema as f64,
+                    a.n_curv_extrema as f64,
+                    "isocurve κ extrema (20 per direction)",
+                ),
+                (
+                    "E = sum int (dκ/ds)^2 ds",
+                    b.e_var,
+                    a.e_var,
+                    "curvature variation along the isocurves",
+                ),
+                (
+                    "int |grad H|^2 dA",
+                    b.mean_curv_var,
+                    a.mean_curv_var,
+                    "mean curvature variation over the surface",
+                ),
+                (
+                    "max deviation",
+                    0.0,
+                    a.dev_max,
+                    "closest-point deviation on a 101×101 grid",
+                ),
             ];
             for (name, x, y, tip) in rows {
                 ui.label(name).on_hover_text(tip);
@@ -742,7 +793,7 @@ impl SurfaceEditor {
         let w = ui.available_width().clamp(120.0, 280.0);
         let (rect, resp) = ui.allocate_exact_size(egui::vec2(w, w * 0.75), Sense::click_and_drag());
         resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "uv domain"));
-        let resp = resp.on_hover_text("uv domain: drag to select the fairing region (u → right, v ↑)");
+        let resp = resp.on_hover_text("uv domain: drag to select the fairing region (u -> right, v up)");
         let to_screen = |uv: DVec2| {
             Pos2::new(
                 rect.left() + ((uv.x - u0) / (u1 - u0)) as f32 * rect.width(),
@@ -783,13 +834,30 @@ impl SurfaceEditor {
         if let Some(((a, b), (c, d))) = self.region() {
             let r = Rect::from_two_pos(to_screen(DVec2::new(a, c)), to_screen(DVec2::new(b, d)));
             painter.rect_filled(r, 0.0, Color32::from_rgba_unmultiplied(255, 140, 25, 50));
-            painter.rect_stroke(r, 0.0, Stroke::new(1.5, Color32::from_rgb(255, 140, 25)), egui::StrokeKind::Inside);
+            painter.rect_stroke(
+                r,
+                0.0,
+                Stroke::new(1.5, Color32::from_rgb(255, 140, 25)),
+                egui::StrokeKind::Inside,
+            );
         }
         if let Some((uv, _)) = self.hover {
             painter.circle_filled(to_screen(uv), 3.0, Color32::WHITE);
         }
-        painter.text(rect.left_bottom() + egui::vec2(4.0, -4.0), egui::Align2::LEFT_BOTTOM, "u →", egui::FontId::proportional(11.0), Color32::GRAY);
-        painter.text(rect.left_top() + egui::vec2(4.0, 4.0), egui::Align2::LEFT_TOP, "v ↑", egui::FontId::proportional(11.0), Color32::GRAY);
+        painter.text(
+            rect.left_bottom() + egui::vec2(4.0, -4.0),
+            egui::Align2::LEFT_BOTTOM,
+            "u ->",
+            egui::FontId::proportional(11.0),
+            Color32::GRAY,
+        );
+        painter.text(
+            rect.left_top() + egui::vec2(4.0, 4.0),
+            egui::Align2::LEFT_TOP,
+            "v up",
+            egui::FontId::proportional(11.0),
+            Color32::GRAY,
+        );
     }
 
     /// The surface shown as "after": the preview blended with the original.
@@ -806,7 +874,12 @@ impl SurfaceEditor {
             return Some((id, s.clone(), m.clone()));
         }
         let orig = self.surface();
-        let pts: Vec<DVec3> = orig.points().iter().zip(p.surface.points()).map(|(a, b)| a.lerp(*b, t)).collect();
+        let pts: Vec<DVec3> = orig
+            .points()
+            .iter()
+            .zip(p.surface.points())
+            .map(|(a, b)| a.lerp(*b, t))
+            .collect();
         let s = p.surface.with_points(pts).ok()?;
         let n = self.shading.density;
         let m = SurfaceMesh::tessellate(&s, n, n).ok()?;
@@ -857,7 +930,7 @@ impl SurfaceEditor {
         }
         let origin = 0.5 * (self.view.bbox.0 + self.view.bbox.1);
         for (k, (rect, name, id, s, mesh, slot)) in panes.into_iter().enumerate() {
-            let resp = ui.interact(rect, ui.id().with(("surf3d", k)), Sense::click_and_drag());
+            let resp = ui.interact(rect, ui.scope_id().with(("surf3d", k)), Sense::click_and_drag());
             resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "3D view"));
             self.view.fit_if_needed(rect);
             let ctrl = ui.input(|i| i.modifiers.command);
@@ -904,8 +977,14 @@ impl SurfaceEditor {
                 }
             }
             let scene = self.scene(slot, id, &s, &mesh);
-            self.view
-                .paint(ui, rect, ui.id().with(("surf3d_paint", k)), &scene, origin, &self.shading);
+            self.view.paint(
+                ui,
+                rect,
+                ui.scope_id().with(("surf3d_paint", k)),
+                &scene,
+                origin,
+                &self.shading,
+            );
             let painter = ui.painter_at(rect);
             painter.text(
                 rect.left_top() + egui::vec2(8.0, 6.0),

@@ -111,8 +111,16 @@ impl Camera {
 
     /// Camera → clip matrix (right-handed, depth 0..1) for `aspect` = width/height.
     pub fn proj(&self, aspect: f64) -> DMat4 {
+        // right-handed, camera looks down −z, depth 0 (near) .. 1 (far)
         let (n, f) = self.clip();
-        DMat4::perspective_rh(self.fov_y, aspect.max(1e-6), n, f)
+        let t = 1.0 / (self.fov_y * 0.5).tan();
+        let a = aspect.max(1e-6);
+        DMat4::from_cols(
+            DVec4::new(t / a, 0.0, 0.0, 0.0),
+            DVec4::new(0.0, t, 0.0, 0.0),
+            DVec4::new(0.0, 0.0, f / (n - f), -1.0),
+            DVec4::new(0.0, 0.0, n * f / (n - f), 0.0),
+        )
     }
 
     /// World → clip.
@@ -199,7 +207,12 @@ mod tests {
 
     fn cams() -> Vec<Camera> {
         let mut out = vec![];
-        for v in [StandardView::Front, StandardView::Top, StandardView::Side, StandardView::Iso] {
+        for v in [
+            StandardView::Front,
+            StandardView::Top,
+            StandardView::Side,
+            StandardView::Iso,
+        ] {
             let mut c = Camera::default();
             c.set_view(v);
             c.target = DVec3::new(0.3, -1.0, 2.0);
@@ -277,7 +290,10 @@ mod tests {
                         if k & 4 == 0 { lo.z } else { hi.z },
                     );
                     let n = c.to_ndc(p, aspect).unwrap();
-                    assert!(n.x.abs() <= 1.0 && n.y.abs() <= 1.0, "corner {p} → {n} (aspect {aspect})");
+                    assert!(
+                        n.x.abs() <= 1.0 && n.y.abs() <= 1.0,
+                        "corner {p} → {n} (aspect {aspect})"
+                    );
                     assert!((0.0..=1.0).contains(&n.z));
                 }
             }

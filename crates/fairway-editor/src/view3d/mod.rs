@@ -13,7 +13,7 @@ pub mod scene;
 use std::sync::Arc;
 
 use eframe::egui;
-use egui::{Color32, Rect, Sense};
+use egui::{Color32, Rect};
 use glam::{DMat4, DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 
@@ -67,7 +67,10 @@ impl ShadeMode {
 
     /// Whether this is a curvature colour map.
     pub fn is_curvature(self) -> bool {
-        matches!(self, ShadeMode::Mean | ShadeMode::Gauss | ShadeMode::KMax | ShadeMode::KMin)
+        matches!(
+            self,
+            ShadeMode::Mean | ShadeMode::Gauss | ShadeMode::KMax | ShadeMode::KMin
+        )
     }
 
     /// Shader mode number (curvature maps are shaded vertex colours).
@@ -129,7 +132,7 @@ impl Default for Shading {
 
 /// Key in egui's context data holding the adapter description (set by [`install`]).
 fn gpu_key() -> egui::Id {
-    egui::Id::new("fairway3d_gpu")
+    egui::Id::unique("fairway3d_gpu")
 }
 
 /// Register the 3D renderer with eframe's wgpu render state (call once from
@@ -177,7 +180,11 @@ impl View3d {
 
     /// Fit / standard view buttons.
     pub fn toolbar_ui(&mut self, ui: &mut egui::Ui) {
-        if ui.button("Fit all").on_hover_text("Fit the whole model in the view (F)").clicked() {
+        if ui
+            .button("Fit all")
+            .on_hover_text("Fit the whole model in the view (F)")
+            .clicked()
+        {
             self.needs_fit = true;
         }
         for (v, name, key) in [
@@ -261,7 +268,8 @@ impl View3d {
     /// Fit now if requested, for a viewport of `rect`.
     pub fn fit_if_needed(&mut self, rect: Rect) {
         if self.needs_fit && rect.width() > 1.0 && rect.height() > 1.0 {
-            self.camera.fit(self.bbox.0, self.bbox.1, (rect.width() / rect.height()) as f64);
+            self.camera
+                .fit(self.bbox.0, self.bbox.1, (rect.width() / rect.height()) as f64);
             self.needs_fit = false;
         }
     }
@@ -277,8 +285,10 @@ impl View3d {
     /// World ray through screen position `pos` in `rect`.
     pub fn ray(&self, pos: egui::Pos2, rect: Rect) -> (DVec3, DVec3) {
         let s = pos - rect.min;
-        self.camera
-            .ray(DVec2::new(s.x as f64, s.y as f64), DVec2::new(rect.width() as f64, rect.height() as f64))
+        self.camera.ray(
+            DVec2::new(s.x as f64, s.y as f64),
+            DVec2::new(rect.width() as f64, rect.height() as f64),
+        )
     }
 
     /// Add the paint callback drawing `scene` (coordinates relative to
@@ -341,7 +351,11 @@ pub fn legend(painter: &egui::Painter, rect: Rect, title: &str, range: f64) {
     let w = 18.0;
     let h = (rect.height() * 0.45).clamp(80.0, 260.0);
     let bar = Rect::from_min_size(rect.right_top() + egui::vec2(-w - 70.0, 30.0), egui::vec2(w, h));
-    painter.rect_filled(bar.expand2(egui::vec2(62.0, 26.0)).translate(egui::vec2(28.0, 0.0)), 4.0, Color32::from_black_alpha(140));
+    painter.rect_filled(
+        bar.expand2(egui::vec2(62.0, 26.0)).translate(egui::vec2(28.0, 0.0)),
+        4.0,
+        Color32::from_black_alpha(140),
+    );
     let n = 48;
     for k in 0..n {
         let t0 = k as f32 / n as f32;

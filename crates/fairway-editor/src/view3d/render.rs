@@ -47,13 +47,15 @@ impl Scene {
 
     /// Append a vertex to the triangles.
     pub fn tri_vertex(&mut self, p: [f32; 3], n: [f32; 3], c: [f32; 4]) {
-        self.tri_vertices.extend_from_slice(&[p[0], p[1], p[2], n[0], n[1], n[2], c[0], c[1], c[2], c[3]]);
+        self.tri_vertices
+            .extend_from_slice(&[p[0], p[1], p[2], n[0], n[1], n[2], c[0], c[1], c[2], c[3]]);
     }
 
     /// Append a line segment.
     pub fn line(&mut self, a: [f32; 3], b: [f32; 3], c: [f32; 4]) {
         for p in [a, b] {
-            self.line_vertices.extend_from_slice(&[p[0], p[1], p[2], 0.0, 0.0, 1.0, c[0], c[1], c[2], c[3]]);
+            self.line_vertices
+                .extend_from_slice(&[p[0], p[1], p[2], 0.0, 0.0, 1.0, c[0], c[1], c[2], c[3]]);
         }
     }
 
@@ -240,7 +242,12 @@ impl Renderer3d {
             "fs_surface",
             wgpu::PrimitiveTopology::TriangleList,
         );
-        let lines = scene_pipeline("fairway3d_lines", "vs_line", "fs_line", wgpu::PrimitiveTopology::LineList);
+        let lines = scene_pipeline(
+            "fairway3d_lines",
+            "vs_line",
+            "fs_line",
+            wgpu::PrimitiveTopology::LineList,
+        );
         let blit = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("fairway3d_blit"),
             layout: Some(&blit_pl),
@@ -386,7 +393,9 @@ impl egui_wgpu::CallbackTrait for ViewCallback {
         resources: &mut egui_wgpu::CallbackResources,
     ) -> Vec<wgpu::CommandBuffer> {
         // without our pipelines (e.g. a test renderer), draw nothing
-        let Some(r) = resources.get_mut::<Renderer3d>() else { return vec![] };
+        let Some(r) = resources.get_mut::<Renderer3d>() else {
+            return vec![];
+        };
         let ppp = screen.pixels_per_point;
         let size = [
             ((self.rect.width() * ppp).round() as u32).clamp(1, 8192),
@@ -462,7 +471,6 @@ impl egui_wgpu::CallbackTrait for ViewCallback {
             pass.draw(0..*n, 0..1);
         }
         drop(pass);
-        let _ = &t.resolve;
         vec![]
     }
 

@@ -6,9 +6,9 @@
 use fairway::{BSplineSurface, DVec3};
 
 use super::colormap::{auto_range, diverging};
-use fairway::mesh::SurfaceMesh;
 use super::render::Scene;
 use super::{ShadeMode, Shading};
+use fairway::mesh::SurfaceMesh;
 
 /// Grey of the plain surface.
 const SURFACE_GREY: [f32; 4] = [0.78, 0.80, 0.84, 1.0];
@@ -51,7 +51,8 @@ pub fn surface_scene(
 ) -> Scene {
     let mut sc = Scene::new();
     let values = mode_values(mesh, shading.mode);
-    sc.tri_vertices.reserve(mesh.positions.len() * super::render::VERTEX_FLOATS);
+    sc.tri_vertices
+        .reserve(mesh.positions.len() * super::render::VERTEX_FLOATS);
     for k in 0..mesh.positions.len() {
         let c = match values {
             Some(v) => {
