@@ -80,7 +80,7 @@ impl App {
         }
         match &self.fairing.preview {
             Some(Err(e)) => {
-                ui.label(RichText::new(format!("⚠ {e}")).color(Color32::from_rgb(230, 80, 60)));
+                ui.label(RichText::new(format!("Error: {e}")).color(Color32::from_rgb(230, 80, 60)));
             }
             Some(Ok(p)) => {
                 let m = self.tolerance();
@@ -111,7 +111,7 @@ impl App {
         ui.horizontal(|ui| {
             let can = self.preview().is_some();
             if ui
-                .add_enabled(can, egui::Button::new(RichText::new("✔ Accept").strong()))
+                .add_enabled(can, egui::Button::new(RichText::new("Accept").strong()))
                 .on_hover_text("Replace the region by the faired curve (one undo step)")
                 .clicked()
                 && let Some(c) = self.preview().map(|p| p.result.curve.clone())

@@ -528,7 +528,7 @@ impl App {
             .and_then(|p| p.file_name())
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_else(|| "untitled".into());
-        format!("{}{name} — Fairway", if self.is_dirty() { "● " } else { "" })
+        format!("{}{name} — Fairway", if self.is_dirty() { "* " } else { "" })
     }
 
     fn shortcuts(&mut self, ui: &egui::Ui) {
@@ -690,14 +690,14 @@ impl App {
             });
             ui.separator();
             if ui
-                .add_enabled(self.history.can_undo(), egui::Button::new("⟲ Undo"))
+                .add_enabled(self.history.can_undo(), egui::Button::new("Undo"))
                 .on_hover_text("Undo (Ctrl+Z)")
                 .clicked()
             {
                 self.push(Command::Undo);
             }
             if ui
-                .add_enabled(self.history.can_redo(), egui::Button::new("⟳ Redo"))
+                .add_enabled(self.history.can_redo(), egui::Button::new("Redo"))
                 .on_hover_text("Redo (Ctrl+Shift+Z / Ctrl+Y)")
                 .clicked()
             {
@@ -718,13 +718,13 @@ impl App {
     fn status_ui(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
             if let Some(e) = self.error.clone() {
-                ui.label(RichText::new(format!("⚠ {e}")).color(Color32::from_rgb(230, 80, 60)));
-                if ui.small_button("✖").on_hover_text("Dismiss").clicked() {
+                ui.label(RichText::new(format!("Error: {e}")).color(Color32::from_rgb(230, 80, 60)));
+                if ui.small_button("x").on_hover_text("Dismiss").clicked() {
                     self.error = None;
                 }
                 return;
             }
-            let dirty = if self.is_dirty() { "● unsaved" } else { "saved" };
+            let dirty = if self.is_dirty() { "* unsaved" } else { "saved" };
             ui.label(dirty);
             if self.frame_ms > 0.0 {
                 ui.weak(format!("frame {:.1} ms", self.frame_ms))
@@ -849,9 +849,9 @@ impl App {
         ui.horizontal(|ui| {
             ui.label("Scaling:");
             for (m, name, tip) in [
-                (CombScaling::Linear, "linear", "Tooth length ∝ |κ|"),
-                (CombScaling::Sqrt, "sqrt", "Tooth length ∝ √|κ|"),
-                (CombScaling::Log, "log", "Tooth length ∝ ln(1 + |κ|/mean|κ|)"),
+                (CombScaling::Linear, "linear", "Tooth length ~ |κ|"),
+                (CombScaling::Sqrt, "sqrt", "Tooth length ~ sqrt|κ|"),
+                (CombScaling::Log, "log", "Tooth length ~ ln(1 + |κ|/mean|κ|)"),
             ] {
                 ui.selectable_value(&mut self.prefs.comb_scaling, m, name)
                     .on_hover_text(tip);
@@ -863,7 +863,7 @@ impl App {
             .on_hover_text("Green diamonds: inflections; orange dots: curvature extrema");
         let s = &self.view.sampled;
         ui.weak(format!(
-            "{} inflections, {} curvature extrema, κ ∈ [{:.4}, {:.4}]",
+            "{} inflections, {} curvature extrema, κ in [{:.4}, {:.4}]",
             s.inflections.len(),
             s.extrema.len(),
             s.kappa_range.0,

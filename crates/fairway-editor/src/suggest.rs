@@ -74,7 +74,7 @@ impl App {
                     if ui
                         .selectable_label(selected, text)
                         .on_hover_text(format!(
-                            "u ∈ [{:.4}, {:.4}]; RMS of κ − g: {:.3e}; ∫(κ − g)² ds = {:.3e}. Click to select.",
+                            "u in [{:.4}, {:.4}]; RMS of κ − g: {:.3e}; ∫(κ − g)² ds = {:.3e}. Click to select.",
                             s.u1, s.u2, s.rms, s.score
                         ))
                         .clicked()

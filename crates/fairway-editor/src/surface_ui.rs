@@ -389,7 +389,7 @@ impl SurfaceEditor {
             .and_then(|p| p.file_name())
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_else(|| "untitled".into());
-        format!("{}{name} — Fairway (surface)", if self.is_dirty() { "● " } else { "" })
+        format!("{}{name} — Fairway (surface)", if self.is_dirty() { "* " } else { "" })
     }
 
     /// Draw the workspace and apply the frame's commands.

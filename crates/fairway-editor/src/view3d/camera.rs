@@ -292,7 +292,7 @@ mod tests {
                     let n = c.to_ndc(p, aspect).unwrap();
                     assert!(
                         n.x.abs() <= 1.0 && n.y.abs() <= 1.0,
-                        "corner {p} → {n} (aspect {aspect})"
+                        "corner {p} -> {n} (aspect {aspect})"
                     );
                     assert!((0.0..=1.0).contains(&n.z));
                 }
