@@ -291,7 +291,8 @@ impl App {
                 ui.label(name).on_hover_text(tip);
                 ui.label(fmt_num(bv));
                 ui.label(fmt_num(av));
-                let ch = if bv != 0.0 {
+                // a relative change from a round-off "before" (e.g. deviation 1e-14) means nothing
+                let ch = if bv.abs() > 1e-6 * av.abs() {
                     format!("{:+.0}%", (av / bv - 1.0) * 100.0)
                 } else {
                     "—".into()
