@@ -239,7 +239,8 @@ impl App {
             return;
         };
         let max_dev = p.result.max_deviation;
-        let dragging = ui.input(|i| i.pointer.any_down());
+        // the bench simulates drags (tolerance sweep, target drag) without a pointer
+        let dragging = ui.input(|i| i.pointer.any_down()) || self.bench.is_some();
         self.fairing.update_measures(dragging);
         if self.fairing.measures_stale() {
             ui.weak("(updated when the drag ends)");
