@@ -810,30 +810,12 @@ impl App {
         ui.separator();
         ui.heading("Tolerance");
         let mut tol = self.tolerance();
-        let d = self.view.diag;
-        let r = ui
-            .add(
-                egui::Slider::new(&mut tol, d * 1e-6..=d * 0.05)
-                    .logarithmic(true)
-                    .text("Tolerance")
-                    .custom_formatter(|v, _| format!("{v:.3e}")),
-            )
-            .on_hover_text("Tolerance band width m, model units (log scale). The faired curve stays within m.");
-        let r2 = ui
-            .horizontal(|ui| {
-                let l = ui.label("Tolerance (exact)");
-                let speed = tol * 0.01;
-                ui.add(
-                    egui::DragValue::new(&mut tol)
-                        .range(1e-12..=f64::MAX)
-                        .speed(speed)
-                        .max_decimals(12),
-                )
-                .labelled_by(l.id)
-                .on_hover_text("Type an exact tolerance in model units")
-            })
-            .inner;
-        if r.changed() || r2.changed() {
+        if tolerance_ui(
+            ui,
+            &mut tol,
+            self.view.diag,
+            "Tolerance band width m, model units (log scale). The faired curve stays within m.",
+        ) {
             self.push(Command::SetTolerance(tol));
         }
         ui.separator();
@@ -975,4 +957,33 @@ pub fn demo_curve_n(n: usize) -> BSplineCurve {
     knots.extend((1..=inner).map(|k| k as f64 / (inner + 1) as f64));
     knots.extend(vec![1.0; p + 1]);
     BSplineCurve::new_2d(p, knots, &pts).expect("valid demo curve")
+}
+
+/// The tolerance controls shared by the curve and surface screens: a log
+/// slider over [1e-6, 0.05] × the model diagonal `diag` and an exact field
+/// (both labelled "Tolerance…" for accessibility). Returns whether `tol` changed.
+pub fn tolerance_ui(ui: &mut egui::Ui, tol: &mut f64, diag: f64, hint: &str) -> bool {
+    let r1 = ui
+        .add(
+            egui::Slider::new(tol, diag * 1e-6..=diag * 0.05)
+                .logarithmic(true)
+                .text("Tolerance")
+                .custom_formatter(|v, _| format!("{v:.3e}")),
+        )
+        .on_hover_text(hint);
+    let r2 = ui
+        .horizontal(|ui| {
+            let l = ui.label("Tolerance (exact)");
+            let speed = *tol * 0.01;
+            ui.add(
+                egui::DragValue::new(tol)
+                    .range(1e-12..=f64::MAX)
+                    .speed(speed)
+                    .max_decimals(12),
+            )
+            .labelled_by(l.id)
+            .on_hover_text("Type an exact tolerance in model units")
+        })
+        .inner;
+    r1.changed() || r2.changed()
 }

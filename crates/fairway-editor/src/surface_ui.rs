@@ -665,30 +665,12 @@ impl SurfaceEditor {
         ui.separator();
         ui.heading("Tolerance");
         let mut tol = self.tolerance();
-        let dg = self.diag();
-        let r1 = ui
-            .add(
-                egui::Slider::new(&mut tol, dg * 1e-6..=dg * 0.05)
-                    .logarithmic(true)
-                    .text("Tolerance")
-                    .custom_formatter(|v, _| format!("{v:.3e}")),
-            )
-            .on_hover_text("Max deviation m of the faired surface from the original (model units)");
-        let r2 = ui
-            .horizontal(|ui| {
-                let l = ui.label("Tolerance (exact)");
-                let speed = tol * 0.01;
-                ui.add(
-                    egui::DragValue::new(&mut tol)
-                        .range(1e-12..=f64::MAX)
-                        .speed(speed)
-                        .max_decimals(12),
-                )
-                .labelled_by(l.id)
-                .on_hover_text("Type an exact tolerance")
-            })
-            .inner;
-        if r1.changed() || r2.changed() {
+        if crate::tolerance_ui(
+            ui,
+            &mut tol,
+            self.diag(),
+            "Max deviation m of the faired surface from the original (model units)",
+        ) {
             self.push(SurfCommand::SetTolerance(tol));
         }
         ui.checkbox(&mut self.live, "Live preview")
