@@ -2,42 +2,15 @@
 //! select a region by dragging in the uv view, set the tolerance, accept,
 //! undo — asserting on the document.
 
-use std::path::PathBuf;
-
 use eframe::egui;
 use egui::{Pos2, Role};
-use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use fairway::measure_surface::deviation;
 use fairway::{BSplineSurface, Geometry};
 use fairway_editor::App;
 
-fn asset(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../assets")
-        .join(name)
-}
-
-fn harness(app: App) -> Harness<'static, App> {
-    let mut h = Harness::builder()
-        .with_size(egui::vec2(1400.0, 900.0))
-        .build_ui_state(|ui, app: &mut App| app.show(ui), app);
-    h.run();
-    h
-}
-
-fn drag(h: &mut Harness<'static, App>, path: &[Pos2]) {
-    h.hover_at(path[0]);
-    h.step();
-    h.drag_at(path[0]);
-    h.step();
-    for &p in &path[1..] {
-        h.hover_at(p);
-        h.step();
-    }
-    h.drop_at(*path.last().unwrap());
-    h.run();
-}
+mod common;
+use common::{asset, drag, harness};
 
 fn surface(app: &App) -> BSplineSurface {
     match &app.surface.as_ref().expect("surface workspace").doc.geometry {

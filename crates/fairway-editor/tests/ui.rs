@@ -8,27 +8,8 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use fairway_editor::App;
 
-fn harness(app: App) -> Harness<'static, App> {
-    let mut h = Harness::builder()
-        .with_size(egui::vec2(1400.0, 900.0))
-        .build_ui_state(|ui, app: &mut App| app.show(ui), app);
-    h.run();
-    h
-}
-
-/// Drag with the primary button through `path` (first point: press, last: release).
-fn drag(h: &mut Harness<'static, App>, path: &[Pos2]) {
-    h.hover_at(path[0]);
-    h.step();
-    h.drag_at(path[0]);
-    h.step();
-    for &p in &path[1..] {
-        h.hover_at(p);
-        h.step();
-    }
-    h.drop_at(*path.last().unwrap());
-    h.run();
-}
+mod common;
+use common::{drag, harness};
 
 fn curve_screen_point(h: &Harness<'static, App>, u: f64) -> Pos2 {
     let app = h.state();
@@ -141,7 +122,7 @@ fn whole_curve_button_and_bad_file_keep_the_document() {
 }
 
 fn sample_path() -> std::path::PathBuf {
-    std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../assets/car_roof.ron")
+    common::asset("car_roof.ron")
 }
 
 /// Open a file through the File menu's path field and the "Open path" button.

@@ -1,0 +1,53 @@
+//! Shared kittest set-up for the editor's GUI tests: `mod common;` in a test
+//! file, then `common::harness(app)`, `common::drag(&mut h, &path)` and
+//! `common::asset("name")`. Each test binary compiles this module on its own,
+//! so helpers one binary does not use are allowed to be dead there.
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+
+use eframe::egui;
+use egui::Pos2;
+use egui_kittest::Harness;
+use fairway_editor::App;
+
+/// Window size of every GUI test (large enough for all panels).
+pub const SIZE: egui::Vec2 = egui::vec2(1400.0, 900.0);
+
+/// A harness that shows `app` in a 1400×900 window, run once (first layout done).
+pub fn harness(app: App) -> Harness<'static, App> {
+    let mut h = Harness::builder()
+        .with_size(SIZE)
+        .build_ui_state(|ui, app: &mut App| app.show(ui), app);
+    h.run();
+    h
+}
+
+/// Drag with the primary button through `path` (first point: press, last: release).
+pub fn drag(h: &mut Harness<'static, App>, path: &[Pos2]) {
+    drag_with(h, path, egui::Modifiers::NONE);
+}
+
+/// Like [`drag`], with `modifiers` held during the whole gesture (e.g. Ctrl).
+pub fn drag_with(h: &mut Harness<'static, App>, path: &[Pos2], modifiers: egui::Modifiers) {
+    h.event(egui::Event::ModifiersChanged(modifiers));
+    h.hover_at(path[0]);
+    h.step();
+    h.drag_at(path[0]);
+    h.step();
+    for &p in &path[1..] {
+        h.hover_at(p);
+        h.step();
+    }
+    h.drop_at(*path.last().unwrap());
+    h.run();
+    h.event(egui::Event::ModifiersChanged(egui::Modifiers::NONE));
+    h.run();
+}
+
+/// Path of a file in the workspace's `assets/` folder.
+pub fn asset(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../assets")
+        .join(name)
+}
