@@ -121,7 +121,8 @@ pub struct FairingOptions {
     pub ends: EndCondition,
     /// Target smoothing method.
     pub target: TargetMethod,
-    /// Smoothing strength (passes; `None`: n/4 for the kernels, 20 for the fit).
+    /// Smoothing strength (passes, or the flow time in passes for `Heat`; `None`: [`default_passes`] for
+    /// heat, average and binomial, 20 for the fit).
     pub strength: Option<usize>,
     /// Integration scheme.
     pub integrator: Integrator,
@@ -137,7 +138,7 @@ impl Default for FairingOptions {
             region: None,
             tolerance: 1e-3,
             ends: EndCondition::G2,
-            target: TargetMethod::Average,
+            target: TargetMethod::Heat,
             strength: None,
             integrator: Integrator::Arc,
             samples: None,

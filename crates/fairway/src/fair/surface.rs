@@ -426,7 +426,7 @@ pub fn isocurve_setup(
     let ns = opts.curve.samples.unwrap_or(ISO_SAMPLES_PER_SPAN * spans_r.max(1) + 1);
     let sigma = ISO_TARGET_SIGMA_SPANS * ISO_SAMPLES_PER_SPAN as f64;
     let strength = opts.curve.strength.or(match opts.curve.target {
-        TargetMethod::Average => Some((1.5 * sigma * sigma).round() as usize),
+        TargetMethod::Heat | TargetMethod::Average => Some((1.5 * sigma * sigma).round() as usize),
         TargetMethod::Binomial => Some((2.0 * sigma * sigma).round() as usize),
         TargetMethod::Fit => None,
     });
