@@ -12,11 +12,15 @@ use std::sync::Arc;
 
 use eframe::egui;
 use egui::{Color32, Pos2, Rect, Sense, Stroke};
-use fairway::{BSplineCurve, DVec3};
+use fairway::{BSplineCurve, BSplineSurface, DVec3};
 
 use crate::view3d::scene::surface_scene;
-use crate::view3d::{self, ShadeMode, Shading, View3d};
+use crate::view3d::{self, ShadeMode, Shading, View3d, View3dPrefs};
 use fairway::mesh::{SurfaceMesh, curve_comb_3d, extrude_curve};
+
+/// What the extrusion scenes depend on: curve revision, preview hash, and
+/// the shading fields baked into the scene (mode, density, isolines, net).
+type ExtrusionKey = (u64, u64, ShadeMode, usize, bool, bool);
 
 /// State of the curve editor's 3D view.
 pub struct Curve3dState {
@@ -26,11 +30,17 @@ pub struct Curve3dState {
     pub view: View3d,
     /// Show extrusion isophotes (planar curves).
     pub extrusion: bool,
-    /// Shading of the extrusions.
+    /// Shading of the extrusions (persisted).
     pub shading: Shading,
-    key: Option<(u64, u64)>,
+    /// Shading of the surface workspace, kept here between surfaces and for
+    /// eframe storage (the open surface's own settings take precedence).
+    pub surface_shading: Shading,
+    key: Option<ExtrusionKey>,
     scenes: Vec<Arc<view3d::Scene>>,
+    extrusions: Vec<(BSplineSurface, SurfaceMesh)>,
     origin: DVec3,
+    comb_key: Option<(u64, u64, u64, u64)>,
+    combs: Vec<Vec<(DVec3, DVec3)>>,
 }
 
 impl Default for Curve3dState {
@@ -39,16 +49,29 @@ impl Default for Curve3dState {
             enabled: false,
             view: View3d::default(),
             extrusion: false,
-            shading: Shading {
-                mode: ShadeMode::Isophotes,
-                show_iso: false,
-                density: 160,
-                ..Default::default()
-            },
+            shading: Shading::extrusion(),
+            surface_shading: Shading::default(),
             key: None,
             scenes: vec![],
+            extrusions: vec![],
             origin: DVec3::ZERO,
+            comb_key: None,
+            combs: vec![],
         }
+    }
+}
+
+impl Curve3dState {
+    /// The extruded surfaces shown side by side and their tessellations:
+    /// the original curve's first, then the faired preview's (if any).
+    pub fn extrusions(&self) -> &[(BSplineSurface, SurfaceMesh)] {
+        &self.extrusions
+    }
+
+    /// The comb teeth `(base, tip)` drawn in the 3D curve view: the
+    /// original curve's first, then the faired preview's (if any).
+    pub fn combs(&self) -> &[Vec<(DVec3, DVec3)>] {
+        &self.combs
     }
 }
 
@@ -84,8 +107,12 @@ impl crate::App {
             )
             .on_hover_text("Extrude the planar curve along z and show isophotes, before and after fairing");
             if self.curve3d.extrusion {
-                ui.add(egui::Slider::new(&mut self.curve3d.shading.stripe_deg, 0.5..=30.0).text("Stripe width °"))
-                    .on_hover_text("Angular width of one isophote stripe");
+                ui.add(
+                    egui::Slider::new(&mut self.curve3d.shading.stripe_deg, view3d::STRIPE_RANGE)
+                        .text("Stripe width °"),
+                )
+                .on_hover_text("Angular width of one isophote stripe");
+                self.curve3d.shading.light_ui(ui);
             }
         });
         let full = ui.available_rect_before_wrap();
@@ -108,10 +135,37 @@ impl crate::App {
             resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "3D curve view"));
             self.curve3d.view.fit_if_needed(full);
             self.curve3d.view.interact(ui, &resp, true);
+            self.update_combs(&curve, faired.as_ref());
             let painter = ui.painter_at(full);
             painter.rect_filled(full, 0.0, Color32::from_gray(24));
             self.draw_curve3d(&painter, full, &curve, faired.as_ref());
         }
+    }
+
+    /// Number of comb teeth and curve samples drawn for `c`.
+    fn comb_samples(c: &BSplineCurve) -> usize {
+        (c.n_points() * 12).clamp(200, 1500)
+    }
+
+    /// Recompute the cached comb teeth if the curve, the preview or the comb
+    /// scale changed.
+    fn update_combs(&mut self, curve: &BSplineCurve, faired: Option<&BSplineCurve>) {
+        let frac = 0.2 * self.prefs.comb_scale;
+        let key = (
+            self.curve_rev,
+            faired.map(|c| hash_points(c.points())).unwrap_or(0),
+            frac.to_bits(),
+            self.view.diag.to_bits(),
+        );
+        if self.curve3d.comb_key == Some(key) {
+            return;
+        }
+        self.curve3d.combs = [Some(curve), faired]
+            .into_iter()
+            .flatten()
+            .map(|c| comb(c, Self::comb_samples(c), self.view.diag, frac))
+            .collect();
+        self.curve3d.comb_key = Some(key);
     }
 
     fn draw_curve3d(&self, painter: &egui::Painter, rect: Rect, curve: &BSplineCurve, faired: Option<&BSplineCurve>) {
@@ -143,10 +197,9 @@ impl crate::App {
                 }
             }
         }
-        let n = (curve.n_points() * 12).clamp(200, 1500);
-        let frac = 0.2 * self.prefs.comb_scale;
+        let n = Self::comb_samples(curve);
         let has_after = faired.is_some();
-        for (c, is_after) in [(Some(curve), false), (faired, true)] {
+        for (k, (c, is_after)) in [(Some(curve), false), (faired, true)].into_iter().enumerate() {
             let Some(c) = c else { continue };
             // original: blue comb, white curve (dimmed under a preview); preview: orange
             let (comb_rgb, curve_col) = if is_after {
@@ -156,8 +209,9 @@ impl crate::App {
             } else {
                 ((90, 160, 255), Color32::from_gray(230))
             };
-            if self.prefs.show_comb {
-                let teeth = comb(c, n, self.view.diag, frac);
+            if self.prefs.show_comb
+                && let Some(teeth) = self.curve3d.combs.get(k)
+            {
                 let a = if is_after || !has_after { 150 } else { 70 };
                 let tooth = Color32::from_rgba_unmultiplied(comb_rgb.0, comb_rgb.1, comb_rgb.2, a);
                 for (k, (a, b)) in teeth.iter().enumerate() {
@@ -183,24 +237,36 @@ impl crate::App {
     }
 
     fn extrusion_panes(&mut self, ui: &mut egui::Ui, full: Rect, curve: &BSplineCurve, faired: Option<&BSplineCurve>) {
-        let key = (self.curve_rev, faired.map(|c| hash_points(c.points())).unwrap_or(0));
         let sh_key = self.curve3d.shading;
+        let key = (
+            self.curve_rev,
+            faired.map(|c| hash_points(c.points())).unwrap_or(0),
+            sh_key.mode,
+            sh_key.density,
+            sh_key.show_iso,
+            sh_key.show_net,
+        );
         if self.curve3d.key != Some(key) || self.curve3d.scenes.is_empty() {
             let h = extrusion_height(self.view.diag);
             let (lo, hi) = self.curve3d.view.bbox;
             self.curve3d.origin = 0.5 * (lo + hi);
             let mut scenes = vec![];
+            let mut extrusions = vec![];
             for c in [Some(curve), faired] {
                 let Some(c) = c else { continue };
                 match extrude_curve(c, h).and_then(|s| {
-                    let nu = (c.n_points() * 8).clamp(100, 800);
+                    let nu = (c.n_points() * 8).clamp(100, 800).max(sh_key.density);
                     SurfaceMesh::tessellate(&s, nu, 8).map(|m| (s, m))
                 }) {
-                    Ok((s, m)) => scenes.push(Arc::new(surface_scene(&s, &m, &sh_key, 1.0, None, self.curve3d.origin))),
+                    Ok((s, m)) => {
+                        scenes.push(Arc::new(surface_scene(&s, &m, &sh_key, 1.0, None, self.curve3d.origin)));
+                        extrusions.push((s, m));
+                    }
                     Err(e) => self.error = Some(format!("extrusion failed: {e}")),
                 }
             }
             self.curve3d.scenes = scenes;
+            self.curve3d.extrusions = extrusions;
             self.curve3d.key = Some(key);
         }
         let n = self.curve3d.scenes.len().max(1);
@@ -244,6 +310,39 @@ impl crate::App {
                 egui::FontId::proportional(13.0),
                 Color32::GRAY,
             );
+        }
+    }
+}
+
+impl crate::App {
+    /// The 3D display settings to keep between sessions: the open surface's
+    /// shading (else the last one used) and the extrusion view's.
+    pub fn view3d_prefs(&self) -> View3dPrefs {
+        View3dPrefs {
+            surface: self
+                .surface
+                .as_ref()
+                .map_or(self.curve3d.surface_shading, |s| s.shading),
+            extrusion: self.curve3d.shading,
+        }
+    }
+
+    /// Apply 3D display settings ([`View3dPrefs::sanitized`]) to the views,
+    /// including an already open surface.
+    pub fn set_view3d_prefs(&mut self, prefs: View3dPrefs) {
+        let p = prefs.sanitized();
+        self.curve3d.shading = p.extrusion;
+        self.curve3d.surface_shading = p.surface;
+        if let Some(s) = self.surface.as_mut() {
+            s.set_shading(p.surface);
+        }
+    }
+
+    /// Restore the 3D display settings from eframe storage (key
+    /// [`View3dPrefs::KEY`]); nothing happens if they are missing or unreadable.
+    pub fn load_view3d_prefs(&mut self, storage: &dyn eframe::Storage) {
+        if let Some(p) = eframe::get_value::<View3dPrefs>(storage, View3dPrefs::KEY) {
+            self.set_view3d_prefs(p);
         }
     }
 }

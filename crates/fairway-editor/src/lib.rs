@@ -257,6 +257,9 @@ impl App {
     pub fn new(cc: &eframe::CreationContext<'_>, path: Option<&Path>) -> Self {
         view3d::install(cc);
         let mut app = Self::open_or_demo(path);
+        if let Some(storage) = cc.storage {
+            app.load_view3d_prefs(storage);
+        }
         if let Some(storage) = cc.storage
             && let Some(prefs) = eframe::get_value::<Prefs>(storage, "prefs")
         {
@@ -908,6 +911,7 @@ impl eframe::App for App {
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
         eframe::set_value(storage, "prefs", &self.prefs);
+        eframe::set_value(storage, view3d::View3dPrefs::KEY, &self.view3d_prefs());
     }
 }
 

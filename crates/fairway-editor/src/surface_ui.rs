@@ -191,6 +191,17 @@ impl SurfaceEditor {
         })
     }
 
+    /// Replace the shading settings ([`Shading::sanitized`]); a new mesh
+    /// density re-tessellates the surface.
+    pub fn set_shading(&mut self, shading: Shading) {
+        let shading = shading.sanitized();
+        let retessellate = shading.density != self.shading.density;
+        self.shading = shading;
+        if retessellate {
+            self.set_surface_changed();
+        }
+    }
+
     /// Load a surface document from `path`.
     pub fn open(path: &Path) -> anyhow::Result<Self> {
         let doc = fairway::io::load(path)?;
@@ -301,7 +312,7 @@ impl SurfaceEditor {
         match fairway::io::load(p) {
             Ok(doc) if surface_of(&doc).is_some() => match Self::new(doc, Some(p.to_path_buf())) {
                 Ok(mut s) => {
-                    s.shading = self.shading;
+                    s.set_shading(self.shading);
                     s.status = format!("Opened {}", p.display());
                     *self = s;
                 }
@@ -565,9 +576,10 @@ impl SurfaceEditor {
             }
         });
         if matches!(self.shading.mode, ShadeMode::Isophotes | ShadeMode::Zebra) {
-            ui.add(egui::Slider::new(&mut self.shading.stripe_deg, 0.5..=30.0).text("Stripe width °"))
+            ui.add(egui::Slider::new(&mut self.shading.stripe_deg, view3d::STRIPE_RANGE).text("Stripe width °"))
                 .on_hover_text("Angular width of one stripe (degrees)");
         }
+        self.shading.light_ui(ui);
         if self.shading.mode.is_curvature() {
             let values = mode_values(&self.mesh, self.shading.mode).unwrap_or(&[]);
             let mut r = effective_range(&self.shading, values);
@@ -599,7 +611,7 @@ impl SurfaceEditor {
             .on_hover_text("Show the control net");
         let mut d = self.shading.density;
         if ui
-            .add(egui::Slider::new(&mut d, 8..=200).text("Mesh density"))
+            .add(egui::Slider::new(&mut d, view3d::DENSITY_RANGE).text("Mesh density"))
             .on_hover_text("Tessellation vertices per direction (curvature is exact at each vertex)")
             .changed()
         {
@@ -999,6 +1011,7 @@ impl crate::App {
         }
         match SurfaceEditor::new(doc, Some(path.to_path_buf())) {
             Ok(mut s) => {
+                s.set_shading(self.curve3d.surface_shading);
                 s.status = format!("Opened {}", path.display());
                 self.surface = Some(Box::new(s));
                 self.push_recent(path.to_path_buf());
@@ -1013,6 +1026,8 @@ impl crate::App {
     pub(crate) fn surface_show(&mut self, ui: &mut egui::Ui) -> bool {
         let Some(s) = self.surface.as_mut() else { return false };
         s.show(ui);
+        // remembered for the next surface and for eframe storage
+        self.curve3d.surface_shading = s.shading;
         if let Some(p) = s.open_curve.take() {
             self.surface = None;
             self.open_now(&p);

@@ -105,3 +105,54 @@ fn region_in_uv_view_tolerance_accept_undo() {
     }
     assert_eq!(h.state().surface.as_ref().unwrap().doc, doc0);
 }
+
+#[test]
+fn ctrl_drag_on_the_surface_picks_the_uv_region_and_plain_drag_orbits() {
+    let mut h = harness(App::open_or_demo(Some(&asset("bumpy_surface.json"))));
+    let rect = h.get_by_label("3D view").rect();
+    let s0 = surface(h.state());
+    // screen positions of surface points S(u, v) through the editor's camera
+    let at = |h: &egui_kittest::Harness<'static, App>, u: f64, v: f64| {
+        let view = &h.state().surface.as_ref().unwrap().view;
+        view.to_screen(s0.point(u, v), rect).expect("in front of the camera")
+    };
+    let ((du0, du1), (dv0, dv1)) = s0.domain();
+    let uv = |a: f64, b: f64| (du0 + a * (du1 - du0), dv0 + b * (dv1 - dv0));
+    let (a, b) = (uv(0.25, 0.3), uv(0.7, 0.8));
+    let cam0 = h.state().surface.as_ref().unwrap().view.camera;
+    let path: Vec<Pos2> = (0..=4)
+        .map(|k| {
+            let t = k as f64 / 4.0;
+            at(&h, a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1))
+        })
+        .collect();
+    assert!(path.iter().all(|p| rect.contains(*p)), "{path:?} not in {rect:?}");
+    let ctrl = egui::Modifiers {
+        ctrl: true,
+        command: true,
+        ..Default::default()
+    };
+    common::drag_with(&mut h, &path, ctrl);
+    let s = h.state().surface.as_ref().unwrap();
+    let ((u1, u2), (v1, v2)) = s.region().expect("a region from the Ctrl+drag");
+    // CPU ray picking (core pick_uv): the region's corners are the picked uv
+    // of the first and last pointer positions
+    for (x, want) in [(u1, a.0), (u2, b.0), (v1, a.1), (v2, b.1)] {
+        assert!(
+            (x - want).abs() < 2e-3,
+            "region {:?}, wanted {a:?}..{b:?}",
+            ((u1, u2), (v1, v2))
+        );
+    }
+    assert_eq!(s.view.camera, cam0, "Ctrl+drag must not orbit");
+    // one gesture = one undo step
+    h.get_by_role_and_label(Role::Button, "Undo").click();
+    h.run();
+    assert_eq!(h.state().surface.as_ref().unwrap().region(), None);
+
+    // the same drag without Ctrl orbits and leaves the region alone
+    drag(&mut h, &path);
+    let s = h.state().surface.as_ref().unwrap();
+    assert_eq!(s.region(), None);
+    assert_ne!(s.view.camera, cam0, "plain drag did not orbit");
+}
