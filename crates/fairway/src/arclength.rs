@@ -51,6 +51,16 @@ impl SpanPoly {
         let h = u - self.m;
         (self.a + h * (self.b + h * self.c)).length()
     }
+
+    /// Speed v and dv/du = c'·c''/v.
+    #[inline]
+    fn speed_and_slope(&self, u: f64) -> (f64, f64) {
+        let h = u - self.m;
+        let d1 = self.a + h * (self.b + h * self.c);
+        let d2 = self.b + 2.0 * h * self.c;
+        let v = d1.length();
+        (v, if v > 0.0 { d1.dot(d2) / v } else { 0.0 })
+    }
 }
 
 fn speed(c: &BSplineCurve, u: f64) -> f64 {
@@ -256,25 +266,48 @@ impl ArcLengthTable {
         if ds <= 0.0 {
             return ua;
         }
-        // Hermite guess for u(s): du/ds = 1/speed at the ends.
+        // Hermite guess for u(s): du/ds = 1/v at the ends, and with the Taylor form also
+        // d²u/ds² = −v'/v³ (quintic Hermite: the guess is then usually within the tolerance)
         let t = (s - sa) / ds;
         let du = ub - ua;
-        let m0 = if self.speed[j] > 0.0 {
-            ds / self.speed[j] / du
-        } else {
-            1.0
-        };
-        let m1 = if self.speed[j + 1] > 0.0 {
-            ds / self.speed[j + 1] / du
-        } else {
-            1.0
-        };
         let (t2, t3) = (t * t, t * t * t);
-        let h = (t3 - 2.0 * t2 + t) * m0 + (-2.0 * t3 + 3.0 * t2) + (t3 - t2) * m1;
+        let sp = self.span_of(j);
+        let h = match self.polys.get(sp) {
+            Some(q) => {
+                let ((va, sla), (vb, slb)) = (q.speed_and_slope(ua), q.speed_and_slope(ub));
+                if va > 0.0 && vb > 0.0 {
+                    let (m0, m1) = (ds / va / du, ds / vb / du);
+                    let (a0, a1) = (
+                        -ds * ds / du * sla / (va * va * va),
+                        -ds * ds / du * slb / (vb * vb * vb),
+                    );
+                    let (t4, t5) = (t3 * t, t3 * t2);
+                    (t - 6.0 * t3 + 8.0 * t4 - 3.0 * t5) * m0
+                        + 0.5 * (t2 - 3.0 * t3 + 3.0 * t4 - t5) * a0
+                        + 0.5 * (t3 - 2.0 * t4 + t5) * a1
+                        + (-4.0 * t3 + 7.0 * t4 - 3.0 * t5) * m1
+                        + (10.0 * t3 - 15.0 * t4 + 6.0 * t5)
+                } else {
+                    t
+                }
+            }
+            None => {
+                let m0 = if self.speed[j] > 0.0 {
+                    ds / self.speed[j] / du
+                } else {
+                    1.0
+                };
+                let m1 = if self.speed[j + 1] > 0.0 {
+                    ds / self.speed[j + 1] / du
+                } else {
+                    1.0
+                };
+                (t3 - 2.0 * t2 + t) * m0 + (-2.0 * t3 + 3.0 * t2) + (t3 - t2) * m1
+            }
+        };
         let mut u = ua + du * h.clamp(0.0, 1.0);
         let (mut lo, mut hi) = (ua, ub);
         let tol = self.accuracy * ds.max(1e-300) * 0.5;
-        let sp = self.span_of(j);
         for _ in 0..60 {
             let f = sa + self.piece(curve, sp, ua, u) - s;
             if f.abs() <= tol {
@@ -285,10 +318,17 @@ impl ArcLengthTable {
             } else {
                 lo = u
             }
-            let v = self.speed_in(curve, sp, u);
+            let (v, slope) = match self.polys.get(sp) {
+                Some(q) => q.speed_and_slope(u),
+                None => (speed(curve, u), f64::INFINITY),
+            };
             let mut next = if v > 0.0 { u - f / v } else { f64::NAN };
             if !(next > lo && next < hi) {
                 next = 0.5 * (lo + hi);
+            } else if 2.0 * slope.abs() * (f / v) * (f / v) <= tol {
+                // Newton on S(u) − s with S' = v, S'' = v': the residual after this step is about
+                // |v'|/2 · (f/v)², here below tol/4 — accept it without another quadrature
+                return next;
             }
             if (next - u).abs() <= 1e-15 * (1.0 + u.abs()) {
                 return next;
@@ -369,7 +409,10 @@ mod tests {
     fn span_taylor_speed_equals_the_basis_speed() {
         // non-uniform knots, a 3D cubic and a quadratic: the per-span Taylor form is c' exactly
         for (p, knots) in [
-            (3usize, vec![0.0, 0.0, 0.0, 0.0, 0.1, 0.35, 0.4, 0.8, 1.0, 1.0, 1.0, 1.0]),
+            (
+                3usize,
+                vec![0.0, 0.0, 0.0, 0.0, 0.1, 0.35, 0.4, 0.8, 1.0, 1.0, 1.0, 1.0],
+            ),
             (2, vec![0.0, 0.0, 0.0, 0.2, 0.5, 0.55, 0.9, 1.0, 1.0, 1.0]),
         ] {
             let n = knots.len() - p - 1;
@@ -382,13 +425,20 @@ mod tests {
             for j in 0..t.u.len() - 1 {
                 let u = 0.3 * t.u[j] + 0.7 * t.u[j + 1];
                 let (fast, slow) = (t.speed_in(&c, t.span_of(j), u), speed(&c, u));
-                assert!((fast - slow).abs() <= 1e-13 * slow.max(1.0), "p {p} u {u}: {fast} vs {slow}");
+                assert!(
+                    (fast - slow).abs() <= 1e-13 * slow.max(1.0),
+                    "p {p} u {u}: {fast} vs {slow}"
+                );
             }
             let m = 20000;
             let ref_len: f64 = (0..m)
                 .map(|k| gl5().integrate(k as f64 / m as f64, (k + 1) as f64 / m as f64, |x| speed(&c, x)))
                 .sum();
-            assert!((t.length() - ref_len).abs() < 1e-12 * ref_len, "{} vs {ref_len}", t.length());
+            assert!(
+                (t.length() - ref_len).abs() < 1e-12 * ref_len,
+                "{} vs {ref_len}",
+                t.length()
+            );
             // and the inverse lands on the arc length asked for
             for k in 1..10 {
                 let s = t.length() * k as f64 / 10.0;

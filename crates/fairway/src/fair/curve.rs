@@ -182,6 +182,7 @@ pub struct FairingSetup {
     pts: Vec<DVec3>,
     tangents: Vec<DVec3>,
     normals: Vec<DVec3>,
+    d1: Vec<DVec3>,
     d2: Vec<DVec3>,
     speed: Vec<f64>,
     dspeed: Vec<f64>,
@@ -190,6 +191,7 @@ pub struct FairingSetup {
     // basis of the free points at the samples: first free-local index, values, second derivatives
     first: Vec<isize>,
     b0: Vec<f64>,
+    b1: Vec<f64>,
     b2: Vec<f64>,
     a0: BandedSpd,
     a2: BandedSpd,
@@ -209,7 +211,19 @@ pub struct FairingSetup {
     sol: Vec<DVec3>,
     best: Vec<DVec3>,
     m: BandedSpd,
+    // μ of the last fair (warm start of the next)
+    last_mu: Option<f64>,
+    pad: Vec<DVec3>,
 }
+
+/// Smallest fairness weight μ tried (see the module docs, step 6).
+pub const MU_MIN: f64 = 1e-6;
+/// Largest fairness weight μ tried.
+pub const MU_MAX: f64 = 1e10;
+/// The band search stops when the largest good μ is known to within this factor.
+pub const MU_RESOLUTION: f64 = 1.05;
+/// Step factor of the warm-started search around the previous μ.
+pub const MU_WARM_STEP: f64 = 16.0;
 
 fn validate_tolerance(m: f64) -> Result<()> {
     if !(m.is_finite() && m > 0.0) {
@@ -373,6 +387,7 @@ impl FairingSetup {
             pts: Vec::with_capacity(ns),
             tangents: Vec::with_capacity(ns),
             normals: Vec::with_capacity(ns),
+            d1: Vec::new(),
             d2: Vec::with_capacity(ns),
             speed: Vec::with_capacity(ns),
             dspeed: Vec::with_capacity(ns),
@@ -380,6 +395,7 @@ impl FairingSetup {
             du,
             first: Vec::with_capacity(ns),
             b0: Vec::with_capacity(ns * (p + 1)),
+            b1: Vec::with_capacity(ns * (p + 1)),
             b2: Vec::with_capacity(ns * (p + 1)),
             a0: BandedSpd::zeros(nf, p),
             a2: BandedSpd::zeros(nf, p),
@@ -397,19 +413,55 @@ impl FairingSetup {
             sol: vec![DVec3::ZERO; nf],
             best: vec![DVec3::ZERO; nf],
             m: BandedSpd::zeros(nf, p),
+            last_mu: None,
+            pad: Vec::new(),
         };
+        // one basis evaluation per sample (values, 1st and 2nd derivatives): position and derivatives of
+        // the curve, and the rows of the fit restricted to the free points
         let mut kappa = Vec::with_capacity(ns);
-        let mut prev_n = DVec3::ZERO;
-        let kmax = {
-            let mut k = 0.0f64;
+        let mut d1s = Vec::with_capacity(ns);
+        {
+            let kv = work.knots().values();
+            let cp = work.points();
+            let mut ders = [[0.0; MAX_ORDER]; 3];
             for &u in &s.params {
-                k = k.max(work.derivs(u).curvature_vector().length());
+                let span = work.knots().find_span(u);
+                ders_basis_funs(kv, span, work.knots().clamp(u), p, &mut ders);
+                let (mut x, mut d1, mut d2) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+                for j in 0..=p {
+                    let q = cp[span - p + j];
+                    x += q * ders[0][j];
+                    d1 += q * ders[1][j];
+                    d2 += q * ders[2][j];
+                }
+                s.pts.push(x);
+                d1s.push(d1);
+                s.d2.push(d2);
+                let f = (span - p) as isize - i0 as isize;
+                s.first.push(f);
+                for j in 0..=p {
+                    let li = f + j as isize;
+                    let inside = li >= 0 && (li as usize) < nf;
+                    s.b0.push(if inside { ders[0][j] } else { 0.0 });
+                    s.b1.push(if inside { ders[1][j] } else { 0.0 });
+                    s.b2.push(if inside { ders[2][j] } else { 0.0 });
+                }
             }
-            k
+        }
+        s.d1 = d1s;
+        let derivs = |k: usize| CurveDerivs {
+            p: s.pts[k],
+            d1: s.d1[k],
+            d2: s.d2[k],
+            d3: DVec3::ZERO,
         };
+        let kmax = (0..ns)
+            .map(|k| derivs(k).curvature_vector().length())
+            .fold(0.0, f64::max);
+        let mut prev_n = DVec3::ZERO;
         for k in 0..ns {
             let u = s.params[k];
-            let d = work.derivs(u);
+            let d = derivs(k);
             let v = d.d1.length();
             if !(v > 0.0) {
                 return Err(Error::Degenerate(format!(
@@ -436,25 +488,11 @@ impl FairingSetup {
                 prev_n = nn;
                 (nn, kv3.dot(nn))
             };
-            s.pts.push(d.p);
             s.tangents.push(t);
             s.normals.push(nrm);
-            s.d2.push(d.d2);
             s.speed.push(v);
             s.dspeed.push(d.d1.dot(d.d2) / v);
             kappa.push(kap);
-            // basis (values and 2nd derivatives) restricted to free points
-            let span = work.knots().find_span(u);
-            let mut ders = [[0.0; MAX_ORDER]; 3];
-            ders_basis_funs(work.knots().values(), span, work.knots().clamp(u), p, &mut ders);
-            let f = (span - p) as isize - i0 as isize;
-            s.first.push(f);
-            for j in 0..=p {
-                let li = f + j as isize;
-                let inside = li >= 0 && (li as usize) < nf;
-                s.b0.push(if inside { ders[0][j] } else { 0.0 });
-                s.b2.push(if inside { ders[2][j] } else { 0.0 });
-            }
         }
         // normal matrices
         for k in 0..ns {
@@ -492,7 +530,7 @@ impl FairingSetup {
             basis_funs(work.knots().values(), span, work.knots().clamp(u), p, &mut nb);
             let f = (span - p) as isize - i0 as isize;
             s.chk_u.push(u);
-            s.chk_q.push(work.point(u));
+            s.chk_q.push((0..=p).map(|j| work.points()[span - p + j] * nb[j]).sum());
             s.chk_first.push(f);
             for j in 0..=p {
                 let li = f + j as isize;
@@ -604,6 +642,34 @@ impl FairingSetup {
             .sum()
     }
 
+    /// [`Self::energy`] of `c_orig + Σ N_i d_i` from the stored basis rows: the
+    /// same numbers without evaluating the new curve (two fused sums per sample).
+    fn energy_of_update(&self, d: &[DVec3]) -> f64 {
+        let p = self.work.degree();
+        let g = self.target.values();
+        (0..self.params.len())
+            .map(|k| {
+                let f = self.first[k];
+                let (mut d1, mut d2) = (self.d1[k], self.d2[k]);
+                for i in 0..=p {
+                    let li = f + i as isize;
+                    if li >= 0 && (li as usize) < self.nf {
+                        d1 += d[li as usize] * self.b1[k * (p + 1) + i];
+                        d2 += d[li as usize] * self.b2[k * (p + 1) + i];
+                    }
+                }
+                let cd = CurveDerivs {
+                    p: DVec3::ZERO,
+                    d1,
+                    d2,
+                    d3: DVec3::ZERO,
+                };
+                let e = self.signed_kappa(&cd, k) - g[k];
+                e * e
+            })
+            .sum()
+    }
+
     /// Run integration, fit and band control for the current target and
     /// tolerance. Reuses every buffer of the setup.
     pub fn fair(&mut self) -> Result<FairingResult> {
@@ -666,82 +732,14 @@ impl FairingSetup {
                 let dev = self.deviation(&self.best.clone(), f64::INFINITY);
                 (0.0, 1.0, dev)
             }
-            FitMode::Fairway => {
-                let accept = m * (1.0 - 1e-9);
-                let (lo, hi) = (1e-6f64, 1e10f64);
-                // a failed solve at a large fairness weight (ill-conditioned A2, e.g. next to a
-                // multiple knot of G0/G1 ends) counts as "band not held": smaller μ are tried
-                let ok_hi = self.solve(hi * self.du.powi(4)).is_ok();
-                solves += 1;
-                let sol = self.sol.clone();
-                let d_hi = if ok_hi {
-                    self.deviation(&sol, accept)
-                } else {
-                    f64::INFINITY
-                };
-                if d_hi <= accept {
-                    self.best.copy_from_slice(&sol);
-                    (hi, 1.0, d_hi)
-                } else {
-                    self.solve(lo * self.du.powi(4))?;
-                    solves += 1;
-                    let sol = self.sol.clone();
-                    let d_lo = self.deviation(&sol, accept);
-                    if d_lo <= accept {
-                        self.best.copy_from_slice(&sol);
-                        let (mut a, mut b) = (lo.ln(), hi.ln());
-                        let mut best = (lo, d_lo);
-                        for _ in 0..12 {
-                            let c = 0.5 * (a + b);
-                            let ok = self.solve(c.exp() * self.du.powi(4)).is_ok();
-                            solves += 1;
-                            let sol = self.sol.clone();
-                            let d = if ok {
-                                self.deviation(&sol, accept)
-                            } else {
-                                f64::INFINITY
-                            };
-                            if d <= accept {
-                                a = c;
-                                best = (c.exp(), d);
-                                self.best.copy_from_slice(&sol);
-                            } else {
-                                b = c;
-                            }
-                        }
-                        (best.0, 1.0, best.1)
-                    } else {
-                        // scale the update down until the band holds (α = 0 is the original)
-                        let full = sol;
-                        let (mut a, mut b) = (0.0f64, 1.0f64);
-                        let mut best_d = 0.0;
-                        let mut scaled = full.clone();
-                        self.best.fill(DVec3::ZERO);
-                        for _ in 0..20 {
-                            let c = 0.5 * (a + b);
-                            for (s, f) in scaled.iter_mut().zip(&full) {
-                                *s = *f * c;
-                            }
-                            let d = self.deviation(&scaled, accept);
-                            if d <= accept {
-                                a = c;
-                                best_d = d;
-                                self.best.copy_from_slice(&scaled);
-                            } else {
-                                b = c;
-                            }
-                        }
-                        (lo, a, best_d)
-                    }
-                }
-            }
+            FitMode::Fairway => self.search_mu(m * (1.0 - 1e-9), &mut solves)?,
         };
         let mut pts = self.work.points().to_vec();
         for (j, d) in self.best.iter().enumerate() {
             pts[self.i0 + j] += *d;
         }
         let curve = self.work.with_points(pts)?;
-        let energy = self.energy(&curve);
+        let energy = self.energy_of_update(&self.best);
         Ok(FairingResult {
             curve,
             max_deviation: dev,
@@ -750,6 +748,127 @@ impl FairingSetup {
             solves,
             energy,
         })
+    }
+
+    /// Deviation of the fit with fairness weight `mu` (∞ if the solve failed); the solution stays in `self.sol`.
+    fn try_mu(&mut self, mu: f64, accept: f64, solves: &mut usize) -> f64 {
+        *solves += 1;
+        // a failed solve at a large fairness weight (ill-conditioned A2, e.g. next to a multiple knot of
+        // G0/G1 ends) counts as "band not held": smaller μ are tried
+        if self.solve(mu * self.du.powi(4)).is_err() {
+            return f64::INFINITY;
+        }
+        let sol = std::mem::take(&mut self.sol);
+        let d = self.deviation(&sol, accept);
+        self.sol = sol;
+        d
+    }
+
+    /// The largest μ ∈ [[`MU_MIN`], [`MU_MAX`]] (to a factor [`MU_RESOLUTION`]) whose fit holds the band,
+    /// found by bisection in log μ; started from the previous fair's μ when there is one (a re-fair
+    /// after a target or tolerance edit usually needs a handful of solves). If even `MU_MIN` fails,
+    /// the update of `MU_MIN` is scaled by α ∈ [0, 1] (α = 0 is the original). Leaves the accepted
+    /// update in `self.best`; returns (μ, α, deviation).
+    fn search_mu(&mut self, accept: f64, solves: &mut usize) -> Result<(f64, f64, f64)> {
+        let (lo, hi) = (MU_MIN.ln(), MU_MAX.ln());
+        let step = MU_WARM_STEP.ln();
+        // bracket [a, b]: ok at a (with its deviation), not ok at b
+        let (mut a, mut da, mut b);
+        match self.last_mu.map(|x| x.ln().clamp(lo, hi)) {
+            Some(x0) => {
+                let d0 = self.try_mu(x0.exp(), accept, solves);
+                if d0 <= accept {
+                    (a, da) = (x0, d0);
+                    self.best.copy_from_slice(&self.sol);
+                    loop {
+                        if a >= hi {
+                            return Ok(self.finish_mu(a, da));
+                        }
+                        let x = (a + step).min(hi);
+                        let d = self.try_mu(x.exp(), accept, solves);
+                        if d <= accept {
+                            (a, da) = (x, d);
+                            self.best.copy_from_slice(&self.sol);
+                        } else {
+                            b = x;
+                            break;
+                        }
+                    }
+                } else {
+                    b = x0;
+                    loop {
+                        if b <= lo {
+                            return self.scale_update(accept, solves);
+                        }
+                        let x = (b - step).max(lo);
+                        let d = self.try_mu(x.exp(), accept, solves);
+                        if d <= accept {
+                            (a, da) = (x, d);
+                            self.best.copy_from_slice(&self.sol);
+                            break;
+                        }
+                        b = x;
+                    }
+                }
+            }
+            None => {
+                let d_hi = self.try_mu(MU_MAX, accept, solves);
+                if d_hi <= accept {
+                    self.best.copy_from_slice(&self.sol);
+                    return Ok(self.finish_mu(hi, d_hi));
+                }
+                let d_lo = self.try_mu(MU_MIN, accept, solves);
+                if d_lo > accept {
+                    return self.scale_update(accept, solves);
+                }
+                self.best.copy_from_slice(&self.sol);
+                (a, da, b) = (lo, d_lo, hi);
+            }
+        }
+        while b - a > MU_RESOLUTION.ln() {
+            let c = 0.5 * (a + b);
+            let d = self.try_mu(c.exp(), accept, solves);
+            if d <= accept {
+                (a, da) = (c, d);
+                self.best.copy_from_slice(&self.sol);
+            } else {
+                b = c;
+            }
+        }
+        Ok(self.finish_mu(a, da))
+    }
+
+    fn finish_mu(&mut self, ln_mu: f64, dev: f64) -> (f64, f64, f64) {
+        let mu = ln_mu.exp();
+        self.last_mu = Some(mu);
+        (mu, 1.0, dev)
+    }
+
+    /// Even `MU_MIN` breaks the band: scale its update down until the band holds (α = 0 is the original).
+    fn scale_update(&mut self, accept: f64, solves: &mut usize) -> Result<(f64, f64, f64)> {
+        self.solve(MU_MIN * self.du.powi(4))?;
+        *solves += 1;
+        let full = self.sol.clone();
+        let (mut a, mut b) = (0.0f64, 1.0f64);
+        let mut best_d = 0.0;
+        let mut scaled = full.clone();
+        self.best.fill(DVec3::ZERO);
+        for _ in 0..20 {
+            let c = 0.5 * (a + b);
+            for (s, f) in scaled.iter_mut().zip(&full) {
+                *s = *f * c;
+            }
+            let d = self.deviation(&scaled, accept);
+            if d <= accept {
+                a = c;
+                best_d = d;
+                self.best.copy_from_slice(&scaled);
+            } else {
+                b = c;
+            }
+        }
+        self.last_mu = Some(MU_MIN);
+        Ok((MU_MIN, a, best_d))
     }
 
     /// Solve `(A0 + λ A2) ΔP = rhs0 + λ rhs2` into `self.sol`.
@@ -779,18 +898,32 @@ impl FairingSetup {
     /// Upper bound of the max over the check samples of the distance from the
     /// original sample to the curve `c_orig + Σ N_i d_i`. Samples whose
     /// parametric distance exceeds `sharpen` are projected (Newton near u_j).
-    fn deviation(&self, d: &[DVec3], sharpen: f64) -> f64 {
+    fn deviation(&mut self, d: &[DVec3], sharpen: f64) -> f64 {
         let p = self.work.degree();
+        // d padded with p + 1 zeros on both sides: every check sample's p + 1 rows are in bounds
+        // (its first row f ≥ −p, f + p < nf + p + 1), so the inner loop has no branch
+        let off = p + 1;
+        let mut pad = std::mem::take(&mut self.pad);
+        pad.clear();
+        pad.resize(self.nf + 2 * off, DVec3::ZERO);
+        pad[off..off + self.nf].copy_from_slice(d);
+        let worst = self.deviation_padded(&pad, d, sharpen);
+        self.pad = pad;
+        worst
+    }
+
+    fn deviation_padded(&self, pad: &[DVec3], d: &[DVec3], sharpen: f64) -> f64 {
+        let p = self.work.degree();
+        let off = p + 1;
         let mut worst = 0.0f64;
         let mut cand: Option<BSplineCurve> = None;
         for j in 0..self.chk_u.len() {
-            let f = self.chk_first[j];
+            let base = (self.chk_first[j] + off as isize) as usize;
+            let w = &self.chk_b[j * (p + 1)..(j + 1) * (p + 1)];
+            let rows = &pad[base..base + p + 1];
             let mut delta = DVec3::ZERO;
-            for i in 0..=p {
-                let li = f + i as isize;
-                if li >= 0 && (li as usize) < self.nf {
-                    delta += d[li as usize] * self.chk_b[j * (p + 1) + i];
-                }
+            for (x, b) in rows.iter().zip(w) {
+                delta += *x * *b;
             }
             let mut dist = delta.length();
             if dist > sharpen {

@@ -234,7 +234,11 @@ impl Target {
                 };
                 let denom = if i == 0 { diag } else { diag - lower * cp[i - 1] };
                 cp[i] = upper / denom;
-                dp[i] = if i == 0 { rhs / denom } else { (rhs - lower * dp[i - 1]) / denom };
+                dp[i] = if i == 0 {
+                    rhs / denom
+                } else {
+                    (rhs - lower * dp[i - 1]) / denom
+                };
             }
             // back substitution
             let mut next = dp[m - 1];
@@ -365,7 +369,11 @@ mod tests {
         // smooth signal + zig-zag noise; P passes of the average vs the implicit flow of the same time
         let n = 400;
         let k: Vec<f64> = (0..n)
-            .map(|i| (i as f64 * 0.01).sin() + if i % 2 == 0 { 0.05 } else { -0.05 } + 0.02 * ((i * 37 % 11) as f64 - 5.0) / 5.0)
+            .map(|i| {
+                (i as f64 * 0.01).sin()
+                    + if i % 2 == 0 { 0.05 } else { -0.05 }
+                    + 0.02 * ((i * 37 % 11) as f64 - 5.0) / 5.0
+            })
             .collect();
         let p = 600; // σ = 20 samples
         let mut avg = Target::new(&k).unwrap();
@@ -373,13 +381,24 @@ mod tests {
         let mut heat = Target::new(&k).unwrap();
         heat.smooth(TargetMethod::Heat, p);
         let smooth = |i: usize| (i as f64 * 0.01).sin();
-        let err = |t: &Target| (40..n - 40).map(|i| (t.values()[i] - smooth(i)).abs()).fold(0.0, f64::max);
+        let err = |t: &Target| {
+            (40..n - 40)
+                .map(|i| (t.values()[i] - smooth(i)).abs())
+                .fold(0.0, f64::max)
+        };
         let noise = (40..n - 40).map(|i| (k[i] - smooth(i)).abs()).fold(0.0, f64::max);
         // σ = 20 samples also flattens the sine by ~2 % (exp(−σ²ω²/2)), so compare with the average's error:
         // both remove the noise, and they agree with each other far better than with the input
         assert!(err(&heat) < 0.4 * noise, "heat {} noise {noise}", err(&heat));
-        assert!(err(&heat) < 1.2 * err(&avg), "heat {} average {}", err(&heat), err(&avg));
-        let diff = (0..n).map(|i| (heat.values()[i] - avg.values()[i]).abs()).fold(0.0, f64::max);
+        assert!(
+            err(&heat) < 1.2 * err(&avg),
+            "heat {} average {}",
+            err(&heat),
+            err(&avg)
+        );
+        let diff = (0..n)
+            .map(|i| (heat.values()[i] - avg.values()[i]).abs())
+            .fold(0.0, f64::max);
         assert!(diff < 0.1 * noise, "heat vs average {diff}, noise {noise}");
         // ends stay pinned, and a pinned interior value stays
         assert_eq!(heat.values()[0], k[0]);
@@ -389,7 +408,11 @@ mod tests {
         pinned.pin(200);
         pinned.smooth(TargetMethod::Heat, p);
         assert_eq!(pinned.values()[200], 3.0);
-        assert!(pinned.values()[199] > 1.5, "the pin pulls its neighbours: {}", pinned.values()[199]);
+        assert!(
+            pinned.values()[199] > 1.5,
+            "the pin pulls its neighbours: {}",
+            pinned.values()[199]
+        );
     }
 
     #[test]
