@@ -341,19 +341,29 @@ impl ArcLengthTable {
     /// `n ≥ 2` parameters at equal arc length over the range, first and last
     /// included, written into `out` (cleared first).
     pub fn equal_arc_params_into(&self, curve: &BSplineCurve, n: usize, out: &mut Vec<f64>) {
+        self.equal_arc_params_between(curve, 0.0, self.length(), n, out);
+        if let Some(last) = out.last_mut() {
+            *last = *self.u.last().unwrap();
+        }
+    }
+
+    /// `n ≥ 2` parameters at arc lengths `s0 + (s1 − s0)·k/(n − 1)` from the start of the
+    /// range (`0 ≤ s0 ≤ s1 ≤ length`), written into `out` (cleared first).
+    pub fn equal_arc_params_between(&self, curve: &BSplineCurve, s0: f64, s1: f64, n: usize, out: &mut Vec<f64>) {
         out.clear();
         let n = n.max(2);
-        let total = self.length();
         let mut j = 0;
-        out.push(self.u[0]);
-        for k in 1..n - 1 {
-            let s = total * k as f64 / (n - 1) as f64;
+        for k in 0..n {
+            let s = s0 + (s1 - s0) * k as f64 / (n - 1) as f64;
+            if s <= 0.0 {
+                out.push(self.u[0]);
+                continue;
+            }
             while j + 2 < self.s.len() && self.s[j + 1] <= s {
                 j += 1;
             }
-            out.push(self.invert_in(curve, j, s));
+            out.push(self.invert_in(curve, j, s.min(self.length())));
         }
-        out.push(*self.u.last().unwrap());
     }
 
     /// `n` parameters at equal arc length (see [`Self::equal_arc_params_into`]).

@@ -360,8 +360,19 @@ impl FairingSetup {
                 "{ns} samples are too few for {nf} free control points (need more than {nf})"
             )));
         }
-        let table = ArcLengthTable::new_range(&work, range.0, range.1, arc_accuracy);
-        let length = table.length();
+        // One table over the whole curve serves the fairing samples of the stretch and the check samples
+        // (with check_samples = 0, a table over the stretch only).
+        let table = if check_samples == 0 {
+            ArcLengthTable::new_range(&work, range.0, range.1, arc_accuracy)
+        } else {
+            ArcLengthTable::new(&work, arc_accuracy)
+        };
+        let (s_a, s_b) = if check_samples == 0 {
+            (0.0, table.length())
+        } else {
+            (table.length_at(&work, range.0), table.length_at(&work, range.1))
+        };
+        let length = s_b - s_a;
         let size = {
             let (lo, hi) = work.control_bounds();
             (hi - lo).length()
@@ -372,7 +383,11 @@ impl FairingSetup {
                 range.0, range.1
             )));
         }
-        let params = table.equal_arc_params(&work, ns);
+        let mut params = Vec::with_capacity(ns);
+        table.equal_arc_params_between(&work, s_a, s_b, ns, &mut params);
+        // the ends exactly: the first and last samples carry the pinned end curvature
+        params[0] = range.0;
+        params[ns - 1] = range.1;
         let h = length / (ns - 1) as f64;
         let du = (range.1 - range.0) / (ns - 1) as f64;
         let dim = work.dim();
@@ -518,8 +533,15 @@ impl FairingSetup {
             s.chk_h = 4.0 * du;
             s.params.clone()
         } else {
+            // only the check samples inside the stretch are inverted (the others cannot move)
             s.chk_h = (d1 - d0) / check_samples as f64 * 4.0;
-            ArcLengthTable::new(&work, arc_accuracy).equal_arc_params(&work, check_samples)
+            let total = table.length();
+            let step = total / (check_samples - 1) as f64;
+            let k0 = ((s_a / step).floor() as usize).saturating_sub(1);
+            let k1 = ((s_b / step).ceil() as usize + 1).min(check_samples - 1);
+            let mut v = Vec::with_capacity(k1 + 1 - k0);
+            table.equal_arc_params_between(&work, k0 as f64 * step, k1 as f64 * step, k1 + 1 - k0, &mut v);
+            v
         };
         for u in all {
             if u <= range.0 || u >= range.1 {

@@ -157,8 +157,13 @@ pub fn integrate_one(
                 t = tn;
             }
             Integrator::Arc => {
-                let tu = t.normalize();
-                let nn = normal_of(tu, k, tr);
+                // arc steps and the tangent pull-back keep |t| = 1 (to rounding): no renormalization
+                let tu = t;
+                let nn = if tr.dim == 2 {
+                    DVec3::new(-tu.y, tu.x, 0.0)
+                } else {
+                    normal_of(tu, k, tr)
+                };
                 let th = h * 0.5 * (ga + gb);
                 let (s2, c2, sinc) = half_angle(th);
                 // double angle: sin θ = 2 sin(θ/2) cos(θ/2), cos θ = 1 − 2 sin²(θ/2)
@@ -178,7 +183,11 @@ pub fn integrate_one(
             }
         }
         xs[k1] = x;
-        ts[k1] = t.normalize() * sgn;
+        if scheme != Integrator::Arc {
+            ts[k1] = t.normalize() * sgn;
+        } else {
+            ts[k1] = t * sgn;
+        }
     }
 }
 
