@@ -9,6 +9,9 @@ BIN=${BIN:-target/release/fairway-editor}
 OUT=${OUT:-docs/screenshot-editor.png}
 [ -x "$BIN" ] || cargo build --release -p fairway-editor
 mkdir -p /tmp/xdg "$(dirname "$OUT")" && chmod 700 /tmp/xdg
-XDG_RUNTIME_DIR=/tmp/xdg WGPU_BACKEND=${WGPU_BACKEND:-vulkan} xvfb-run -a -s "-screen 0 1500x950x24" \
+# a fresh data dir: settings saved by earlier runs (eframe storage) do not leak into the shot
+DATA=$(mktemp -d)
+XDG_DATA_HOME=$DATA XDG_RUNTIME_DIR=/tmp/xdg WGPU_BACKEND=${WGPU_BACKEND:-vulkan} xvfb-run -a -s "-screen 0 1500x950x24" \
   sh -c "\"$BIN\" $* & pid=\$!; sleep ${WAIT:-12}; import -window root \"$OUT\"; kill \$pid"
+rm -rf "$DATA"
 echo "wrote $OUT"

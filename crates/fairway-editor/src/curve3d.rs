@@ -212,7 +212,7 @@ impl crate::App {
             if self.prefs.show_comb
                 && let Some(teeth) = self.curve3d.combs.get(k)
             {
-                let a = if is_after || !has_after { 150 } else { 70 };
+                let a = if is_after || !has_after { 150 } else { 120 };
                 let tooth = Color32::from_rgba_unmultiplied(comb_rgb.0, comb_rgb.1, comb_rgb.2, a);
                 for (k, (a, b)) in teeth.iter().enumerate() {
                     if k % 3 == 0

@@ -15,7 +15,8 @@ const USAGE: &str = "usage: fairway-editor [FILE.ron|FILE.json] [--region U1 U2]
   --region-uv U1 U2 V1 V2   preselect a surface region
   --shade MODE       3D shading: shaded, isophotes, zebra, mean, gauss, kmax, kmin
   --side-by-side     surfaces: before and after side by side
-  --view3d           curves: open the 3D view (--extrusion: extrusion isophotes)";
+  --view3d           curves: open the 3D view (--extrusion: extrusion isophotes)
+  --stripe DEG       isophote / zebra stripe width in degrees";
 
 fn default_sample() -> Option<PathBuf> {
     let rel = PathBuf::from("assets/car_roof.ron");
@@ -55,6 +56,7 @@ fn main() -> eframe::Result {
             side_by_side: take::<String>(&mut args, "--side-by-side", 0)?.is_some(),
             view3d: take::<String>(&mut args, "--view3d", 0)?.is_some(),
             extrusion: take::<String>(&mut args, "--extrusion", 0)?.is_some(),
+            stripe: take::<f64>(&mut args, "--stripe", 1)?.map(|v| v[0]),
         };
         if let Some(a) = args.iter().find(|a| a.starts_with("--")) {
             return Err(format!("unknown option {a}"));
@@ -114,6 +116,7 @@ struct View3dArgs {
     side_by_side: bool,
     view3d: bool,
     extrusion: bool,
+    stripe: Option<f64>,
 }
 
 impl View3dArgs {
@@ -128,12 +131,18 @@ impl View3dArgs {
             if let Some(m) = self.shade {
                 s.shading.mode = m;
             }
+            if let Some(w) = self.stripe {
+                s.shading.stripe_deg = w;
+            }
             s.compare.side_by_side = self.side_by_side;
         }
         app.curve3d.enabled |= self.view3d || self.extrusion;
         app.curve3d.extrusion |= self.extrusion;
         if let Some(m) = self.shade {
             app.curve3d.shading.mode = m;
+        }
+        if let Some(w) = self.stripe {
+            app.curve3d.shading.stripe_deg = w;
         }
     }
 }
