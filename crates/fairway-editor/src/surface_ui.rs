@@ -884,7 +884,14 @@ impl SurfaceEditor {
     fn scene(&mut self, slot: usize, id: u64, s: &BSplineSurface, mesh: &SurfaceMesh) -> Arc<view3d::Scene> {
         let values = mode_values(&self.mesh, self.shading.mode).unwrap_or(&[]);
         let range = effective_range(&self.shading, values);
-        let key = (self.rev, id, self.shading, range.to_bits(), self.region());
+        // stripe width and light are uniforms of the paint callback, not part of the scene
+        let baked = Shading {
+            stripe_deg: 0.0,
+            light_azimuth: 0.0,
+            light_elevation: 0.0,
+            ..self.shading
+        };
+        let key = (self.rev, id, baked, range.to_bits(), self.region());
         if let Some(c) = &self.scenes[slot]
             && c.key == key
         {
