@@ -184,6 +184,19 @@ pub struct IgesFile {
     pub scale: f64,
     /// Skipped entities and conversions made, one message each.
     pub notices: Vec<String>,
+    /// Where each of `objects` came from (same order and length).
+    pub entities: Vec<EntityInfo>,
+}
+
+/// The directory entry an object of [`IgesFile::objects`] was read from.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct EntityInfo {
+    /// Sequence number of the entry's first `D` record (odd, 1-based), as
+    /// other entities and the notices refer to it.
+    pub entity: usize,
+    /// The entity label (directory field 18, 8 characters, trimmed) and,
+    /// when non-zero, its subscript (field 19) in parentheses; empty if none.
+    pub label: String,
 }
 
 /// Options of [`write`].
@@ -409,6 +422,7 @@ struct DirEntry {
     status: String,
     plines: i64,
     form: i64,
+    label: String,
 }
 
 /// Read every curve (126) and surface (128) of an IGES file, coordinates in
@@ -528,11 +542,20 @@ pub fn read_all_with(bytes: &[u8], opts: ReadOptions) -> Result<IgesFile> {
             status: String::from_utf8_lossy(field8(a, 8)).replace(' ', "0"),
             plines: int8(b, 3, &what)?,
             form: int8(b, 4, &what)?,
+            label: {
+                // fields 18-19 are informative only: a malformed subscript is ignored
+                let name = String::from_utf8_lossy(field8(b, 7)).trim().to_string();
+                match int8(b, 8, &what) {
+                    Ok(sub) if sub != 0 => format!("{name}({sub})"),
+                    _ => name,
+                }
+            },
         });
     }
 
     let mut budget = plines.len().saturating_mul(4).saturating_add(64);
     let mut objects = Vec::new();
+    let mut infos = Vec::new();
     for e in &entries {
         let kind = match e.etype {
             126 => "curve",
@@ -576,12 +599,17 @@ pub fn read_all_with(bytes: &[u8], opts: ReadOptions) -> Result<IgesFile> {
             geom = apply(geom, |q| q * factor)?;
         }
         objects.push(geom);
+        infos.push(EntityInfo {
+            entity: e.seq,
+            label: e.label.clone(),
+        });
     }
     Ok(IgesFile {
         objects,
         unit,
         scale,
         notices,
+        entities: infos,
     })
 }
 
@@ -1400,6 +1428,42 @@ mod tests {
         assert_eq!(back.objects, objs, "bit-exact round trip");
         assert!(back.notices.is_empty(), "{:?}", back.notices);
         assert_eq!(back.unit, Some(Unit::Millimeter));
+    }
+
+    #[test]
+    fn entity_numbers_and_labels_are_reported() {
+        let text = write(
+            &[sample_curve_2d().into(), sample_surface(false).into()],
+            &WriteOptions::default(),
+        );
+        assert_eq!(
+            read_all(text.as_bytes()).unwrap().entities,
+            vec![
+                EntityInfo {
+                    entity: 1,
+                    label: String::new()
+                },
+                EntityInfo {
+                    entity: 3,
+                    label: String::new()
+                }
+            ]
+        );
+        // label "HULL" (field 18) with subscript 2 (field 19) on the surface's second D record
+        let lines: Vec<String> = text
+            .lines()
+            .map(|l| {
+                if &l[72..] == "D      4" {
+                    format!("{}{:>8}{:>8}{}", &l[..56], "HULL", 2, &l[72..])
+                } else {
+                    l.to_string()
+                }
+            })
+            .collect();
+        let f = read_all(lines.join("\n").as_bytes()).unwrap();
+        assert_eq!(f.entities[0].label, "");
+        assert_eq!(f.entities[1].label, "HULL(2)");
+        assert_eq!(f.entities[1].entity, 3);
     }
 
     #[test]
