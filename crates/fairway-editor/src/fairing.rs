@@ -92,12 +92,41 @@ pub struct Fairing {
     pub dev_at: Option<f64>,
     measures_key: Option<RunKey>,
     before: Option<(SetupKey, Measures)>,
+    /// A panic caught in the engine since the app last looked (the app moves
+    /// it to its error line).
+    pub internal_error: Option<String>,
+    /// Test seam: the next engine call panics (inside the guard), to check
+    /// that a panic in the engine is reported and changes nothing.
+    #[doc(hidden)]
+    pub inject_panic: bool,
 }
 
 impl Fairing {
     /// Forget everything (no region).
     pub fn clear(&mut self) {
-        *self = Self::default();
+        let inject_panic = self.inject_panic;
+        *self = Self {
+            internal_error: self.internal_error.take(),
+            inject_panic,
+            ..Self::default()
+        };
+    }
+
+    /// Run an engine call `f` under [`fairway::guard::catch_panic`]: a panic
+    /// becomes `Err(message)`, also recorded in `internal_error`.
+    fn guarded<T>(&mut self, what: &str, f: impl FnOnce() -> T) -> Result<T, String> {
+        let inject = std::mem::take(&mut self.inject_panic);
+        fairway::guard::catch_panic(what, || {
+            if inject {
+                panic!("injected panic (test seam)");
+            }
+            Ok(f())
+        })
+        .map_err(|e| {
+            let msg = e.to_string();
+            self.internal_error = Some(msg.clone());
+            msg
+        })
     }
 
     /// The prepared setup (for target edits: clone its target).
@@ -140,11 +169,14 @@ impl Fairing {
                 integrator: opts.integrator,
                 ..FairingOptions::default()
             };
-            match FairingSetup::new_with_ends(curve, fo, opts.ends) {
+            let res = self
+                .guarded("fairing setup", || FairingSetup::new_with_ends(curve, fo, opts.ends))
+                .and_then(|r| r.map_err(|e| e.to_string()));
+            match res {
                 Ok(s) => self.setup = Some(s),
                 Err(e) => {
                     self.setup = None;
-                    self.preview = Some(Err(e.to_string()));
+                    self.preview = Some(Err(e));
                     return true;
                 }
             }
@@ -159,14 +191,32 @@ impl Fairing {
         if self.run_key.as_ref() != Some(&rk) {
             self.run_key = Some(rk.clone());
             changed = true;
-            let Some(setup) = self.setup.as_mut() else { return true };
-            self.target_mismatch = !prepare(setup, &rk);
-            self.preview = Some(run(setup, tolerance));
+            let Some(mut setup) = self.setup.take() else {
+                return true;
+            };
+            let res = self.guarded("fairing", || {
+                let mismatch = !prepare(&mut setup, &rk);
+                run(&mut setup, tolerance).map(|p| (p, mismatch))
+            });
+            match res {
+                Ok(Ok((p, mismatch))) => {
+                    self.target_mismatch = mismatch;
+                    self.preview = Some(Ok(p));
+                    self.setup = Some(setup);
+                }
+                Ok(Err(e)) => {
+                    self.preview = Some(Err(e));
+                    self.setup = Some(setup);
+                }
+                // a panic may have left the setup half-updated: drop it (a new
+                // region or curve builds a fresh one)
+                Err(e) => self.preview = Some(Err(e)),
+            }
         }
         if want_trio && self.trio_key.as_ref() != Some(&rk) {
-            if let Some(setup) = self.setup.as_ref() {
-                let mut s = setup.clone();
-                let trio = [tolerance / 3.0, tolerance, tolerance * 3.0].map(|m| (m, run(&mut s, m)));
+            if let Some(mut s) = self.setup.clone() {
+                let trio = [tolerance / 3.0, tolerance, tolerance * 3.0]
+                    .map(|m| (m, self.guarded("fairing", || run(&mut s, m)).and_then(|r| r)));
                 self.trio = Some(trio);
                 self.trio_key = Some(rk);
                 changed = true;

@@ -12,6 +12,7 @@ pub mod curve3d;
 pub mod fair_ui;
 pub mod fairing;
 pub mod history;
+pub mod interchange;
 pub mod plot;
 pub mod sampled;
 pub mod suggest;
@@ -101,6 +102,16 @@ pub enum Command {
         /// Pinned sample indices.
         pinned: Vec<usize>,
     },
+    /// Write what the canvas shows as SVG.
+    ExportSvg(PathBuf),
+    /// Write the current view (canvas or 3D view) as PNG (a screenshot, taken a frame later).
+    ExportPng(PathBuf),
+    /// Open object `k` of the IGES file in the picker.
+    OpenIgesObject(usize),
+    /// Load the autosave found at start-up as an unsaved document.
+    RestoreAutosave,
+    /// Delete the autosave found at start-up.
+    DiscardAutosave,
 }
 
 /// An action waiting for the user to confirm discarding unsaved work.
@@ -142,8 +153,9 @@ pub struct App {
     pub doc: Document,
     /// Where the document lives on disk.
     pub path: Option<PathBuf>,
-    /// The document as last saved or opened (for the unsaved marker).
-    saved: Document,
+    /// The document as last saved or opened (for the unsaved marker);
+    /// `None`: never saved (a restored autosave).
+    saved: Option<Document>,
     /// Undo history.
     pub history: History,
     /// Persisted settings.
@@ -191,6 +203,18 @@ pub struct App {
     pub surface: Option<Box<surface_ui::SurfaceEditor>>,
     /// The curve's 3D view (3D comb, extrusion isophotes).
     pub curve3d: curve3d::Curve3dState,
+    /// Periodic autosave (`None`: off, as in tests that do not ask for it).
+    pub autosave: Option<fairway::io::autosave::Autosave>,
+    /// This session wrote the autosave that is on disk.
+    autosaved: bool,
+    /// An autosave found at start-up, waiting for Restore / Discard.
+    pub recovery: Option<fairway::io::autosave::Recovery>,
+    /// An IGES file with several objects, waiting for the user's choice.
+    pub iges_pick: Option<interchange::IgesPick>,
+    /// A PNG export in progress (waiting for the screenshot).
+    pub png_export: Option<interchange::PngExport>,
+    /// The central panel (canvas or 3D view) of the last frame, in points.
+    pub view_rect: egui::Rect,
 }
 
 impl Default for App {
@@ -210,7 +234,7 @@ impl App {
         };
         Self {
             view: CurveView::new(&curve),
-            saved: doc.clone(),
+            saved: Some(doc.clone()),
             doc,
             path: path.clone(),
             history: History::default(),
@@ -237,6 +261,12 @@ impl App {
             suggest: Default::default(),
             surface: None,
             curve3d: Default::default(),
+            autosave: None,
+            autosaved: false,
+            recovery: None,
+            iges_pick: None,
+            png_export: None,
+            view_rect: egui::Rect::NOTHING,
         }
     }
 
@@ -256,7 +286,7 @@ impl App {
     /// The editor for eframe: settings restored from storage, `path` opened.
     pub fn new(cc: &eframe::CreationContext<'_>, path: Option<&Path>) -> Self {
         view3d::install(cc);
-        let mut app = Self::open_or_demo(path);
+        let mut app = Self::open_or_demo(path).with_default_autosave();
         if let Some(storage) = cc.storage {
             app.load_view3d_prefs(storage);
         }
@@ -279,7 +309,7 @@ impl App {
 
     /// Whether the document differs from the saved file.
     pub fn is_dirty(&self) -> bool {
-        self.doc != self.saved || self.surface.as_ref().is_some_and(|s| s.is_dirty())
+        self.saved.as_ref() != Some(&self.doc) || self.surface.as_ref().is_some_and(|s| s.is_dirty())
     }
 
     /// The tolerance in effect (document value or a default from the size).
@@ -300,25 +330,64 @@ impl App {
     /// Load `path` now, replacing the document (no unsaved check). Errors go
     /// to [`App::error`] and leave the open document untouched.
     pub fn open_now(&mut self, path: &Path) {
-        if self.try_open_surface(path) {
+        if interchange::is_iges(path) {
+            self.open_iges(path);
             return;
         }
-        match load_curve_doc(path) {
+        match fairway::io::load(path) {
             Ok(doc) => {
-                let curve = doc_curve(&doc).unwrap().clone();
-                self.view = CurveView::new(&curve);
-                self.curve_rev += 1;
-                self.saved = doc.clone();
-                self.doc = doc;
-                self.path = Some(path.to_path_buf());
-                self.path_input = path.display().to_string();
-                self.history.clear();
-                self.canvas.needs_fit = true;
-                self.error = None;
-                self.status = format!("Opened {}", path.display());
+                self.set_document(doc.clone(), Some(path.to_path_buf()), Some(doc));
+                self.report_status(format!("Opened {}", path.display()));
                 self.push_recent(path.to_path_buf());
             }
-            Err(e) => self.error = Some(format!("Could not open {}: {e}", path.display())),
+            Err(e) => self.report_error(format!("Could not open {}: {e}", path.display())),
+        }
+    }
+
+    /// Replace the open document by `doc` (a curve goes to the curve editor,
+    /// a surface to the surface workspace); `saved` is its state on disk
+    /// (`None`: never saved, so it shows as unsaved).
+    pub fn set_document(&mut self, doc: Document, path: Option<PathBuf>, saved: Option<Document>) {
+        if doc_curve(&doc).is_none() {
+            match surface_ui::SurfaceEditor::new(doc, path) {
+                Ok(mut s) => {
+                    s.set_saved(saved);
+                    s.set_shading(self.curve3d.surface_shading);
+                    self.surface = Some(Box::new(s));
+                    // the curve editor's document is hidden while a surface is open
+                    self.saved = Some(self.doc.clone());
+                }
+                Err(e) => self.report_error(format!("Could not open the surface: {e}")),
+            }
+            return;
+        }
+        self.surface = None;
+        let curve = doc_curve(&doc).unwrap().clone();
+        self.view = CurveView::new(&curve);
+        self.curve_rev += 1;
+        self.saved = saved;
+        self.doc = doc;
+        self.path_input = path.as_ref().map(|p| p.display().to_string()).unwrap_or_default();
+        self.path = path;
+        self.history.clear();
+        self.canvas.needs_fit = true;
+        self.error = None;
+    }
+
+    /// Show an error where the user looks: the surface workspace's status
+    /// bar when a surface is open, else the curve editor's.
+    pub fn report_error(&mut self, msg: String) {
+        match self.surface.as_mut() {
+            Some(s) => s.error = Some(msg),
+            None => self.error = Some(msg),
+        }
+    }
+
+    /// Show a status message (see [`App::report_error`]).
+    pub fn report_status(&mut self, msg: String) {
+        match self.surface.as_mut() {
+            Some(s) => s.status = msg,
+            None => self.status = msg,
         }
     }
 
@@ -332,7 +401,7 @@ impl App {
     fn save_now(&mut self, path: &Path) {
         match fairway::io::save(path, &self.doc) {
             Ok(()) => {
-                self.saved = self.doc.clone();
+                self.saved = Some(self.doc.clone());
                 self.path = Some(path.to_path_buf());
                 self.path_input = path.display().to_string();
                 self.status = format!("Saved {}", path.display());
@@ -363,8 +432,29 @@ impl App {
         }
     }
 
-    /// A native file dialog, or `None` with a message when none can run.
+    /// A native file dialog for documents, or `None` with a message when none can run.
     fn pick_file(&mut self, save: bool) -> Option<PathBuf> {
+        let default_name = self
+            .path
+            .as_ref()
+            .and_then(|p| p.file_name())
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "curve.ron".into());
+        let filter: &[&str] = if save {
+            &["ron", "fairway", "json", "igs", "iges"]
+        } else {
+            &["ron", "fairway", "json", "igs", "iges", "csv", "txt", "xyz"]
+        };
+        self.pick_path(
+            save.then_some(default_name.as_str()),
+            "Fairway document or geometry",
+            filter,
+        )
+    }
+
+    /// A native file dialog: a save dialog proposing `save_name`, or an open
+    /// dialog when `None`; `None` with a message when no dialog can run.
+    fn pick_path(&mut self, save_name: Option<&str>, what: &str, extensions: &[&str]) -> Option<PathBuf> {
         if !dialog_available() {
             self.error = Some(
                 "No file dialog is available here (no desktop portal on the session bus). \
@@ -374,20 +464,13 @@ impl App {
             );
             return None;
         }
-        let mut d = rfd::FileDialog::new().add_filter("Fairway document or geometry", &["ron", "fairway", "json"]);
+        let mut d = rfd::FileDialog::new().add_filter(what, extensions);
         if let Some(dir) = self.path.as_ref().and_then(|p| p.parent()) {
             d = d.set_directory(dir);
         }
-        if save {
-            let name = self
-                .path
-                .as_ref()
-                .and_then(|p| p.file_name())
-                .map(|n| n.to_string_lossy().into_owned())
-                .unwrap_or_else(|| "curve.ron".into());
-            d.set_file_name(name).save_file()
-        } else {
-            d.pick_file()
+        match save_name {
+            Some(name) => d.set_file_name(name).save_file(),
+            None => d.pick_file(),
         }
     }
 
@@ -449,6 +532,11 @@ impl App {
                     self.doc.settings.pinned = pinned;
                 }
             }
+            Command::ExportSvg(p) => self.export_svg(&p),
+            Command::ExportPng(p) => self.start_png_export(p),
+            Command::OpenIgesObject(k) => self.open_iges_object(k),
+            Command::RestoreAutosave => self.restore_autosave(),
+            Command::DiscardAutosave => self.discard_autosave(),
         }
     }
 
@@ -463,7 +551,11 @@ impl App {
 
     /// Draw the whole editor into `ui` and apply the frame's commands.
     pub fn show(&mut self, ui: &mut egui::Ui) {
+        self.recovery_ui(ui);
+        self.iges_picker_ui(ui);
         if self.surface_show(ui) {
+            self.apply_commands();
+            self.after_frame(ui);
             return;
         }
         self.next_hover_s = None;
@@ -481,18 +573,24 @@ impl App {
             .resizable(true)
             .default_size(210.0)
             .show(ui, |ui| self.plot_ui(ui));
-        egui::CentralPanel::default().show(ui, |ui| {
-            if self.curve3d.enabled {
-                self.curve3d_ui(ui)
-            } else {
-                self.canvas_ui(ui)
-            }
-        });
+        self.view_rect = egui::CentralPanel::default()
+            .show(ui, |ui| {
+                if self.curve3d.enabled {
+                    self.curve3d_ui(ui)
+                } else {
+                    self.canvas_ui(ui)
+                }
+            })
+            .response
+            .rect;
         self.trio_ui(&ui.ctx().clone());
         self.confirm_ui(ui);
         self.apply_commands();
         if self.update_fairing() {
             ui.ctx().request_repaint();
+        }
+        if let Some(e) = self.fairing.internal_error.take() {
+            self.error = Some(e);
         }
         if !ui.input(|i| i.pointer.any_down()) {
             self.history.end_gesture();
@@ -506,6 +604,7 @@ impl App {
             ui.ctx().send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
             self.last_title = title;
         }
+        self.after_frame(ui);
     }
 
     /// Bring the fairing preview up to date with the document; true if it
@@ -594,7 +693,9 @@ impl App {
             ui.menu_button("File", |ui| {
                 if ui
                     .button("Open…")
-                    .on_hover_text("Open a .ron document or .json curve (Ctrl+O)")
+                    .on_hover_text(
+                        "Open a .ron document, a .json curve or surface, an IGES file or a point list (Ctrl+O)",
+                    )
                     .clicked()
                 {
                     self.request(Pending::OpenDialog);
@@ -612,6 +713,8 @@ impl App {
                     self.save_as();
                     ui.close();
                 }
+                ui.separator();
+                self.export_menu_ui(ui);
                 ui.separator();
                 ui.label("Path:");
                 ui.add(
@@ -639,6 +742,7 @@ impl App {
                         ui.close();
                     }
                 });
+                self.export_path_ui(ui);
                 ui.separator();
                 ui.menu_button("Recent", |ui| {
                     if self.prefs.recent.is_empty() {
@@ -912,6 +1016,11 @@ impl eframe::App for App {
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
         eframe::set_value(storage, "prefs", &self.prefs);
         eframe::set_value(storage, view3d::View3dPrefs::KEY, &self.view3d_prefs());
+    }
+
+    /// A clean exit (unsaved work was confirmed lost) removes the autosave.
+    fn on_exit(&mut self) {
+        self.clear_autosave();
     }
 }
 

@@ -93,7 +93,8 @@ fn main() -> eframe::Result {
                 app = fairway_editor::App::with_document(
                     fairway::io::Document::new(fairway::Geometry::Curve(fairway_editor::demo_curve_n(n[0]))),
                     None,
-                );
+                )
+                .with_default_autosave();
                 app.prefs = prefs;
             }
             if let Some(r) = region {

@@ -99,7 +99,7 @@ pub struct SurfaceEditor {
     pub doc: Document,
     /// Where it lives on disk.
     pub path: Option<PathBuf>,
-    saved: Document,
+    saved: Option<Document>,
     /// Undo history.
     pub history: History,
     /// Bumped when the surface changes.
@@ -126,7 +126,8 @@ pub struct SurfaceEditor {
     pub status: String,
     /// Path field.
     pub path_input: String,
-    /// A curve file the user opened: the app switches back to the curve editor.
+    /// A file for the app to open: a curve (the app switches back to the
+    /// curve editor) or an IGES file (which may need the object picker).
     pub open_curve: Option<PathBuf>,
     commands: Vec<SurfCommand>,
     uv_drag: Option<DVec2>,
@@ -164,7 +165,7 @@ impl SurfaceEditor {
         let mut view = View3d::default();
         view.set_bbox(bbox_of(&mesh), true);
         Ok(Self {
-            saved: doc.clone(),
+            saved: Some(doc.clone()),
             path_input: path.as_ref().map(|p| p.display().to_string()).unwrap_or_default(),
             path,
             doc,
@@ -231,7 +232,12 @@ impl SurfaceEditor {
 
     /// Whether the document differs from the saved file.
     pub fn is_dirty(&self) -> bool {
-        self.doc != self.saved
+        self.saved.as_ref() != Some(&self.doc)
+    }
+
+    /// Set the document's state on disk (`None`: never saved, shows as unsaved).
+    pub fn set_saved(&mut self, saved: Option<Document>) {
+        self.saved = saved;
     }
 
     /// Queue a command.
@@ -290,7 +296,7 @@ impl SurfaceEditor {
             SurfCommand::Open(p) => self.open_now(&p),
             SurfCommand::SaveTo(p) => match fairway::io::save(&p, &self.doc) {
                 Ok(()) => {
-                    self.saved = self.doc.clone();
+                    self.saved = Some(self.doc.clone());
                     self.path_input = p.display().to_string();
                     self.status = format!("Saved {}", p.display());
                     self.path = Some(p);
@@ -309,6 +315,10 @@ impl SurfaceEditor {
     }
 
     fn open_now(&mut self, p: &Path) {
+        if crate::interchange::is_iges(p) {
+            self.open_curve = Some(p.to_path_buf());
+            return;
+        }
         match fairway::io::load(p) {
             Ok(doc) if surface_of(&doc).is_some() => match Self::new(doc, Some(p.to_path_buf())) {
                 Ok(mut s) => {
@@ -351,7 +361,8 @@ impl SurfaceEditor {
                 ..Default::default()
             };
             let t0 = Instant::now();
-            let res = fair_surface(self.surface(), opts);
+            // a panic in the engine becomes an error message; the document is untouched
+            let res = fairway::guard::catch_panic("surface fairing", || fair_surface(self.surface(), opts));
             let fair_ms = t0.elapsed().as_secs_f64() * 1e3;
             match res.and_then(|r| {
                 let n = self.shading.density;
@@ -1009,25 +1020,6 @@ pub fn bbox_of(mesh: &SurfaceMesh) -> (DVec3, DVec3) {
 }
 
 impl crate::App {
-    /// If `path` holds a surface, open it in the surface workspace (true);
-    /// otherwise leave it to the curve editor (false).
-    pub(crate) fn try_open_surface(&mut self, path: &Path) -> bool {
-        let Ok(doc) = fairway::io::load(path) else { return false };
-        if surface_of(&doc).is_none() {
-            return false;
-        }
-        match SurfaceEditor::new(doc, Some(path.to_path_buf())) {
-            Ok(mut s) => {
-                s.set_shading(self.curve3d.surface_shading);
-                s.status = format!("Opened {}", path.display());
-                self.surface = Some(Box::new(s));
-                self.push_recent(path.to_path_buf());
-            }
-            Err(e) => self.error = Some(format!("Could not open {}: {e}", path.display())),
-        }
-        true
-    }
-
     /// Show the surface workspace if one is open (true), switching back to
     /// the curve editor when the user opened a curve from it.
     pub(crate) fn surface_show(&mut self, ui: &mut egui::Ui) -> bool {
@@ -1036,7 +1028,6 @@ impl crate::App {
         // remembered for the next surface and for eframe storage
         self.curve3d.surface_shading = s.shading;
         if let Some(p) = s.open_curve.take() {
-            self.surface = None;
             self.open_now(&p);
         }
         true

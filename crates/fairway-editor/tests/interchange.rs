@@ -1,0 +1,416 @@
+//! Interchange and hardening in the editor (issue 8), driven through the
+//! real UI with egui_kittest where the UI is the point: autosave and the
+//! "Restore unsaved work?" prompt, failed saves, SVG / PNG export, the IGES
+//! object picker, and panics in the fairing engine. Each test uses its own
+//! temporary folder (also as the autosave folder), never the user's.
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use eframe::egui;
+use egui::Role;
+use egui_kittest::Harness;
+use egui_kittest::kittest::{NodeT, Queryable};
+use fairway::io::Document;
+use fairway::io::autosave::Autosave;
+use fairway::{BSplineCurve, BSplineSurface, DVec3, Geometry};
+use fairway_editor::{App, Command};
+
+fn harness(app: App) -> Harness<'static, App> {
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1400.0, 900.0))
+        .build_ui_state(|ui, app: &mut App| app.show(ui), app);
+    h.run();
+    h
+}
+
+/// A fresh, empty temporary folder for one test.
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("fairway-editor-interchange-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Type `text` into the File menu's path field (menu left open).
+fn type_path(h: &mut Harness<'static, App>, text: &str) {
+    h.state_mut().path_input.clear();
+    h.get_by_role_and_label(Role::Button, "File").click();
+    h.run();
+    let field = h.get_by_role(Role::TextInput);
+    field.focus();
+    field.type_text(text);
+    h.run();
+}
+
+/// Type a path in the File menu and press the button `button` next to it.
+fn path_action(h: &mut Harness<'static, App>, path: &Path, button: &str) {
+    type_path(h, &path.display().to_string());
+    h.get_by_role_and_label(Role::Button, button).click();
+    h.run();
+}
+
+fn autosave_file(dir: &Path) -> PathBuf {
+    dir.join("autosave.ron")
+}
+
+fn curve(doc: &Document) -> &BSplineCurve {
+    match &doc.geometry {
+        Geometry::Curve(c) => c,
+        Geometry::Surface(_) => panic!("a surface"),
+    }
+}
+
+#[test]
+fn dirty_document_is_autosaved_and_restored_exactly_after_a_crash() {
+    let dir = temp_dir("restore");
+    let mut h = harness(App::default().with_autosave(&dir));
+    assert!(h.state().recovery.is_none());
+    h.run();
+    assert!(!autosave_file(&dir).exists(), "a clean document is not autosaved");
+    h.get_by_role_and_label(Role::Button, "Whole curve").click();
+    h.run();
+    assert!(h.state().is_dirty());
+    let first = std::fs::read_to_string(autosave_file(&dir)).expect("autosaved as soon as dirty");
+    // periodic: a later change is written only once the interval has passed
+    h.state_mut().push(Command::SetTolerance(0.0123));
+    h.run();
+    assert_eq!(std::fs::read_to_string(autosave_file(&dir)).unwrap(), first);
+    h.state_mut()
+        .autosave_tick(Instant::now() + fairway_editor::interchange::AUTOSAVE_INTERVAL + Duration::from_secs(1));
+    let second = std::fs::read_to_string(autosave_file(&dir)).unwrap();
+    assert_ne!(second, first);
+    let expected = h.state().doc.clone();
+    assert_eq!(expected.settings.tolerance, Some(0.0123));
+    drop(h); // a crash: nothing is cleared
+
+    // next start: the prompt, then Restore gives the same document, unsaved
+    let mut h = harness(App::default().with_autosave(&dir));
+    assert!(h.state().recovery.is_some());
+    h.get_by_label("Restore unsaved work?");
+    assert_ne!(h.state().doc, expected, "nothing restored before the user chooses");
+    h.get_by_role_and_label(Role::Button, "Restore").click();
+    h.run();
+    assert!(h.state().recovery.is_none());
+    assert_eq!(h.state().doc, expected);
+    let (a, b) = (curve(&h.state().doc), curve(&expected));
+    assert_eq!(a.points(), b.points(), "control points bit for bit");
+    assert_eq!(a.knots(), b.knots());
+    assert!(h.state().is_dirty());
+    assert!(h.state().title().starts_with("* "), "{}", h.state().title());
+    assert!(autosave_file(&dir).exists());
+
+    // a clean save removes the autosave
+    let saved = dir.join("restored.ron");
+    path_action(&mut h, &saved, "Save to path");
+    assert!(!h.state().is_dirty(), "{:?}", h.state().error);
+    assert_eq!(fairway::io::load(&saved).unwrap(), expected);
+    assert!(!autosave_file(&dir).exists(), "autosave left after a clean save");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn discard_removes_the_autosave_and_keeps_the_start_document() {
+    let dir = temp_dir("discard");
+    let mut crashed = Document::new(Geometry::Curve(fairway_editor::demo_curve_n(12)));
+    crashed.settings.tolerance = Some(0.5);
+    Autosave::new(&dir, Duration::from_secs(30))
+        .write(&crashed, None)
+        .unwrap();
+    let mut h = harness(App::default().with_autosave(&dir));
+    h.get_by_label("Restore unsaved work?");
+    h.get_by_role_and_label(Role::Button, "Discard").click();
+    h.run();
+    assert!(h.state().recovery.is_none());
+    assert!(!autosave_file(&dir).exists());
+    assert!(!dir.join("autosave.meta").exists());
+    assert_eq!(h.state().doc, App::default().doc);
+    assert!(!h.state().is_dirty());
+    // and a later start has nothing to offer
+    assert!(App::default().with_autosave(&dir).recovery.is_none());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn clean_exit_and_returning_to_the_saved_state_remove_the_autosave() {
+    let dir = temp_dir("exit");
+    let mut app = App::default().with_autosave(&dir);
+    app.apply(Command::SetTolerance(0.02));
+    app.autosave_tick(Instant::now());
+    assert!(autosave_file(&dir).exists());
+    // undo back to the saved state: clean again, the autosave goes
+    app.apply(Command::Undo);
+    assert!(!app.is_dirty());
+    app.autosave_tick(Instant::now());
+    assert!(!autosave_file(&dir).exists());
+    // dirty again, then a clean exit (the user confirmed losing the work)
+    app.apply(Command::SetTolerance(0.03));
+    app.autosave_tick(Instant::now() + Duration::from_secs(60));
+    assert!(autosave_file(&dir).exists());
+    eframe::App::on_exit(&mut app);
+    assert!(!autosave_file(&dir).exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn failed_saves_report_the_error_keep_the_document_dirty_and_the_file_untouched() {
+    let dir = temp_dir("failsave");
+    let mut h = harness(App::default());
+    h.get_by_role_and_label(Role::Button, "Whole curve").click();
+    h.run();
+    let edited = h.state().doc.clone();
+    let keep = dir.join("keep.csv");
+    std::fs::write(&keep, "0 0\n1 1\n2 0\n3 1\n").unwrap();
+    let as_dir = dir.join("folder.ron");
+    std::fs::create_dir(&as_dir).unwrap();
+    for target in [dir.join("no/such/folder/a.ron"), as_dir.clone(), keep.clone()] {
+        h.state_mut().error = None;
+        path_action(&mut h, &target, "Save to path");
+        let err = h.state().error.clone().unwrap_or_default();
+        assert!(err.starts_with("Could not save"), "{target:?}: {err:?}");
+        h.get_by_label_contains("Error: Could not save");
+        assert!(h.state().is_dirty(), "{target:?}");
+        assert!(h.state().title().starts_with("* "), "{}", h.state().title());
+        assert_eq!(h.state().doc, edited);
+        assert_eq!(h.state().path, None);
+    }
+    assert_eq!(std::fs::read_to_string(&keep).unwrap(), "0 0\n1 1\n2 0\n3 1\n");
+    assert!(as_dir.is_dir() && std::fs::read_dir(&as_dir).unwrap().next().is_none());
+    assert!(!dir.join("no").exists());
+    // no temporary files left behind by the atomic writer
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names.len(), 2, "{names:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn svg_export_holds_what_the_canvas_shows() {
+    let dir = temp_dir("svg");
+    let mut h = harness(App::default());
+    h.get_by_role_and_label(Role::Button, "Whole curve").click();
+    h.run();
+    assert!(h.state().preview().is_some());
+    let out = dir.join("canvas.svg");
+    path_action(&mut h, &out, "Export SVG to path");
+    let svg = std::fs::read_to_string(&out).unwrap_or_else(|e| panic!("{e}: {:?}", h.state().error));
+    assert!(
+        svg.starts_with("<svg xmlns=\"http://www.w3.org/2000/svg\""),
+        "{}",
+        &svg[..80]
+    );
+    assert!(svg.trim_end().ends_with("</svg>"));
+    assert_eq!(
+        svg.matches("<g ").count(),
+        svg.matches("</g>").count(),
+        "unbalanced groups"
+    );
+    for id in ["curve", "comb", "band", "faired", "control-polygon"] {
+        assert!(svg.contains(&format!("id=\"{id}\"")), "missing {id}");
+    }
+    // the drawing follows the canvas: no comb or polygon when hidden, no
+    // band or faired curve without a region
+    h.state_mut().prefs.show_comb = false;
+    h.state_mut().prefs.show_polygon = false;
+    h.get_by_role_and_label(Role::Button, "Clear").click();
+    h.run();
+    path_action(&mut h, &out, "Export SVG to path");
+    let svg = std::fs::read_to_string(&out).unwrap();
+    assert!(svg.contains("id=\"curve\""));
+    for id in ["comb", "band", "faired", "control-polygon"] {
+        assert!(!svg.contains(&format!("id=\"{id}\"")), "unexpected {id}");
+    }
+    assert!(h.state().status.starts_with("Exported"), "{}", h.state().status);
+    // a path that is not .svg is refused (never overwrite a document by mistake)
+    let doc_path = dir.join("doc.ron");
+    std::fs::write(&doc_path, "precious").unwrap();
+    path_action(&mut h, &doc_path, "Export SVG to path");
+    assert!(h.state().error.as_deref().unwrap_or("").contains(".svg"));
+    assert_eq!(std::fs::read_to_string(&doc_path).unwrap(), "precious");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn png_export_writes_the_view_as_an_image() {
+    let dir = temp_dir("png");
+    let mut h = harness(App::default());
+    let out = dir.join("view.png");
+    path_action(&mut h, &out, "Export PNG to path");
+    for _ in 0..5 {
+        if out.exists() {
+            break;
+        }
+        h.run();
+    }
+    assert!(h.state().png_export.is_none(), "export still pending");
+    let img = image::open(&out)
+        .unwrap_or_else(|e| panic!("{e}: {:?}", h.state().error))
+        .to_rgba8();
+    let r = h.state().view_rect;
+    assert!(
+        (img.width() as f32 - r.width()).abs() <= 1.0 && (img.height() as f32 - r.height()).abs() <= 1.0,
+        "{}x{} vs view {r:?}",
+        img.width(),
+        img.height()
+    );
+    // the canvas background (gray 24) dominates, and the curve and comb are drawn on it
+    let bg = img.pixels().filter(|p| p.0 == [24, 24, 24, 255]).count();
+    let total = (img.width() * img.height()) as usize;
+    assert!(bg > total / 2, "{bg} of {total} background pixels");
+    let colours: std::collections::HashSet<[u8; 4]> = img.pixels().map(|p| p.0).collect();
+    assert!(colours.len() > 20, "only {} colours", colours.len());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn test_surface() -> BSplineSurface {
+    let (nu, nv) = (4, 3);
+    let pts: Vec<DVec3> = (0..nu)
+        .flat_map(|i| (0..nv).map(move |j| DVec3::new(i as f64, j as f64, 0.1 * (i * j) as f64)))
+        .collect();
+    BSplineSurface::try_new(
+        3,
+        2,
+        vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0],
+        vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+        nu,
+        nv,
+        pts,
+        None,
+    )
+    .unwrap()
+}
+
+fn test_curve_3d() -> BSplineCurve {
+    BSplineCurve::try_new(
+        2,
+        vec![0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0],
+        vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 2.0, 0.5),
+            DVec3::new(2.0, -1.0, 1.0),
+            DVec3::new(3.0, 0.0, 0.25),
+        ],
+        Some(vec![1.0, 0.8, 1.2, 1.0]),
+        3,
+    )
+    .unwrap()
+}
+
+#[test]
+fn iges_with_several_objects_opens_a_picker_and_one_object_opens_directly() {
+    let dir = temp_dir("iges");
+    let c2 = fairway_editor::demo_curve_n(9);
+    let objects: Vec<Geometry> = vec![c2.clone().into(), test_surface().into(), test_curve_3d().into()];
+    let text = fairway::io::iges::write(&objects, &Default::default());
+    // label the surface (directory field 18 of its second D record) as another CAD system would
+    let text: String = text
+        .lines()
+        .map(|l| {
+            if &l[72..] == "D      4" {
+                format!("{}{:>8}{:>8}{}\n", &l[..56], "HULL", 0, &l[72..])
+            } else {
+                format!("{l}\n")
+            }
+        })
+        .collect();
+    let multi = dir.join("multi.igs");
+    std::fs::write(&multi, text).unwrap();
+
+    let mut h = harness(App::default());
+    let before = h.state().doc.clone();
+    path_action(&mut h, &multi, "Open path");
+    assert!(h.state().iges_pick.is_some(), "{:?}", h.state().error);
+    assert_eq!(h.state().doc, before, "nothing opened before the choice");
+    h.get_by_label("Choose an object");
+    h.get_by_label_contains("curve 2D, degree 3, 9 control points");
+    h.get_by_label_contains("surface, degree 3x2, 4x3 control points, entity 3, label HULL");
+    h.get_by_label_contains("curve 3D, degree 2, 4 control points, rational");
+    h.get_by_role_and_label(Role::Button, "Open object 3").click();
+    h.run();
+    assert!(h.state().iges_pick.is_none());
+    assert!(h.state().surface.is_none());
+    assert_eq!(h.state().doc.geometry, objects[2], "exact");
+    assert_eq!(
+        h.state().path,
+        None,
+        "untitled: saving must not overwrite the IGES file"
+    );
+    assert!(!h.state().is_dirty());
+
+    // again, choosing the surface opens the surface workspace
+    path_action(&mut h, &multi, "Open path");
+    h.get_by_role_and_label(Role::Button, "Open object 2").click();
+    h.run();
+    let s = h.state().surface.as_ref().expect("surface workspace");
+    assert_eq!(s.doc.geometry, objects[1]);
+    assert!(!h.state().is_dirty());
+
+    // cancel keeps what is open
+    h.state_mut().surface = None;
+    path_action(&mut h, &multi, "Open path");
+    h.get_by_role_and_label(Role::Button, "Cancel import").click();
+    h.run();
+    assert!(h.state().iges_pick.is_none());
+    assert_eq!(h.state().doc.geometry, objects[2]);
+
+    // a file with one object opens directly, keeping its path
+    let single = dir.join("single.iges");
+    std::fs::write(&single, fairway::io::iges::write(&objects[..1], &Default::default())).unwrap();
+    path_action(&mut h, &single, "Open path");
+    assert!(h.state().iges_pick.is_none());
+    assert_eq!(h.state().doc.geometry, objects[0]);
+    assert_eq!(h.state().path.as_deref(), Some(single.as_path()));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_panic_in_the_fairing_engine_is_reported_and_changes_nothing() {
+    let mut h = harness(App::default());
+    let geometry = h.state().doc.geometry.clone();
+    // panic while preparing the fairing of a new region
+    h.state_mut().fairing.inject_panic = true;
+    h.get_by_role_and_label(Role::Button, "Whole curve").click();
+    h.run();
+    let err = h.state().error.clone().expect("reported");
+    assert!(
+        err.starts_with("internal error in fairing setup: injected panic") && err.ends_with("(nothing was changed)"),
+        "{err}"
+    );
+    // shown on the status line and in the fairing panel
+    assert_eq!(
+        h.query_all_by_label_contains("Error: internal error in fairing setup")
+            .count(),
+        2
+    );
+    assert!(h.state().preview().is_none());
+    assert!(
+        h.get_by_role_and_label(Role::Button, "Accept")
+            .accesskit_node()
+            .is_disabled()
+    );
+    assert_eq!(h.state().doc.geometry, geometry);
+    // the editor goes on: a new region fairs normally
+    h.state_mut().error = None;
+    h.get_by_role_and_label(Role::Button, "Clear").click();
+    h.run();
+    h.get_by_role_and_label(Role::Button, "Whole curve").click();
+    h.run();
+    assert!(h.state().preview().is_some());
+    assert!(h.state().error.is_none());
+    // panic while re-fairing at a new tolerance
+    h.state_mut().fairing.inject_panic = true;
+    let tol = h.state().tolerance() * 2.0;
+    h.state_mut().push(Command::SetTolerance(tol));
+    h.run();
+    let err = h.state().error.clone().expect("reported");
+    assert!(err.starts_with("internal error in fairing: injected panic"), "{err}");
+    assert!(h.state().preview().is_none());
+    assert!(
+        h.get_by_role_and_label(Role::Button, "Accept")
+            .accesskit_node()
+            .is_disabled()
+    );
+    assert_eq!(h.state().doc.geometry, geometry);
+}
