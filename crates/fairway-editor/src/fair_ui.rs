@@ -156,10 +156,11 @@ impl App {
             .fair
             .strength
             .unwrap_or(default_strength(self.prefs.fair.method, n));
+        let max_strength = (4 * n).max(2 * strength).max(10);
         let r = ui
             .add_enabled(
                 !hand_edited,
-                egui::Slider::new(&mut strength, 0..=(4 * n).max(10)).text("Strength"),
+                egui::Slider::new(&mut strength, 0..=max_strength).text("Strength"),
             )
             .on_hover_text("Automatic smoothing strength (passes); disabled while the target is hand-edited")
             .on_disabled_hover_text("The target is hand-edited: Reset to use automatic smoothing");

@@ -313,7 +313,13 @@ fn run(setup: &mut FairingSetup, tolerance: f64) -> Result<Preview, String> {
     })
 }
 
-/// The default smoothing strength for `n` samples (as the core's default).
+/// The default smoothing strength for `n` samples: the core's own default
+/// (20 for `Fit`, else [`fairway::fair::curve::default_passes`]), so the
+/// editor's automatic target is the CLI's.
 pub fn default_strength(method: TargetMethod, n: usize) -> usize {
-    if method == TargetMethod::Fit { 20 } else { n / 4 }
+    if method == TargetMethod::Fit {
+        20
+    } else {
+        fairway::fair::curve::default_passes(n)
+    }
 }
