@@ -16,13 +16,8 @@ use fairway::io::autosave::Autosave;
 use fairway::{BSplineCurve, BSplineSurface, DVec3, Geometry};
 use fairway_editor::{App, Command};
 
-fn harness(app: App) -> Harness<'static, App> {
-    let mut h = Harness::builder()
-        .with_size(egui::vec2(1400.0, 900.0))
-        .build_ui_state(|ui, app: &mut App| app.show(ui), app);
-    h.run();
-    h
-}
+mod common;
+use common::harness;
 
 /// A fresh, empty temporary folder for one test.
 fn temp_dir(name: &str) -> PathBuf {
@@ -413,4 +408,50 @@ fn a_panic_in_the_fairing_engine_is_reported_and_changes_nothing() {
             .is_disabled()
     );
     assert_eq!(h.state().doc.geometry, geometry);
+}
+
+#[test]
+fn a_surface_document_is_autosaved_and_restored_into_the_surface_workspace() {
+    let dir = temp_dir("surface");
+    let path = dir.join("patch.json");
+    let doc = Document::new(Geometry::Surface(test_surface()));
+    fairway::io::save(&path, &doc).unwrap();
+    let mut h = harness(App::default().with_autosave(&dir));
+    path_action(&mut h, &path, "Open path");
+    let s = h.state_mut().surface.as_mut().expect("surface workspace");
+    s.push(fairway_editor::surface_ui::SurfCommand::SetTolerance(0.25));
+    h.run();
+    assert!(h.state().surface.as_ref().unwrap().is_dirty());
+    let expected = h.state().surface.as_ref().unwrap().doc.clone();
+    assert!(autosave_file(&dir).exists());
+    drop(h);
+    let mut h = harness(App::default().with_autosave(&dir));
+    assert_eq!(
+        h.state().recovery.as_ref().and_then(|r| r.source.clone()),
+        Some(path.clone()),
+        "the autosave knows the file it belongs to"
+    );
+    h.get_by_role_and_label(Role::Button, "Restore").click();
+    h.run_steps(8); // the surface workspace lays out its views over a few frames
+    let s = h.state().surface.as_ref().expect("restored into the surface workspace");
+    assert_eq!(s.doc, expected);
+    assert_eq!(s.path.as_deref(), Some(path.as_path()));
+    assert!(s.is_dirty(), "differs from the file on disk");
+    assert!(h.state().is_dirty());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn an_unreadable_autosave_is_reported_not_offered_and_replaced_by_the_next_one() {
+    let dir = temp_dir("garbage");
+    std::fs::write(autosave_file(&dir), "this is not a document").unwrap();
+    let mut app = App::default().with_autosave(&dir);
+    assert!(app.recovery.is_none());
+    let err = app.error.clone().expect("reported");
+    assert!(err.contains("could not be read"), "{err}");
+    app.apply(Command::SetTolerance(0.02));
+    app.autosave_tick(Instant::now());
+    let text = std::fs::read_to_string(autosave_file(&dir)).unwrap();
+    assert_eq!(Document::from_ron(&text).unwrap(), app.doc);
+    let _ = std::fs::remove_dir_all(&dir);
 }
