@@ -156,11 +156,10 @@ impl App {
             .fair
             .strength
             .unwrap_or(default_strength(self.prefs.fair.method, n));
-        let max_strength = (4 * n).max(2 * strength).max(10);
         let r = ui
             .add_enabled(
                 !hand_edited,
-                egui::Slider::new(&mut strength, 0..=max_strength).text("Strength"),
+                egui::Slider::new(&mut strength, 0..=(4 * n).max(10)).text("Strength"),
             )
             .on_hover_text("Automatic smoothing strength (passes); disabled while the target is hand-edited")
             .on_disabled_hover_text("The target is hand-edited: Reset to use automatic smoothing");
@@ -211,11 +210,7 @@ impl App {
             ui.horizontal(|ui| {
                 ui.label("Target:");
                 for (m, name, tip) in [
-                    (
-                        TargetMethod::Heat,
-                        "Heat",
-                        "Heat flow of the averaging, implicit: fast at any strength",
-                    ),
+                    (TargetMethod::Heat, "Heat", "Heat flow of the averaging, implicit: fast at any strength"),
                     (TargetMethod::Average, "Average", "Neighbour averaging (the paper's)"),
                     (TargetMethod::Binomial, "Binomial", "(1,2,1)/4 kernel, damps zig-zag"),
                     (TargetMethod::Fit, "Fit", "Smoothing-spline fit of the curvature"),
