@@ -348,6 +348,8 @@ impl App {
     /// a surface to the surface workspace); `saved` is its state on disk
     /// (`None`: never saved, so it shows as unsaved).
     pub fn set_document(&mut self, doc: Document, path: Option<PathBuf>, saved: Option<Document>) {
+        // absolute, so an autosave's source still names the file after a restart elsewhere
+        let path = path.map(|p| std::path::absolute(&p).unwrap_or(p));
         if doc_curve(&doc).is_none() {
             match surface_ui::SurfaceEditor::new(doc, path) {
                 Ok(mut s) => {
@@ -402,7 +404,7 @@ impl App {
         match fairway::io::save(path, &self.doc) {
             Ok(()) => {
                 self.saved = Some(self.doc.clone());
-                self.path = Some(path.to_path_buf());
+                self.path = Some(std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf()));
                 self.path_input = path.display().to_string();
                 self.status = format!("Saved {}", path.display());
                 self.push_recent(path.to_path_buf());

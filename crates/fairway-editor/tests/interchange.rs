@@ -455,3 +455,21 @@ fn an_unreadable_autosave_is_reported_not_offered_and_replaced_by_the_next_one()
     assert_eq!(Document::from_ron(&text).unwrap(), app.doc);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn opened_files_are_remembered_by_absolute_path_for_the_autosave() {
+    let dir = temp_dir("relative");
+    // the test runs in the crate's folder: a relative path to the sample
+    let rel = Path::new("../../assets/car_roof.ron");
+    let mut app = App::default().with_autosave(&dir);
+    app.open_now(rel);
+    assert!(app.error.is_none(), "{:?}", app.error);
+    let p = app.path.clone().unwrap();
+    assert!(p.is_absolute() && p.ends_with("assets/car_roof.ron"), "{p:?}");
+    app.apply(Command::SetTolerance(0.01));
+    app.autosave_tick(Instant::now());
+    let r = fairway::io::autosave::pending(&dir).unwrap().unwrap();
+    assert_eq!(r.source.as_deref(), Some(p.as_path()));
+    assert_eq!(fairway::io::load(&p).unwrap(), fairway::io::load(rel).unwrap());
+    let _ = std::fs::remove_dir_all(&dir);
+}
