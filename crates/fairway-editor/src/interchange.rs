@@ -80,6 +80,17 @@ pub fn describe_object(g: &Geometry, info: Option<&EntityInfo>) -> String {
     s
 }
 
+/// Frames drawn before `--export-png` takes its screenshot (first layout, view fit, preview).
+const EXPORT_SETTLE_FRAMES: u32 = 5;
+
+/// State of `--export-png PATH` (export once laid out, then quit).
+#[derive(Debug, Clone)]
+pub struct ExportThenQuit {
+    path: PathBuf,
+    frames: u32,
+    started: bool,
+}
+
 /// A PNG export waiting for its screenshot.
 #[derive(Debug)]
 pub struct PngExport {
@@ -453,7 +464,53 @@ impl App {
     /// Work at the end of every frame: PNG export and autosave.
     pub(crate) fn after_frame(&mut self, ui: &egui::Ui) {
         self.poll_png_export(ui.ctx());
+        self.drive_export_then_quit(ui.ctx());
         self.autosave_tick(Instant::now());
+    }
+
+    /// `--export-png PATH`: write the view to `PATH` once the first frames are
+    /// laid out, then close (the curve's view is cropped to the canvas; the
+    /// surface workspace is written whole).
+    pub fn export_png_then_quit(&mut self, path: PathBuf) {
+        self.export_then_quit = Some(ExportThenQuit {
+            path,
+            frames: 0,
+            started: false,
+        });
+    }
+
+    fn drive_export_then_quit(&mut self, ctx: &egui::Context) {
+        let Some(x) = self.export_then_quit.as_mut() else {
+            return;
+        };
+        if !x.started {
+            x.frames += 1;
+            ctx.request_repaint();
+            if x.frames >= EXPORT_SETTLE_FRAMES {
+                x.started = true;
+                let p = x.path.clone();
+                self.start_png_export(p);
+            }
+        } else if self.png_export.is_none() {
+            self.export_then_quit = None;
+            let err = self
+                .error
+                .clone()
+                .or_else(|| self.surface.as_ref().and_then(|s| s.error.clone()));
+            match err {
+                Some(e) => eprintln!("fairway-editor: {e}"),
+                None => eprintln!("fairway-editor: {}", self.status_text()),
+            }
+            self.allow_close();
+            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+        }
+    }
+
+    fn status_text(&self) -> String {
+        match &self.surface {
+            Some(s) => s.status.clone(),
+            None => self.status.clone(),
+        }
     }
 
     fn export_name(&self, ext: &str) -> String {

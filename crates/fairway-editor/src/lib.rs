@@ -213,8 +213,10 @@ pub struct App {
     pub iges_pick: Option<interchange::IgesPick>,
     /// A PNG export in progress (waiting for the screenshot).
     pub png_export: Option<interchange::PngExport>,
-    /// The central panel (canvas or 3D view) of the last frame, in points.
+    /// The central panel's content area (canvas or 3D view) of the last frame, in points.
     pub view_rect: egui::Rect,
+    /// `--export-png`: export the view, then quit.
+    export_then_quit: Option<interchange::ExportThenQuit>,
 }
 
 impl Default for App {
@@ -267,6 +269,7 @@ impl App {
             iges_pick: None,
             png_export: None,
             view_rect: egui::Rect::NOTHING,
+            export_then_quit: None,
         }
     }
 
@@ -575,16 +578,14 @@ impl App {
             .resizable(true)
             .default_size(210.0)
             .show(ui, |ui| self.plot_ui(ui));
-        self.view_rect = egui::CentralPanel::default()
-            .show(ui, |ui| {
-                if self.curve3d.enabled {
-                    self.curve3d_ui(ui)
-                } else {
-                    self.canvas_ui(ui)
-                }
-            })
-            .response
-            .rect;
+        egui::CentralPanel::default().show(ui, |ui| {
+            self.view_rect = ui.max_rect();
+            if self.curve3d.enabled {
+                self.curve3d_ui(ui)
+            } else {
+                self.canvas_ui(ui)
+            }
+        });
         self.trio_ui(&ui.ctx().clone());
         self.confirm_ui(ui);
         self.apply_commands();
@@ -992,6 +993,11 @@ impl App {
         if close {
             self.confirm = None;
         }
+    }
+
+    /// Let the next close request through without asking about unsaved work.
+    fn allow_close(&mut self) {
+        self.allow_close = true;
     }
 
     /// Handle a window close request (ask when there is unsaved work).

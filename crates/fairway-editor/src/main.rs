@@ -16,7 +16,8 @@ const USAGE: &str = "usage: fairway-editor [FILE.ron|FILE.json] [--region U1 U2]
   --shade MODE       3D shading: shaded, isophotes, zebra, mean, gauss, kmax, kmin
   --side-by-side     surfaces: before and after side by side
   --view3d           curves: open the 3D view (--extrusion: extrusion isophotes)
-  --stripe DEG       isophote / zebra stripe width in degrees";
+  --stripe DEG       isophote / zebra stripe width in degrees
+  --export-png PATH  write the view as PNG once laid out, then quit (for reports and scripts)";
 
 fn default_sample() -> Option<PathBuf> {
     let rel = PathBuf::from("assets/car_roof.ron");
@@ -50,6 +51,7 @@ fn main() -> eframe::Result {
         let tolerance = take::<f64>(&mut args, "--tolerance", 1)?;
         let bench = take::<usize>(&mut args, "--bench-frames", 1)?;
         let demo = take::<usize>(&mut args, "--demo-points", 1)?;
+        let export_png = take::<PathBuf>(&mut args, "--export-png", 1)?.map(|mut v| v.remove(0));
         let v3 = View3dArgs {
             region_uv: take::<f64>(&mut args, "--region-uv", 4)?,
             shade: take::<fairway_editor::view3d::ShadeMode>(&mut args, "--shade", 1)?.map(|v| v[0]),
@@ -61,9 +63,9 @@ fn main() -> eframe::Result {
         if let Some(a) = args.iter().find(|a| a.starts_with("--")) {
             return Err(format!("unknown option {a}"));
         }
-        Ok((region, tolerance, bench, demo, v3))
+        Ok((region, tolerance, bench, demo, v3, export_png))
     })();
-    let (region, tolerance, bench, demo, v3) = match parsed {
+    let (region, tolerance, bench, demo, v3, export_png) = match parsed {
         Ok(v) => v,
         Err(e) => {
             eprintln!("fairway-editor: {e}\n{USAGE}");
@@ -105,6 +107,9 @@ fn main() -> eframe::Result {
             }
             v3.apply(&mut app, tolerance.as_ref().map(|t| t[0]));
             app.bench = bench.map(|f| fairway_editor::Bench::new(f[0]));
+            if let Some(p) = export_png.clone() {
+                app.export_png_then_quit(p);
+            }
             Ok(Box::new(app))
         }),
     )

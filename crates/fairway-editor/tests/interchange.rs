@@ -473,3 +473,28 @@ fn opened_files_are_remembered_by_absolute_path_for_the_autosave() {
     assert_eq!(fairway::io::load(&p).unwrap(), fairway::io::load(rel).unwrap());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn export_png_then_quit_writes_the_canvas_once_laid_out() {
+    // the command-line `--export-png PATH` (scripts, reports): no clicks needed
+    let dir = temp_dir("pngquit");
+    let out = dir.join("shot.png");
+    let mut app = App::default();
+    app.export_png_then_quit(out.clone());
+    let mut h = harness(app);
+    for _ in 0..10 {
+        if out.exists() {
+            break;
+        }
+        h.run();
+    }
+    let img = image::open(&out).expect("written").to_rgba8();
+    let r = h.state().view_rect;
+    assert!(
+        (img.width() as f32 - r.width()).abs() <= 1.0,
+        "{} vs {r:?}",
+        img.width()
+    );
+    assert!(h.state().status.starts_with("Exported"), "{}", h.state().status);
+    let _ = std::fs::remove_dir_all(&dir);
+}
