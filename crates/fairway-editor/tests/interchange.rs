@@ -30,6 +30,9 @@ fn temp_dir(name: &str) -> PathBuf {
 /// Type `text` into the File menu's path field (menu left open).
 fn type_path(h: &mut Harness<'static, App>, text: &str) {
     h.state_mut().path_input.clear();
+    if let Some(s) = h.state_mut().surface.as_mut() {
+        s.path_input.clear();
+    }
     h.get_by_role_and_label(Role::Button, "File").click();
     h.run();
     let field = h.get_by_role(Role::TextInput);
@@ -496,5 +499,33 @@ fn export_png_then_quit_writes_the_canvas_once_laid_out() {
         img.width()
     );
     assert!(h.state().status.starts_with("Exported"), "{}", h.state().status);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_iges_picker_also_opens_from_the_surface_workspace() {
+    let dir = temp_dir("iges_from_surface");
+    let surf = dir.join("patch.json");
+    fairway::io::save(&surf, &Document::new(Geometry::Surface(test_surface()))).unwrap();
+    let objects: Vec<Geometry> = vec![test_curve_3d().into(), test_surface().into()];
+    let multi = dir.join("two.IGS");
+    std::fs::write(&multi, fairway::io::iges::write(&objects, &Default::default())).unwrap();
+    let mut h = harness(App::default());
+    path_action(&mut h, &surf, "Open path");
+    assert!(h.state().surface.is_some());
+    path_action(&mut h, &multi, "Open path");
+    assert!(
+        h.state().iges_pick.is_some(),
+        "{:?}",
+        h.state().surface.as_ref().unwrap().error
+    );
+    assert!(
+        h.state().surface.is_some(),
+        "the surface stays open until a choice is made"
+    );
+    h.get_by_role_and_label(Role::Button, "Open object 1").click();
+    h.run();
+    assert!(h.state().surface.is_none(), "a curve returns to the curve editor");
+    assert_eq!(h.state().doc.geometry, objects[0]);
     let _ = std::fs::remove_dir_all(&dir);
 }
