@@ -210,7 +210,11 @@ impl App {
             ui.horizontal(|ui| {
                 ui.label("Target:");
                 for (m, name, tip) in [
-                    (TargetMethod::Heat, "Heat", "Heat flow of the averaging, implicit: fast at any strength"),
+                    (
+                        TargetMethod::Heat,
+                        "Heat",
+                        "Heat flow of the averaging, implicit: fast at any strength",
+                    ),
                     (TargetMethod::Average, "Average", "Neighbour averaging (the paper's)"),
                     (TargetMethod::Binomial, "Binomial", "(1,2,1)/4 kernel, damps zig-zag"),
                     (TargetMethod::Fit, "Fit", "Smoothing-spline fit of the curvature"),

@@ -4,7 +4,12 @@
 //!
 //! ```sh
 //! cargo run --release -p fairway --example surface_timing [-- REPEATS]
+//! FAIRWAY_THREADS=1 cargo run --release -p fairway --example surface_timing [-- REPEATS]
 //! ```
+//!
+//! The isocurves are faired on all cores unless `FAIRWAY_THREADS` says
+//! otherwise; `cpu_ms` is the CPU time of the calling thread, so it is the
+//! whole work only with `FAIRWAY_THREADS=1`.
 
 use std::time::{Duration, Instant};
 

@@ -148,6 +148,8 @@ pub struct SurfaceFairingOptions {
     /// Let the band decide the smoothing strength: the largest of
     /// [`AUTO_STRENGTHS`] whose result holds the tolerance.
     pub auto_smoothing: bool,
+    /// Threads fairing the isocurves (`None`: [`iso_threads`]). The result does not depend on it.
+    pub threads: Option<usize>,
 }
 
 impl Default for SurfaceFairingOptions {
@@ -164,6 +166,7 @@ impl Default for SurfaceFairingOptions {
                 order: 3,
             },
             auto_smoothing: true,
+            threads: None,
         }
     }
 }
@@ -440,6 +443,19 @@ pub fn isocurve_setup(
     FairingSetup::with_check_samples(c, fo, 0)
 }
 
+/// Worker threads for the isocurves: the environment variable `FAIRWAY_THREADS` if set (e.g. 1 to
+/// measure the single-core cost), else the available parallelism, at most 16.
+pub fn iso_threads() -> usize {
+    std::env::var("FAIRWAY_THREADS")
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok())
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+        .clamp(1, 16)
+}
+
+/// Isocurves per block of neighbours (warm-started band search, one unit of parallel work).
+pub const ISO_BLOCK: usize = 8;
+
 /// Fair the isocurves and combine the clouds: returns the grid data `S + Δ`.
 fn combined_cloud(
     s: &BSplineSurface,
@@ -464,22 +480,91 @@ fn combined_cloud(
     let (spans_u, spans_v) = (spans_in(s.knots_u(), ru), spans_in(s.knots_v(), rv));
     let fair_u = spans_u > s.degree_u();
     let fair_v = spans_v > s.degree_v();
-    for (l, &v) in vs.iter().enumerate().filter(|_| fair_u) {
-        let iso = s.iso_u(v);
-        let r = isocurve_setup(&iso, opts, m_iso, ru, spans_u)
-            .and_then(|mut st| st.fair())
-            .map_err(|e| Error::InvalidInput(format!("fairing the u-isocurve at v = {v}: {e}")))?;
-        for k in 0..mu {
-            du[k * mv + l] = r.curve.point(us[k]) - orig[k * mv + l];
-        }
+    // The isocurves are independent: fair them in blocks of ISO_BLOCK neighbours (each block warm-starts
+    // the band search of an isocurve from its neighbour's μ), the blocks spread over the available cores.
+    // Blocks are fixed by the grid, not by the core count, so the result does not depend on the machine.
+    let mut tasks: Vec<(bool, usize)> = Vec::with_capacity(mu + mv);
+    if fair_u {
+        tasks.extend((0..mv).map(|l| (true, l)));
     }
-    for (k, &u) in us.iter().enumerate().filter(|_| fair_v) {
-        let iso = s.iso_v(u);
-        let r = isocurve_setup(&iso, opts, m_iso, rv, spans_v)
-            .and_then(|mut st| st.fair())
-            .map_err(|e| Error::InvalidInput(format!("fairing the v-isocurve at u = {u}: {e}")))?;
-        for l in 0..mv {
-            dv[k * mv + l] = r.curve.point(vs[l]) - orig[k * mv + l];
+    if fair_v {
+        tasks.extend((0..mu).map(|k| (false, k)));
+    }
+    let blocks: Vec<&[(bool, usize)]> = tasks
+        .chunk_by(|a, b| a.0 == b.0)
+        .flat_map(|c| c.chunks(ISO_BLOCK))
+        .collect();
+    let fair_block = |block: &[(bool, usize)]| -> Result<Vec<Vec<DVec3>>> {
+        let mut hint = None;
+        block
+            .iter()
+            .map(|&(is_u, i)| {
+                let (iso, r, spans, t, at) = if is_u {
+                    (s.iso_u(vs[i]), ru, spans_u, us, ("u", "v", vs[i]))
+                } else {
+                    (s.iso_v(us[i]), rv, spans_v, vs, ("v", "u", us[i]))
+                };
+                let res = isocurve_setup(&iso, opts, m_iso, r, spans)
+                    .and_then(|mut st| {
+                        st.set_mu_hint(hint);
+                        st.fair()
+                    })
+                    .map_err(|e| {
+                        Error::InvalidInput(format!("fairing the {}-isocurve at {} = {}: {e}", at.0, at.1, at.2))
+                    })?;
+                hint = Some(res.mu);
+                Ok(t.iter().map(|&x| res.curve.point(x)).collect())
+            })
+            .collect()
+    };
+    let threads = opts
+        .threads
+        .unwrap_or_else(iso_threads)
+        .clamp(1, 64)
+        .min(blocks.len())
+        .max(1);
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let mut results: Vec<Option<Result<Vec<Vec<DVec3>>>>> = (0..blocks.len()).map(|_| None).collect();
+    if threads == 1 {
+        for (b, r) in results.iter_mut().enumerate() {
+            *r = Some(fair_block(blocks[b]));
+        }
+    } else {
+        std::thread::scope(|sc| {
+            let workers: Vec<_> = (0..threads)
+                .map(|_| {
+                    sc.spawn(|| {
+                        let mut done = Vec::new();
+                        loop {
+                            let b = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                            if b >= blocks.len() {
+                                break done;
+                            }
+                            done.push((b, fair_block(blocks[b])));
+                        }
+                    })
+                })
+                .collect();
+            for w in workers {
+                // a panic in a worker is re-raised here (the editor's frame guard reports it)
+                for (b, r) in w.join().unwrap_or_else(|e| std::panic::resume_unwind(e)) {
+                    results[b] = Some(r);
+                }
+            }
+        });
+    }
+    for (block, res) in blocks.iter().zip(results) {
+        let pts = res.expect("every block is fair_block'ed once")?;
+        for (&(is_u, i), p) in block.iter().zip(pts) {
+            if is_u {
+                for k in 0..mu {
+                    du[k * mv + i] = p[k] - orig[k * mv + i];
+                }
+            } else {
+                for l in 0..mv {
+                    dv[i * mv + l] = p[l] - orig[i * mv + l];
+                }
+            }
         }
     }
     let t1 = Instant::now();
@@ -1060,5 +1145,28 @@ mod tests {
             ..Default::default()
         };
         assert!(matches!(fair_surface(&s, tiny), Err(Error::InvalidInput(_))));
+    }
+
+    #[test]
+    fn the_result_does_not_depend_on_the_thread_count() {
+        let exact = graph(12, |u, v| 0.2 * (3.0 * u).sin() * (2.0 * v).cos());
+        let s = noisy(&exact, 1e-3, 11);
+        let run = |threads| {
+            fair_surface(
+                &s,
+                SurfaceFairingOptions {
+                    tolerance: 3e-3,
+                    region: Some(((0.1, 0.95), (0.0, 0.8))),
+                    threads: Some(threads),
+                    ..Default::default()
+                },
+            )
+            .unwrap()
+        };
+        let one = run(1);
+        assert!(one.surface.points() != s.points(), "the fairing moved nothing");
+        for t in [2, 3, 7] {
+            assert_eq!(run(t).surface.points(), one.surface.points(), "{t} threads");
+        }
     }
 }
