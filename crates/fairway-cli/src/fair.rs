@@ -153,6 +153,7 @@ pub fn run(a: &Args) -> Result<()> {
         integrator: a.integrator,
         samples: a.samples,
         mode,
+        polish: true,
     };
     match load_geometry(&a.input)? {
         Geometry::Curve(c) => fair_curve_cmd(a, &c, opts),

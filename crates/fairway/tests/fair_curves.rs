@@ -99,8 +99,9 @@ fn a_fair_circle_arc_hardly_changes() {
             .fold(0.0, f64::max);
         let d = dev_max(&c, &r.curve).max(dev_max(&r.curve, &c));
         println!("{integrator:?}: control points moved ≤ {moved:.2e}, Hausdorff {d:.2e}");
-        // The issue asks for < 1e-6; measured 3.8e-6 (Arc) with the curvature error against the true
-        // circle unchanged within 3 % (4.60e-5 -> 4.73e-5): an open point of the closing note.
+        // The issue asks for < 1e-6; measured 4.5e-6 (Arc). The input's curvature has end wiggles of
+        // ±1.4e-4 (least-squares end effects), which the smoothed target removes; the curvature error
+        // against the true circle stays within 10 %. An open point of the closing note.
         // This test bounds what is reached today.
         assert!(d < 1e-5, "{integrator:?}: {d}");
         let (k1, _) = curvature_error(&r.curve, shape);
@@ -108,9 +109,10 @@ fn a_fair_circle_arc_hardly_changes() {
     }
 }
 
-/// The issue asks for fast E ≤ iterative E. Measured here: iterative 9.44e-2, fast 1.05e-1
-/// (11 % worse; both hold the band) — an open point of the closing note. This test keeps the
-/// gap from growing: fast E within 20 % of the iterative baseline's, and both well below the original's.
+/// The issue asks for fast E ≤ iterative E. Measured here: iterative 9.08e-2; fast 1.02e-1 after the
+/// band search alone, 9.40e-2 with the Gauss–Newton polish of E (3.4 % worse; both hold the band) —
+/// an open point of the closing note. This test keeps the gap from growing: fast E within 5 % of the
+/// iterative baseline's, and both well below the original's.
 #[test]
 fn fast_energy_close_to_iterative() {
     let c = noisy_curve(
@@ -133,7 +135,7 @@ fn fast_energy_close_to_iterative() {
     );
     assert!(it.energy < e_orig);
     assert!(
-        fast.energy <= 1.2 * it.energy,
+        fast.energy <= 1.05 * it.energy,
         "fast {} vs iterative {}",
         fast.energy,
         it.energy
@@ -252,8 +254,16 @@ fn planar_curve_in_3d_fairs_like_2d() {
         .zip(r3.curve.points())
         .map(|(a, b)| rotate(*a).distance(*b))
         .fold(0.0, f64::max);
-    println!("3D vs rotated 2D: {diff:.2e}");
-    assert!(diff < 1e-8, "{diff}");
+    println!(
+        "3D vs rotated 2D: {diff:.2e}; E {:.6e} (2D) vs {:.6e} (3D)",
+        r2.energy, r3.energy
+    );
+    // The band search alone gives 3D = 2D to 2.6e-16. The E polish after it takes discrete steps
+    // (active set at 97 % of the band, line search, E must drop), which can go differently on the
+    // rounding differences between the 2D and the 3D curvature formulas: measured 1.1e-5 = 0.5 % of the
+    // tolerance. A fold of the target at the inflection would show at the scale of the tolerance.
+    assert!(diff < 0.02 * 2e-3, "{diff}");
+    assert!((r2.energy - r3.energy).abs() <= 0.02 * r2.energy);
     assert!(dev_max(&c3, &r3.curve) <= 2e-3);
 }
 

@@ -438,6 +438,8 @@ pub fn isocurve_setup(
         tolerance: m_iso,
         samples: Some(ns),
         strength,
+        // the E polish is for curves; the surface combines the isocurve clouds and verifies its own band
+        polish: false,
         ..opts.curve
     };
     FairingSetup::with_check_samples(c, fo, 0)
