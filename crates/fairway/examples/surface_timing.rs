@@ -5,6 +5,7 @@
 //! ```sh
 //! cargo run --release -p fairway --example surface_timing [-- REPEATS]
 //! FAIRWAY_THREADS=1 cargo run --release -p fairway --example surface_timing [-- REPEATS]
+//! ISO_LEVELS=1 cargo run --release -p fairway --example surface_timing   # one isocurve tolerance only
 //! ```
 //!
 //! The isocurves are faired on all cores unless `FAIRWAY_THREADS` says
@@ -56,6 +57,10 @@ fn main() {
         let opts = SurfaceFairingOptions {
             tolerance: 3e-3,
             combine: Combine::Border,
+            iso_levels: std::env::var("ISO_LEVELS")
+                .ok()
+                .and_then(|x| x.parse().ok())
+                .unwrap_or(3),
             ..Default::default()
         };
         // best wall time of `repeats` (least disturbed by other load on the machine), with its thread CPU time

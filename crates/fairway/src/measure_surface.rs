@@ -268,19 +268,36 @@ fn iso_params(a: f64, b: f64, n: usize) -> impl Iterator<Item = f64> {
 /// Isocurve statistics: `n_iso` isocurves per direction, extrema with dead band `delta`
 /// (see the module docs).
 pub fn iso_stats(s: &BSplineSurface, n_iso: usize, delta: f64) -> IsoStats {
+    iso_stats_in(s, s.domain(), n_iso, delta)
+}
+
+/// Knot spans of `bp` clipped to `[a, b]` (the pieces inside the rectangle).
+fn clipped_spans(bp: &[f64], a: f64, b: f64) -> Vec<(f64, f64)> {
+    bp.windows(2)
+        .map(|w| (w[0].max(a), w[1].min(b)))
+        .filter(|(x, y)| y > x)
+        .collect()
+}
+
+/// [`iso_stats`] restricted to the parameter rectangle `((u0, u1), (v0, v1))`: `n_iso` isocurves per
+/// direction at uniform interior parameters of the rectangle, each sampled and integrated over its
+/// part inside the rectangle only (knot spans clipped to it). Over the domain it equals [`iso_stats`].
+pub fn iso_stats_in(s: &BSplineSurface, rect: ((f64, f64), (f64, f64)), n_iso: usize, delta: f64) -> IsoStats {
     let mut st = IsoStats::default();
-    let ((u0, u1), (v0, v1)) = s.domain();
-    let bu = s.knots_u().breakpoints();
-    let bv = s.knots_v().breakpoints();
+    let ((u0, u1), (v0, v1)) = rect;
+    let su = clipped_spans(&s.knots_u().breakpoints(), u0, u1);
+    let sv = clipped_spans(&s.knots_v().breakpoints(), v0, v1);
     let mut buf = Vec::new();
     for dir_u in [true, false] {
-        let (bp, (f0, f1)) = if dir_u { (&bu, (v0, v1)) } else { (&bv, (u0, u1)) };
+        let (spans, (f0, f1)) = if dir_u { (&su, (v0, v1)) } else { (&sv, (u0, u1)) };
+        let Some(&(_, t_end)) = spans.last() else {
+            continue;
+        };
         for fixed in iso_params(f0, f1, n_iso) {
             let at = |t: f64| if dir_u { s.derivs(t, fixed) } else { s.derivs(fixed, t) };
             buf.clear();
             let mut e = 0.0;
-            for w in bp.windows(2) {
-                let (a, b) = (w[0], w[1]);
+            for &(a, b) in spans.iter() {
                 for k in 0..16 {
                     let t = a + (b - a) * k as f64 / 16.0;
                     buf.push(iso_kappa(&at(t), dir_u));
@@ -296,7 +313,7 @@ pub fn iso_stats(s: &BSplineSurface, n_iso: usize, delta: f64) -> IsoStats {
                     e += wt * 0.5 * (b - a) * dks * dks * speed;
                 }
             }
-            buf.push(iso_kappa(&at(*bp.last().unwrap()), dir_u));
+            buf.push(iso_kappa(&at(t_end), dir_u));
             st.max_abs_kappa = buf.iter().fold(st.max_abs_kappa, |m, k| m.max(k.abs()));
             let c = count_extrema(&buf, delta);
             if dir_u {
@@ -318,15 +335,20 @@ fn mean_at(s: &BSplineSurface, u: f64, v: f64) -> f64 {
 
 /// `∫∫ |∇H|² dA` over the whole surface (see the module docs).
 pub fn mean_curvature_variation(s: &BSplineSurface) -> f64 {
-    let bu = s.knots_u().breakpoints();
-    let bv = s.knots_v().breakpoints();
+    mean_curvature_variation_in(s, s.domain())
+}
+
+/// `∫∫ |∇H|² dA` over the parameter rectangle `((u0, u1), (v0, v1))` (knot cells clipped to it, the
+/// same rule per piece); over the domain it equals [`mean_curvature_variation`].
+pub fn mean_curvature_variation_in(s: &BSplineSurface, rect: ((f64, f64), (f64, f64))) -> f64 {
+    let ((u0, u1), (v0, v1)) = rect;
+    let su = clipped_spans(&s.knots_u().breakpoints(), u0, u1);
+    let sv = clipped_spans(&s.knots_v().breakpoints(), v0, v1);
     let gl = gl10();
     let mut total = 0.0;
-    for wu in bu.windows(2) {
-        let (a0, a1) = (wu[0], wu[1]);
+    for &(a0, a1) in &su {
         let hu = 1e-5 * (a1 - a0);
-        for wv in bv.windows(2) {
-            let (b0, b1) = (wv[0], wv[1]);
+        for &(b0, b1) in &sv {
             let hv = 1e-5 * (b1 - b0);
             for (x, wx) in gl.nodes.iter().zip(&gl.weights) {
                 let u = 0.5 * (a0 + a1) + 0.5 * (a1 - a0) * x;
