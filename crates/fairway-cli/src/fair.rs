@@ -35,10 +35,12 @@ pub struct Args {
     /// Continuity at the region ends: g0, g1 or g2.
     #[arg(long, default_value = "g2")]
     pub ends: EndCondition,
-    /// Target curvature: average (paper), binomial or fit (paper eq. 3).
-    #[arg(long, default_value = "average")]
+    /// Target curvature: heat (the averaging's heat flow, implicit, O(n); default), average (paper's passes),
+    /// binomial or fit (paper eq. 3).
+    #[arg(long, default_value = "heat")]
     pub target: TargetMethod,
-    /// Smoothing strength of the target (passes; default from the number of samples).
+    /// Smoothing strength of the target (passes, or the flow time in passes for heat; default from the number
+    /// of samples).
     #[arg(long)]
     pub strength: Option<usize>,
     /// fast (default), iterative (paper 2.2 baseline) or paper (fast method as published: soft band).
