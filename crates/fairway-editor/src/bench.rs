@@ -1,10 +1,12 @@
-//! Frame-time benchmark (`fairway-editor --bench-frames N`): the first half
+//! Frame-time benchmark (`fairway-editor --bench-frames N`): the first third
 //! of the frames sweeps the tolerance (as a slider drag does), the second
-//! half drags a target point up and down with the soft falloff (as the κ
-//! plot's Drag tool does). Each frame re-fairs and redraws everything; the
+//! third drags a target point up and down with the soft falloff (as the κ
+//! plot's Drag tool does), the last third drags the region's end back and
+//! forth (as the region handles do: a new core `FairingSetup` every frame).
+//! Each frame re-fairs and redraws everything; the
 //! CPU times of `App::show` (UI + re-fair + shape building), of the re-fair
 //! alone, and eframe's whole frame (UI + tessellation + wgpu submission) are
-//! printed as median / p90 / max, then the app quits.
+//! printed as median / p95 / max, then the app quits.
 
 use eframe::egui;
 
@@ -15,37 +17,62 @@ use crate::{App, Command};
 pub struct Bench {
     /// Frames to run.
     pub frames: usize,
-    /// `show` wall times so far (ms), per phase (0: tolerance, 1: target).
-    pub times: [Vec<f64>; 2],
+    /// `show` wall times so far (ms), per phase (0: tolerance, 1: target, 2: region).
+    pub times: [Vec<f64>; 3],
     /// `show` thread CPU times so far (ms), per phase.
-    pub cpu: [Vec<f64>; 2],
-    /// Re-fair times so far (ms), per phase.
-    pub fair: [Vec<f64>; 2],
-    /// eframe's whole-frame CPU time (ms), per phase.
-    pub frame: [Vec<f64>; 2],
+    pub cpu: [Vec<f64>; 3],
+    /// Re-fair times so far (ms), per phase (region phase: setup + fair).
+    pub fair: [Vec<f64>; 3],
+    /// eframe's whole-frame time (ms; eframe's `cpu_usage`, a wall time), per phase.
+    pub frame: [Vec<f64>; 3],
+    /// Main-thread CPU time of one whole frame cycle (ms): UI, re-fair,
+    /// tessellation, wgpu submission, event handling — everything eframe does
+    /// on the UI thread from one frame's start to the next.
+    pub frame_cpu: [Vec<f64>; 3],
+    /// Process CPU time per frame cycle (ms), all threads (llvmpipe's too).
+    pub frame_proc: [Vec<f64>; 3],
+    last_cpu: Option<(u64, u64)>,
     frame_no: usize,
     start_target: Option<Vec<f64>>,
+    start_region: Option<(f64, f64)>,
 }
 
 impl Bench {
-    /// A benchmark of `frames` (≥ 20) frames.
+    /// A benchmark of `frames` (≥ 30) frames.
     pub fn new(frames: usize) -> Self {
         Self {
-            frames: frames.max(20),
+            frames: frames.max(30),
             ..Default::default()
         }
     }
 }
 
-/// CPU time of the calling thread in ns (Linux `/proc/thread-self/schedstat`),
+/// CPU time of the calling thread in ns (`clock_gettime(CLOCK_THREAD_CPUTIME_ID)`),
 /// so that a busy machine does not inflate the figures as wall time does.
+/// (`/proc/thread-self/schedstat`, used before, only advances at scheduler
+/// ticks and read 0 ms for most sub-tick frames.)
+#[cfg(target_os = "linux")]
 fn thread_cpu_ns() -> Option<u64> {
-    std::fs::read_to_string("/proc/thread-self/schedstat")
-        .ok()?
-        .split_whitespace()
-        .next()?
-        .parse()
-        .ok()
+    let t = rustix::time::clock_gettime(rustix::time::ClockId::ThreadCPUTime);
+    Some(t.tv_sec as u64 * 1_000_000_000 + t.tv_nsec as u64)
+}
+
+/// CPU time of the whole process in ns (all threads: with llvmpipe this
+/// includes the software rasterizer's threads).
+#[cfg(target_os = "linux")]
+fn process_cpu_ns() -> Option<u64> {
+    let t = rustix::time::clock_gettime(rustix::time::ClockId::ProcessCPUTime);
+    Some(t.tv_sec as u64 * 1_000_000_000 + t.tv_nsec as u64)
+}
+
+#[cfg(not(target_os = "linux"))]
+fn thread_cpu_ns() -> Option<u64> {
+    None
+}
+
+#[cfg(not(target_os = "linux"))]
+fn process_cpu_ns() -> Option<u64> {
+    None
 }
 
 fn quantiles(v: &[f64]) -> Option<(f64, f64, f64)> {
@@ -56,7 +83,7 @@ fn quantiles(v: &[f64]) -> Option<(f64, f64, f64)> {
     }
     t.sort_by(f64::total_cmp);
     let q = |x: f64| t[((t.len() - 1) as f64 * x).round() as usize];
-    Some((q(0.5), q(0.9), q(1.0)))
+    Some((q(0.5), q(0.95), q(1.0)))
 }
 
 impl App {
@@ -64,14 +91,24 @@ impl App {
     pub(crate) fn bench_frame(&mut self, ui: &mut egui::Ui, last_frame_cpu: Option<f32>) {
         let Some(b) = self.bench.as_mut() else { return };
         let i = b.frame_no;
-        let half = b.frames / 2;
-        let phase = usize::from(i >= half);
+        let third = b.frames / 3;
+        let phase_of = |i: usize| (i / third).min(2);
+        let phase = phase_of(i);
         if i > 0
             && let Some(c) = last_frame_cpu
         {
             // eframe reports the previous frame
-            b.frame[usize::from(i > half)].push(c as f64 * 1e3);
+            b.frame[phase_of(i - 1)].push(c as f64 * 1e3);
         }
+        // one whole frame cycle, measured from this frame's start to the previous one's
+        let now = thread_cpu_ns().zip(process_cpu_ns());
+        if let (Some((t0, p0)), Some((t1, p1))) = (b.last_cpu, now)
+            && i > 0
+        {
+            b.frame_cpu[phase_of(i - 1)].push((t1 - t0) as f64 * 1e-6);
+            b.frame_proc[phase_of(i - 1)].push((p1 - p0) as f64 * 1e-6);
+        }
+        b.last_cpu = now;
         b.frame_no += 1;
         if i == 0 && self.region().is_none() {
             let (a, e) = self.curve().domain();
@@ -80,6 +117,17 @@ impl App {
         let d = self.view.diag;
         if phase == 0 {
             self.apply(Command::SetTolerance(d * 1e-3 * (1.0 + 0.5 * (i as f64 * 0.3).sin())));
+        } else if phase == 2 {
+            // drag the region's end handle: ±5% of the domain around where it started
+            let (u1, u2) = *self
+                .bench
+                .as_mut()
+                .unwrap()
+                .start_region
+                .get_or_insert(self.doc.settings.region.unwrap_or_default());
+            let (a, e) = self.curve().domain();
+            let u2 = (u2 + 0.05 * (e - a) * (i as f64 * 0.3).sin()).clamp(u1 + 1e-3 * (e - a), e);
+            self.apply(Command::SetRegion(Some((u1, u2))));
         } else if let Some(p) = self.preview().cloned() {
             // drag the middle target point: quintic falloff over 10% of the samples
             let start = self
@@ -123,7 +171,10 @@ impl App {
             .zip(c0)
             .map(|(b, a)| (b - a) as f64 * 1e-6)
             .unwrap_or(f64::NAN);
-        let fair = self.preview().map(|p| p.fair_ms).unwrap_or(f64::NAN);
+        let mut fair = self.preview().map(|p| p.fair_ms).unwrap_or(f64::NAN);
+        if phase == 2 {
+            fair += self.fairing.setup_ms;
+        }
         let b = self.bench.as_mut().unwrap();
         b.cpu[phase].push(cpu);
         b.times[phase].push(ms);
@@ -132,19 +183,25 @@ impl App {
         if b.frame_no >= b.frames {
             let n_points = self.curve().n_points();
             let b = self.bench.take().unwrap();
-            for (ph, name) in [(0, "tolerance slider"), (1, "target point drag")] {
+            for (ph, name) in [
+                (0, "tolerance slider"),
+                (1, "target point drag"),
+                (2, "region end drag, new setup per frame"),
+            ] {
                 let mut line = format!("bench ({name}, {n_points} control points):");
                 for (what, v) in [
                     ("show() thread CPU", &b.cpu[ph]),
-                    ("show() wall", &b.times[ph]),
-                    ("re-fair wall", &b.fair[ph]),
+                    ("whole frame main-thread CPU", &b.frame_cpu[ph]),
                     (
-                        "whole frame wall (eframe: UI + tessellation + wgpu submit)",
-                        &b.frame[ph],
+                        "whole frame process CPU (all threads, llvmpipe included)",
+                        &b.frame_proc[ph],
                     ),
+                    ("show() wall", &b.times[ph]),
+                    (if ph == 2 { "setup + fair wall" } else { "re-fair wall" }, &b.fair[ph]),
+                    ("eframe frame wall (UI + tessellation + wgpu submit)", &b.frame[ph]),
                 ] {
-                    if let Some((m, p90, max)) = quantiles(v) {
-                        line += &format!(" {what} median {m:.2} ms, p90 {p90:.2}, max {max:.2};");
+                    if let Some((m, p95, max)) = quantiles(v) {
+                        line += &format!(" {what} median {m:.2} ms, p95 {p95:.2}, max {max:.2};");
                     }
                 }
                 println!("{line}");

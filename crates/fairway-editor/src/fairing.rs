@@ -95,6 +95,9 @@ pub struct Fairing {
     /// A panic caught in the engine since the app last looked (the app moves
     /// it to its error line).
     pub internal_error: Option<String>,
+    /// Wall time of the last `FairingSetup` build (a new curve, region or end
+    /// conditions), milliseconds.
+    pub setup_ms: f64,
     /// Test seam: the next engine call panics (inside the guard), to check
     /// that a panic in the engine is reported and changes nothing.
     #[doc(hidden)]
@@ -169,9 +172,11 @@ impl Fairing {
                 integrator: opts.integrator,
                 ..FairingOptions::default()
             };
+            let t0 = Instant::now();
             let res = self
                 .guarded("fairing setup", || FairingSetup::new_with_ends(curve, fo, opts.ends))
                 .and_then(|r| r.map_err(|e| e.to_string()));
+            self.setup_ms = t0.elapsed().as_secs_f64() * 1e3;
             match res {
                 Ok(s) => self.setup = Some(s),
                 Err(e) => {

@@ -10,7 +10,7 @@ const USAGE: &str = "usage: fairway-editor [FILE.ron|FILE.json] [--region U1 U2]
        fairway-editor --bench-frames N [--demo-points P] [--region U1 U2]
   --region U1 U2     preselect the region [U1, U2] (curve parameter)
   --tolerance M      preselect the tolerance (model units)
-  --bench-frames N   N frames: sweep the tolerance, then drag a target point; print CPU times, quit
+  --bench-frames N   N frames: sweep the tolerance, drag a target point, drag the region end; print CPU times, quit
   --demo-points P    use the built-in noisy demo curve with P control points
   --region-uv U1 U2 V1 V2   preselect a surface region
   --shade MODE       3D shading: shaded, isophotes, zebra, mean, gauss, kmax, kmin
