@@ -98,10 +98,17 @@ fn extrusion_isophotes_show_the_curve_and_the_faired_curve_side_by_side() {
         }
     }
     assert!(inside > 20 && outside > 20, "{inside} inside, {outside} outside");
-    assert!(
-        max_in > 0.1 * dev && max_in <= dev * (1.0 + 1e-6),
-        "moved {max_in:e}, deviation {dev:e}"
-    );
+    // the same-parameter displacement is not bounded by the deviation (the
+    // fairing may slide the parametrization along the curve), but every
+    // faired vertex lies inside the tolerance band around the original
+    assert!(max_in > 0.1 * dev, "moved {max_in:e}, deviation {dev:e}");
+    let m_tol = app.tolerance();
+    let proj = CurveProjector::new(&before, 32);
+    for k in 0..m1.positions.len() {
+        let q = m1.positions[k] * DVec3::new(1.0, 1.0, 0.0);
+        let d = proj.project(q).distance;
+        assert!(d <= m_tol * (1.0 + 1e-6), "vertex {k} {d:e} outside the band {m_tol:e}");
+    }
     assert!(
         max_n_in > 1e-4,
         "isophotes cannot change: normals moved by {max_n_in:e}"
