@@ -262,6 +262,8 @@ fn fair_surface_region_and_surface_measures() {
         "n_curv_extrema",
         "E_var",
         "mean_curv_var",
+        "n_isophote_inflections",
+        "n_isophotes",
     ] {
         assert!(m.get(k).is_some(), "surface report lacks {k}");
     }

@@ -13,7 +13,10 @@
 
 use fairway::Geometry;
 use fairway::fair::{SurfaceFairingOptions, fair_surface};
-use fairway::measure_surface::{iso_stats, iso_stats_in, mean_curvature_variation, mean_curvature_variation_in};
+use fairway::measure_surface::{
+    ISOPHOTE_DEAD_BAND, ISOPHOTE_LIGHT, ISOPHOTE_STEP_DEG, iso_stats, iso_stats_in, isophote_waviness,
+    mean_curvature_variation, mean_curvature_variation_in,
+};
 
 fn main() {
     let args: Vec<f64> = std::env::args().skip(1).filter_map(|a| a.parse().ok()).collect();
@@ -35,6 +38,16 @@ fn main() {
     let (e_in0, e_all0) = (e(&s, region), so.e_var_u + so.e_var_v);
     let (h_in0, h_all0) = (mean_curvature_variation_in(&s, region), mean_curvature_variation(&s));
     let ext0 = iso_stats(&s, 20, delta);
+    let iso = |x: &fairway::BSplineSurface| {
+        isophote_waviness(
+            x,
+            fairway::DVec3::from_array(ISOPHOTE_LIGHT),
+            ISOPHOTE_STEP_DEG,
+            ISOPHOTE_DEAD_BAND,
+        )
+    };
+    let i0 = iso(&s);
+    println!("isophotes: {} traced, {} inflections", i0.n_isophotes, i0.n_inflections);
     println!(
         "region {region:?}; original: E in {e_in0:.4e} all {e_all0:.4e}, H' in {h_in0:.4e} all {h_all0:.4e}, extrema {}",
         ext0.extrema_u + ext0.extrema_v
@@ -62,6 +75,11 @@ fn main() {
         let f = &r.surface;
         let ext = iso_stats(f, 20, delta);
         let inner = ((0.3, 0.7), (0.3, 0.7));
+        let i1 = iso(f);
+        eprintln!(
+            "   isophotes: {} traced, {} inflections",
+            i1.n_isophotes, i1.n_inflections
+        );
         eprintln!(
             "   inner [0.3,0.7]^2: E {:.3} H' {:.3}",
             e(f, inner) / e(&s, inner),
