@@ -293,16 +293,32 @@ impl App {
         if let Some(storage) = cc.storage {
             app.load_view3d_prefs(storage);
         }
-        if let Some(storage) = cc.storage
-            && let Some(prefs) = eframe::get_value::<Prefs>(storage, "prefs")
-        {
-            let recent = std::mem::take(&mut app.prefs.recent);
-            app.prefs = prefs;
-            for r in recent.into_iter().rev() {
-                app.push_recent(r);
-            }
+        if let Some(storage) = cc.storage {
+            app.load_prefs(storage);
         }
         app
+    }
+
+    /// Restore the curve editor's settings (comb, toggles, recent files,
+    /// fairing options) saved by [`eframe::App::save`]; the file opened at
+    /// start stays first in the recent list. Unreadable settings change
+    /// nothing; out-of-range values (a hand-edited store) are clamped.
+    pub fn load_prefs(&mut self, storage: &dyn eframe::Storage) {
+        let Some(mut prefs) = eframe::get_value::<Prefs>(storage, "prefs") else {
+            return;
+        };
+        prefs.comb_scale = if prefs.comb_scale.is_finite() {
+            prefs.comb_scale.clamp(0.02, 50.0)
+        } else {
+            Prefs::default().comb_scale
+        };
+        // the slider's range is 0..=4n; a huge stored strength would stall the Average method
+        prefs.fair.strength = prefs.fair.strength.map(|n| n.min(100_000));
+        let recent = std::mem::take(&mut self.prefs.recent);
+        self.prefs = prefs;
+        for r in recent.into_iter().rev() {
+            self.push_recent(r);
+        }
     }
 
     /// The document's curve.
