@@ -914,12 +914,13 @@ impl FairingSetup {
                 // backtracking on the step length: the longest of 1, 1/2, … that lowers E inside the band
                 let mut found = None;
                 let mut alpha = 1.0;
-                for _ in 0..10 {
+                for _ in 0..8 {
                     let cand: Vec<DVec3> = self.best.iter().zip(&full).map(|(b, s)| *b + *s * alpha).collect();
-                    let e_new = self.energy_of_update(&cand);
-                    if e_new < e {
-                        let d_new = self.deviation(&cand, accept);
-                        if d_new <= accept {
+                    // band first: a violated band stops the check at the first proven violation
+                    let d_new = self.deviation(&cand, accept);
+                    if d_new <= accept {
+                        let e_new = self.energy_of_update(&cand);
+                        if e_new < e {
                             found = Some((cand, e_new, d_new));
                             break;
                         }
