@@ -455,6 +455,9 @@ pub const ISOPHOTE_STEP_DEG: f64 = 2.0;
 pub const ISOPHOTE_GRID_PER_SPAN: usize = 8;
 /// Least number of uv grid nodes per direction of the isophote tracing.
 pub const ISOPHOTE_MIN_NODES: usize = 240;
+/// Most uv grid nodes per direction of the isophote tracing (memory and time stay bounded for huge nets;
+/// beyond 128 spans fewer than 8 nodes per span, still ≥ 12 nodes per resampling step D/80).
+pub const ISOPHOTE_MAX_NODES: usize = 1024;
 /// Arc-length step of the resampled isophotes relative to D, the bounding-box diagonal.
 pub const ISOPHOTE_STEP_REL: f64 = 1.0 / 80.0;
 /// Dead band of the isophote inflection count: `ISOPHOTE_DEAD_BAND / D`, D the diagonal of the bounding
@@ -477,7 +480,8 @@ pub struct IsophoteStats {
 /// Definition. The isophotes of the light direction `light` are the level lines of `n·L` (n the unit
 /// normal `S_u × S_v`) at the angles `arccos(n·L) = k · step_deg`, k = 1, 2, …: the reflection lines
 /// a designer looks at. They are traced by marching squares on a uv grid of
-/// [`ISOPHOTE_GRID_PER_SPAN`] nodes per knot span (at least [`ISOPHOTE_MIN_NODES`] per direction;
+/// [`ISOPHOTE_GRID_PER_SPAN`] nodes per knot span (at least [`ISOPHOTE_MIN_NODES`] per direction, at
+/// most [`ISOPHOTE_MAX_NODES`], then uniform in the parameter;
 /// the ambiguous saddle cells resolved by the cell-centre value), linked into polylines, mapped to 3D
 /// by linear interpolation of the node positions and normals along the crossed grid edges, and
 /// resampled at equal arc length with a step `h = D ·` [`ISOPHOTE_STEP_REL`] (D the bounding-box
@@ -500,6 +504,12 @@ pub fn isophote_waviness(s: &BSplineSurface, light: DVec3, step_deg: f64, dead_b
         let bp = k.breakpoints();
         let spans = bp.len().saturating_sub(1).max(1);
         let per = ISOPHOTE_GRID_PER_SPAN.max(ISOPHOTE_MIN_NODES.div_ceil(spans));
+        if spans * per + 1 > ISOPHOTE_MAX_NODES {
+            // uniform in the parameter instead of per span
+            let (a, b) = (bp[0], *bp.last().unwrap());
+            let n = ISOPHOTE_MAX_NODES - 1;
+            return (0..=n).map(|j| a + (b - a) * j as f64 / n as f64).collect::<Vec<f64>>();
+        }
         let mut t = Vec::with_capacity(spans * per + 1);
         for w in bp.windows(2) {
             for j in 0..per {
@@ -867,6 +877,24 @@ mod tests {
         assert!(sp.n_isophotes >= 5 && sp.n_inflections == 0, "{sp:?}");
         let sp = default_iso(&sph);
         assert!(sp.n_isophotes >= 5 && sp.n_inflections == 0, "{sp:?}");
+    }
+
+    #[test]
+    fn isophote_grid_is_capped_for_long_nets() {
+        // 300 × 4 net (297 spans in u: 8 per span would be 2377 nodes): capped, still straight isophotes
+        let (n, m) = (300, 4);
+        let ku = KnotVector::uniform(3, n).unwrap();
+        let kv = KnotVector::uniform(3, m).unwrap();
+        let (gu, gv) = (ku.greville(), kv.greville());
+        let mut pts = Vec::new();
+        for &u in &gu {
+            for &v in &gv {
+                pts.push(DVec3::new(u, v, (1.0 - (u - 0.5).powi(2)).sqrt()));
+            }
+        }
+        let s = BSplineSurface::try_new(3, 3, ku.values().to_vec(), kv.values().to_vec(), n, m, pts, None).unwrap();
+        let st = default_iso(&s);
+        assert!(st.n_isophotes >= 5 && st.n_inflections == 0, "{st:?}");
     }
 
     #[test]
