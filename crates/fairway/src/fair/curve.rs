@@ -1147,7 +1147,7 @@ impl FairingSetup {
                     cand = self.work.with_points(pts).ok();
                 }
                 if let Some(c) = &cand {
-                    dist = dist.min(project_near(c, self.chk_q[j], self.chk_u[j], self.chk_h));
+                    dist = dist.min(project_near(c, self.chk_q[j], self.chk_u[j], self.chk_h, sharpen));
                 }
                 if dist > sharpen {
                     // the band is broken: callers only compare with `sharpen`, so stop here
@@ -1184,7 +1184,9 @@ fn kappa_and_gradients(dim: usize, nn: DVec3, d1: DVec3, d2: DVec3) -> (f64, DVe
 /// Distance from `q` to the best point of `c` found by safeguarded Newton on
 /// `c'(t)·(c(t) − q)` in `[u − w, u + w]`, started at `u`. Every evaluated
 /// point is on the curve, so the result bounds the true distance from above.
-pub(crate) fn project_near(c: &BSplineCurve, q: DVec3, u: f64, w: f64) -> f64 {
+/// Stops as soon as a point within `enough` is found (the band check only
+/// needs to know that the distance is below the band).
+pub(crate) fn project_near(c: &BSplineCurve, q: DVec3, u: f64, w: f64, enough: f64) -> f64 {
     let (d0, d1) = c.domain();
     let (lo, hi) = ((u - w).max(d0), (u + w).min(d1));
     let mut t = u;
@@ -1193,6 +1195,9 @@ pub(crate) fn project_near(c: &BSplineCurve, q: DVec3, u: f64, w: f64) -> f64 {
         let d = c.derivs(t);
         let r = d.p - q;
         best = best.min(r.length());
+        if best <= enough {
+            return best;
+        }
         let f = d.d1.dot(r);
         let df = d.d2.dot(r) + d.d1.length_squared();
         if !(df > 0.0) {
