@@ -17,7 +17,8 @@ const USAGE: &str = "usage: fairway-editor [FILE.ron|FILE.json] [--region U1 U2]
   --side-by-side     surfaces: before and after side by side
   --view3d           curves: open the 3D view (--extrusion: extrusion isophotes)
   --stripe DEG       isophote / zebra stripe width in degrees
-  --export-png PATH  write the view as PNG once laid out, then quit (for reports and scripts)";
+  --export-png PATH  write the view as PNG once laid out, then quit (for reports and scripts)
+  --window-size W H  initial window size in points (default 1500 950)";
 
 fn default_sample() -> Option<PathBuf> {
     let rel = PathBuf::from("assets/car_roof.ron");
@@ -52,6 +53,13 @@ fn main() -> eframe::Result {
         let bench = take::<usize>(&mut args, "--bench-frames", 1)?;
         let demo = take::<usize>(&mut args, "--demo-points", 1)?;
         let export_png = take::<PathBuf>(&mut args, "--export-png", 1)?.map(|mut v| v.remove(0));
+        let size = take::<f32>(&mut args, "--window-size", 2)?;
+        if size
+            .as_ref()
+            .is_some_and(|s| s.iter().any(|x| !(200.0..=10000.0).contains(x)))
+        {
+            return Err("--window-size: W and H must be in [200, 10000]".into());
+        }
         let v3 = View3dArgs {
             region_uv: take::<f64>(&mut args, "--region-uv", 4)?,
             shade: take::<fairway_editor::view3d::ShadeMode>(&mut args, "--shade", 1)?.map(|v| v[0]),
@@ -63,9 +71,9 @@ fn main() -> eframe::Result {
         if let Some(a) = args.iter().find(|a| a.starts_with("--")) {
             return Err(format!("unknown option {a}"));
         }
-        Ok((region, tolerance, bench, demo, v3, export_png))
+        Ok((region, tolerance, bench, demo, v3, export_png, size))
     })();
-    let (region, tolerance, bench, demo, v3, export_png) = match parsed {
+    let (region, tolerance, bench, demo, v3, export_png, size) = match parsed {
         Ok(v) => v,
         Err(e) => {
             eprintln!("fairway-editor: {e}\n{USAGE}");
@@ -79,7 +87,7 @@ fn main() -> eframe::Result {
     };
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
-            .with_inner_size([1500.0, 950.0])
+            .with_inner_size(size.map(|s| [s[0], s[1]]).unwrap_or([1500.0, 950.0]))
             .with_title("Fairway")
             .with_drag_and_drop(true),
         renderer: eframe::Renderer::Wgpu,

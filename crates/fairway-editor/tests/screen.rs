@@ -273,11 +273,19 @@ fn measures_panel_marks_where_the_deviation_is_largest() {
         after.dev_max
     );
     assert!(after.dev_max <= app.tolerance() * (1.0 + 1e-6));
+    // the core's verified bound (the fairing panel's figure) bounds the measured deviation
+    assert!(after.dev_max <= p.result.max_deviation * (1.0 + 1e-9));
+    assert!(h.query_by_label_contains("deviation bound").is_some());
     assert!(
         before.dev_max < 1e-12,
         "the original deviates from itself: {}",
         before.dev_max
     );
+    // counts print as integers, the original's round-off self-distance as 0
+    let n = after.n_curv_extrema;
+    assert!(h.query_by_label(&n.to_string()).is_some(), "no count {n}");
+    assert!(h.query_by_label(&format!("{:.4}", n as f64)).is_none());
+    assert!(h.query_by_label("0").is_some());
     for row in ["max deviation", "κ extrema", "inflections", "E (paper)", "∫(dκ/ds)² ds"] {
         assert!(h.query_by_label(row).is_some(), "no row {row}");
     }
