@@ -460,3 +460,67 @@ fn controls_show_their_tooltips() {
         assert!(h.query_by_label(tip).is_some(), "no tooltip on {label}");
     }
 }
+
+#[test]
+fn region_handle_drag_exact_tolerance_field_and_ctrl_s() {
+    let mut h = harness(App::default());
+    h.state_mut()
+        .apply(fairway_editor::Command::SetRegion(Some((0.3, 0.6))));
+    h.run();
+    let doc0 = h.state().doc.clone();
+    // drag the end handle along the curve from u = 0.6 to u = 0.7: one undo step
+    let path: Vec<Pos2> = (0..=5)
+        .map(|k| {
+            let app = h.state();
+            app.canvas.to_screen(app.view.sampled.point_at_u(0.6 + 0.02 * k as f64))
+        })
+        .collect();
+    drag(&mut h, &path);
+    let (u1, u2) = h.state().region().unwrap();
+    assert_eq!(u1, 0.3, "the start moved");
+    assert!((u2 - 0.7).abs() < 0.005, "end handle at {u2}");
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    h.run();
+    assert_eq!(h.state().doc, doc0, "a handle drag is one undo step");
+    // the exact tolerance field
+    h.get_by_role_and_label(Role::SpinButton, "Tolerance (exact)")
+        .set_value_accesskit(0.00123);
+    h.run();
+    assert_eq!(h.state().doc.settings.tolerance, Some(0.00123));
+    assert!(h.state().preview().unwrap().result.max_deviation <= 0.00123 * (1.0 + 1e-9));
+    // Ctrl+S saves to the document's path without a dialog
+    let dir = temp_dir("ctrl-s");
+    let path = dir.join("doc.ron");
+    h.state_mut().apply(fairway_editor::Command::SaveTo(path.clone()));
+    h.state_mut().apply(fairway_editor::Command::SetTolerance(0.002));
+    h.run();
+    assert!(h.state().is_dirty());
+    h.key_press_modifiers(Modifiers::COMMAND, Key::S);
+    h.run();
+    assert!(!h.state().is_dirty(), "{:?}", h.state().error);
+    assert_eq!(fairway::io::load(&path).unwrap(), h.state().doc);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn wheel_zooms_about_the_pointer() {
+    let mut h = harness(App::default());
+    let q = h.get_by_label("Canvas").rect().center() + egui::vec2(100.0, -40.0);
+    h.hover_at(q);
+    h.run();
+    let (ppu, w) = (h.state().canvas.ppu, h.state().canvas.to_world(q));
+    h.event(egui::Event::MouseWheel {
+        unit: egui::MouseWheelUnit::Point,
+        delta: egui::vec2(0.0, 120.0),
+        phase: egui::TouchPhase::Move,
+        modifiers: Modifiers::NONE,
+        source: egui::MouseWheelSource::Wheel,
+    });
+    let _ = h.try_run();
+    for _ in 0..30 {
+        h.step();
+    }
+    let app = h.state();
+    assert!(app.canvas.ppu > 1.1 * ppu, "no zoom: {} -> {}", ppu, app.canvas.ppu);
+    assert!((app.canvas.to_world(q) - w).length() < 1e-9 * app.view.diag.max(1.0) + 1e-6 / app.canvas.ppu);
+}
