@@ -387,3 +387,35 @@ fn blend(orig: &Sampled, faired: &Sampled, t: f64) -> Sampled {
     out.inflections.clear();
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn comb_length_scalings_keep_the_sign_and_meet_at_the_largest_curvature() {
+        let (kmax, kmean, unit) = (4.0, 1.0, 0.5);
+        for s in [CombScaling::Linear, CombScaling::Sqrt, CombScaling::Log] {
+            // the largest |κ| gets the full unit, either sign; κ = 0 gets nothing
+            assert!((comb_length(kmax, s, kmax, kmean, unit) - unit).abs() < 1e-15);
+            assert!((comb_length(-kmax, s, kmax, kmean, unit) + unit).abs() < 1e-15);
+            assert_eq!(comb_length(0.0, s, kmax, kmean, unit), 0.0);
+            // monotone in |κ|
+            let mut last = 0.0;
+            for i in 1..=40 {
+                let l = comb_length(kmax * i as f64 / 40.0, s, kmax, kmean, unit);
+                assert!(l > last, "{s:?} not increasing at {i}");
+                last = l;
+            }
+        }
+        // linear is proportional; sqrt and log lift small curvatures above it
+        let k = 0.25;
+        let lin = comb_length(k, CombScaling::Linear, kmax, kmean, unit);
+        assert!((lin - unit * k / kmax).abs() < 1e-15);
+        let sq = comb_length(k, CombScaling::Sqrt, kmax, kmean, unit);
+        assert!((sq - unit * (k / kmax).sqrt()).abs() < 1e-15);
+        let lg = comb_length(k, CombScaling::Log, kmax, kmean, unit);
+        assert!((lg - unit * (1.0 + k / kmean).ln() / (1.0 + kmax / kmean).ln()).abs() < 1e-15);
+        assert!(sq > lin && lg > lin);
+    }
+}
