@@ -524,3 +524,35 @@ fn wheel_zooms_about_the_pointer() {
     assert!(app.canvas.ppu > 1.1 * ppu, "no zoom: {} -> {}", ppu, app.canvas.ppu);
     assert!((app.canvas.to_world(q) - w).length() < 1e-9 * app.view.diag.max(1.0) + 1e-6 / app.canvas.ppu);
 }
+
+#[test]
+fn region_edge_drag_on_the_kappa_plot_moves_only_that_end() {
+    let mut h = harness(App::default());
+    h.state_mut()
+        .apply(fairway_editor::Command::SetRegion(Some((0.3, 0.6))));
+    h.run();
+    let (x0, x1, y, len) = {
+        let app = h.state();
+        let s = &app.view.sampled;
+        let len = s.length;
+        (
+            app.plot.x(s.s_at_u(0.3), len),
+            app.plot.x(s.s_at_u(0.3), len) - 40.0,
+            app.plot.rect.unwrap().top() + 5.0,
+            len,
+        )
+    };
+    drag(
+        &mut h,
+        &[Pos2::new(x0, y), Pos2::new(0.5 * (x0 + x1), y), Pos2::new(x1, y)],
+    );
+    let app = h.state();
+    let (u1, u2) = app.region().unwrap();
+    assert_eq!(u2, 0.6, "the other end moved");
+    let want = app.plot.s(x1, len);
+    assert!(
+        (app.view.sampled.s_at_u(u1) - want).abs() < 1e-3 * len,
+        "start at u = {u1}"
+    );
+    assert!(u1 < 0.3);
+}
