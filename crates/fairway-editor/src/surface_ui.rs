@@ -82,6 +82,9 @@ pub struct SurfacePreview {
     pub fair_ms: f64,
     /// Measures against the original (computed when the pointer is up).
     pub measures: Option<SurfaceMeasures>,
+    /// Computed while a drag was in progress with one isocurve tolerance level (`iso_levels: 1`,
+    /// about 3× faster); recomputed with the default levels when the pointer is released.
+    pub draft: bool,
     key: PreviewKey,
 }
 
@@ -353,11 +356,22 @@ impl SurfaceEditor {
         let tol = self.tolerance();
         let key = (self.rev, Some(region), tol.to_bits(), self.shading.density);
         let mut changed = false;
-        if self.preview.as_ref().map(|p| p.key) != Some(key) {
+        let stale = match self.preview.as_ref() {
+            Some(p) => p.key != key || (p.draft && !pointer_down),
+            None => true,
+        };
+        if stale {
             changed = true;
+            let draft = pointer_down;
             let opts = SurfaceFairingOptions {
                 region: Some(region),
                 tolerance: tol,
+                // while dragging: one isocurve tolerance level, the live-preview setting of the core
+                iso_levels: if draft {
+                    1
+                } else {
+                    SurfaceFairingOptions::default().iso_levels
+                },
                 ..Default::default()
             };
             let t0 = Instant::now();
@@ -378,6 +392,7 @@ impl SurfaceEditor {
                         fair_ms,
                         measures: None,
                         key,
+                        draft,
                     });
                     self.preview_error = None;
                 }

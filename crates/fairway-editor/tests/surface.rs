@@ -64,6 +64,22 @@ fn region_in_uv_view_tolerance_accept_undo() {
     assert!((s.tolerance() - tol).abs() < 1e-12 * tol.max(1.0), "{}", s.tolerance());
     let p = s.preview.as_ref().expect("a live preview");
     assert!(p.max_deviation <= tol);
+    assert!(!p.draft, "with the pointer up the preview is the full-quality one");
+    // during a drag the preview is a one-level draft; the release recomputes it at full quality
+    let final_points = p.surface.points().to_vec();
+    let ws = h.state_mut().surface.as_mut().unwrap();
+    ws.preview = None;
+    ws.update_preview(true);
+    let draft = ws.preview.as_ref().expect("a draft preview");
+    assert!(draft.draft && draft.max_deviation <= tol);
+    ws.update_preview(false);
+    let full = ws.preview.as_ref().expect("the full preview");
+    assert!(!full.draft);
+    assert_eq!(
+        full.surface.points(),
+        &final_points[..],
+        "release gives the full-quality result"
+    );
 
     // accept: one undo step
     h.get_by_role_and_label(Role::Button, "Accept").click();
