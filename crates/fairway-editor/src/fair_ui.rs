@@ -102,7 +102,12 @@ impl App {
                     "The core's verified upper bound on the distance from the original (checked on 2000 \
                      samples); the measured closest-point deviation (Measures) is at most this",
                 );
-                ui.weak(format!("re-fair {:.2} ms", p.fair_ms));
+                if p.draft {
+                    ui.weak(format!("draft while dragging (no E polish), {:.2} ms", p.fair_ms))
+                        .on_hover_text("The full fair (with the E polish) runs when the drag ends");
+                } else {
+                    ui.weak(format!("re-fair {:.2} ms", p.fair_ms));
+                }
             }
             None => {}
         }
@@ -113,7 +118,8 @@ impl App {
             );
         }
         ui.horizontal(|ui| {
-            let can = self.preview().is_some();
+            // a draft (drag in progress) is not accepted: the full fair follows the release
+            let can = self.preview().is_some_and(|p| !p.draft);
             if ui
                 .add_enabled(can, egui::Button::new(RichText::new("Accept").strong()))
                 .on_hover_text("Replace the region by the faired curve (one undo step)")
@@ -249,7 +255,7 @@ impl App {
         };
         let max_dev = p.result.max_deviation;
         // the bench simulates drags (tolerance sweep, target drag) without a pointer
-        let dragging = ui.input(|i| i.pointer.any_down()) || self.bench.is_some();
+        let dragging = ui.input(|i| i.pointer.any_down()) || self.bench.is_some() || p.draft;
         self.fairing.update_measures(dragging);
         if self.fairing.measures_stale() {
             ui.weak("(updated when the drag ends)");

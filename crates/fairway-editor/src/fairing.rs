@@ -44,6 +44,8 @@ struct SetupKey {
     curve_rev: u64,
     region: (f64, f64),
     ends: [EndCondition; 2],
+    /// The core's E polish (off for a draft while a drag is in progress).
+    polish: bool,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -71,6 +73,10 @@ pub struct Preview {
     pub pinned: Vec<bool>,
     /// Wall time of the last re-fair, milliseconds.
     pub fair_ms: f64,
+    /// A draft made while a drag is in progress: the band-holding fit without
+    /// the core's E polish ([`FairingOptions::polish`]); the release re-fairs
+    /// with it. Accept waits for the full fair.
+    pub draft: bool,
 }
 
 /// Live fairing state.
@@ -138,7 +144,10 @@ impl Fairing {
     }
 
     /// Bring the preview up to date; does nothing when nothing changed.
-    /// Returns whether the preview was recomputed.
+    /// With `draft` (a drag in progress) the core's E polish is skipped, so
+    /// a live drag stays inside the frame budget; when the drag ends
+    /// (`draft` false) the setup is rebuilt with the polish and the preview
+    /// re-faired at full quality. Returns whether the preview was recomputed.
     pub fn update(
         &mut self,
         curve: &BSplineCurve,
@@ -147,6 +156,7 @@ impl Fairing {
         tolerance: f64,
         opts: FairOptions,
         want_trio: bool,
+        draft: bool,
     ) -> bool {
         let Some(region) = settings.region else {
             if self.setup.is_some() || self.preview.is_some() {
@@ -154,10 +164,12 @@ impl Fairing {
             }
             return false;
         };
+        let polish = !draft && FairingOptions::default().polish;
         let sk = SetupKey {
             curve_rev,
             region,
             ends: opts.ends,
+            polish,
         };
         if self.setup_key.as_ref() != Some(&sk) {
             self.setup_key = Some(sk);
@@ -170,6 +182,7 @@ impl Fairing {
                 target: opts.method,
                 strength: opts.strength,
                 integrator: opts.integrator,
+                polish,
                 ..FairingOptions::default()
             };
             let t0 = Instant::now();
@@ -201,7 +214,7 @@ impl Fairing {
             };
             let res = self.guarded("fairing", || {
                 let mismatch = !prepare(&mut setup, &rk);
-                run(&mut setup, tolerance).map(|p| (p, mismatch))
+                run(&mut setup, tolerance, !polish).map(|p| (p, mismatch))
             });
             match res {
                 Ok(Ok((p, mismatch))) => {
@@ -221,7 +234,7 @@ impl Fairing {
         if want_trio && self.trio_key.as_ref() != Some(&rk) {
             if let Some(mut s) = self.setup.clone() {
                 let trio = [tolerance / 3.0, tolerance, tolerance * 3.0]
-                    .map(|m| (m, self.guarded("fairing", || run(&mut s, m)).and_then(|r| r)));
+                    .map(|m| (m, self.guarded("fairing", || run(&mut s, m, !polish)).and_then(|r| r)));
                 self.trio = Some(trio);
                 self.trio_key = Some(rk);
                 changed = true;
@@ -299,7 +312,7 @@ fn prepare(setup: &mut FairingSetup, rk: &RunKey) -> bool {
     }
 }
 
-fn run(setup: &mut FairingSetup, tolerance: f64) -> Result<Preview, String> {
+fn run(setup: &mut FairingSetup, tolerance: f64, draft: bool) -> Result<Preview, String> {
     let t0 = Instant::now();
     setup.set_tolerance(tolerance).map_err(|e| e.to_string())?;
     let result = setup.fair().map_err(|e| e.to_string())?;
@@ -315,6 +328,7 @@ fn run(setup: &mut FairingSetup, tolerance: f64) -> Result<Preview, String> {
         pinned: t.pinned().to_vec(),
         result,
         fair_ms,
+        draft,
     })
 }
 

@@ -193,6 +193,8 @@ pub struct App {
     pub falloff: f64,
     /// Target drag in progress.
     pub target_drag: Option<TargetDrag>,
+    /// A drag (slider, canvas, κ plot) is in progress: the preview is a draft.
+    pub drag_in_progress: bool,
     /// CPU time of the last frames' `show` (ms), for the status bar.
     pub frame_ms: f64,
     /// Benchmark mode: sweep the tolerance every frame and report timings.
@@ -259,6 +261,7 @@ impl App {
             falloff: 0.08,
             target_drag: None,
             frame_ms: 0.0,
+            drag_in_progress: false,
             bench: None,
             suggest: Default::default(),
             surface: None,
@@ -605,6 +608,14 @@ impl App {
         self.trio_ui(&ui.ctx().clone());
         self.confirm_ui(ui);
         self.apply_commands();
+        // a drag on a slider, the canvas or the κ plot: fair a draft (no E
+        // polish) until it ends (buttons are clicks, not drags: Accept never
+        // starts a draft); the bench counts as a drag
+        self.drag_in_progress = self.bench.is_some()
+            || ui.ctx().dragged_id().is_some()
+            || self.canvas.drag != canvas::CanvasDrag::None
+            || self.plot.drag != plot::PlotDrag::None
+            || self.target_drag.is_some();
         if self.update_fairing() {
             ui.ctx().request_repaint();
         }
@@ -630,6 +641,7 @@ impl App {
     /// was recomputed.
     pub fn update_fairing(&mut self) -> bool {
         let tol = self.tolerance();
+        let draft = self.drag_in_progress;
         let curve = doc_curve(&self.doc).expect("curve document");
         self.fairing.update(
             curve,
@@ -638,6 +650,7 @@ impl App {
             tol,
             self.prefs.fair,
             self.compare.trio,
+            draft,
         )
     }
 

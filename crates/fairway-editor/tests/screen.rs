@@ -556,3 +556,54 @@ fn region_edge_drag_on_the_kappa_plot_moves_only_that_end() {
     );
     assert!(u1 < 0.3);
 }
+
+#[test]
+fn a_drag_previews_a_draft_and_the_release_fairs_in_full() {
+    let mut h = harness(App::default());
+    let pts: Vec<Pos2> = (0..=6)
+        .map(|k| {
+            let app = h.state();
+            app.canvas.to_screen(app.view.sampled.point_at_u(0.3 + 0.05 * k as f64))
+        })
+        .collect();
+    h.hover_at(pts[0]);
+    h.step();
+    h.drag_at(pts[0]);
+    h.step();
+    for &p in &pts[1..] {
+        h.hover_at(p);
+        h.step();
+    }
+    h.step();
+    // still dragging: a draft (no E polish), in the band, and Accept waits
+    assert!(h.state().drag_in_progress);
+    let m = h.state().tolerance();
+    let draft = h.state().preview().expect("live preview while dragging").clone();
+    assert!(draft.draft);
+    assert!(draft.result.max_deviation <= m * (1.0 + 1e-9));
+    assert!(
+        h.get_by_role_and_label(Role::Button, "Accept")
+            .accesskit_node()
+            .is_disabled()
+    );
+    h.drop_at(*pts.last().unwrap());
+    h.run();
+    assert!(!h.state().drag_in_progress);
+    let full = h.state().preview().expect("preview after the release").clone();
+    assert!(!full.draft, "the release did not re-fair in full");
+    assert_eq!(full.params, draft.params, "same region, same samples");
+    assert!(full.result.max_deviation <= m * (1.0 + 1e-9));
+    // the polish lowers the paper's E inside the band (or leaves it)
+    assert!(
+        full.result.energy <= draft.result.energy * (1.0 + 1e-9),
+        "E {} -> {}",
+        draft.result.energy,
+        full.result.energy
+    );
+    assert_ne!(full.result.curve, draft.result.curve, "the polish changed nothing");
+    assert!(
+        !h.get_by_role_and_label(Role::Button, "Accept")
+            .accesskit_node()
+            .is_disabled()
+    );
+}
