@@ -283,9 +283,10 @@ fn measures_panel_marks_where_the_deviation_is_largest() {
     );
     // counts print as integers, the original's round-off self-distance as 0
     let n = after.n_curv_extrema;
-    assert!(h.query_by_label(&n.to_string()).is_some(), "no count {n}");
-    assert!(h.query_by_label(&format!("{:.4}", n as f64)).is_none());
-    assert!(h.query_by_label("0").is_some());
+    // (another count may show the same number, so look for any node with it)
+    assert!(h.query_all_by_label(&n.to_string()).next().is_some(), "no count {n}");
+    assert!(h.query_all_by_label(&format!("{:.4}", n as f64)).next().is_none());
+    assert!(h.query_all_by_label("0").next().is_some());
     for row in ["max deviation", "κ extrema", "inflections", "E (paper)", "∫(dκ/ds)² ds"] {
         assert!(h.query_by_label(row).is_some(), "no row {row}");
     }

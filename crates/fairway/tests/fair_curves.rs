@@ -109,12 +109,11 @@ fn a_fair_circle_arc_hardly_changes() {
     }
 }
 
-/// The issue asks for fast E ≤ iterative E. Measured here: iterative 9.08e-2; fast 1.02e-1 after the
-/// band search alone, 9.40e-2 with the Gauss–Newton polish of E (3.4 % worse; both hold the band) —
-/// an open point of the closing note. This test keeps the gap from growing: fast E within 5 % of the
-/// iterative baseline's, and both well below the original's.
+/// The issue asks for fast E ≤ iterative E. Measured here: iterative 9.0836e-2; fast 1.018e-1 after the
+/// band search alone, 9.0578e-2 with the Gauss–Newton polish of E inside the band (0.3 % below the
+/// baseline); both hold the band.
 #[test]
-fn fast_energy_close_to_iterative() {
+fn fast_energy_no_worse_than_iterative() {
     let c = noisy_curve(
         Shape::Ellipse {
             a: 2.0,
@@ -135,7 +134,7 @@ fn fast_energy_close_to_iterative() {
     );
     assert!(it.energy < e_orig);
     assert!(
-        fast.energy <= 1.05 * it.energy,
+        fast.energy <= it.energy,
         "fast {} vs iterative {}",
         fast.energy,
         it.energy
@@ -259,11 +258,12 @@ fn planar_curve_in_3d_fairs_like_2d() {
         r2.energy, r3.energy
     );
     // The band search alone gives 3D = 2D to 2.6e-16. The E polish after it takes discrete steps
-    // (active set at 97 % of the band, line search, E must drop), which can go differently on the
-    // rounding differences between the 2D and the 3D curvature formulas: measured 1.1e-5 = 0.5 % of the
-    // tolerance. A fold of the target at the inflection would show at the scale of the tolerance.
-    assert!(diff < 0.02 * 2e-3, "{diff}");
-    assert!((r2.energy - r3.energy).abs() <= 0.02 * r2.energy);
+    // (active set near the band edge, line search, E must drop, up to 8 Gauss–Newton steps), which can
+    // go differently on the rounding differences between the 2D and the 3D curvature formulas: measured
+    // 5.3e-5 = 2.6 % of the tolerance, with E equal to 6e-5 relative. A fold of the target at the
+    // inflection would show at the scale of the tolerance and in E.
+    assert!(diff < 0.05 * 2e-3, "{diff}");
+    assert!((r2.energy - r3.energy).abs() <= 1e-3 * r2.energy);
     assert!(dev_max(&c3, &r3.curve) <= 2e-3);
 }
 

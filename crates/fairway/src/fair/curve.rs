@@ -227,7 +227,7 @@ pub const MU_MAX: f64 = 1e10;
 /// The band search stops when the largest good μ is known to within this factor.
 pub const MU_RESOLUTION: f64 = 1.05;
 /// Gauss–Newton iterations of the E polish after the band search.
-pub const POLISH_ITERS: usize = 4;
+pub const POLISH_ITERS: usize = 8;
 /// Step factor of the warm-started search around the previous μ.
 pub const MU_WARM_STEP: f64 = 16.0;
 
@@ -813,6 +813,7 @@ impl FairingSetup {
         let mut rhs = vec![DVec3::ZERO; nu];
         let mut jrow = vec![0.0; dim * (p + 1)];
         for _ in 0..POLISH_ITERS {
+            let e_start = e;
             h.reset(nu, bw);
             rhs.fill(DVec3::ZERO);
             for k in 0..self.params.len() {
@@ -937,7 +938,8 @@ impl FairingSetup {
                 accepted = true;
                 break;
             }
-            if !accepted {
+            // converged: the last step gained less than 0.02 % of E
+            if !accepted || e_start - e < 2e-4 * e_start {
                 break;
             }
         }
@@ -947,6 +949,7 @@ impl FairingSetup {
     /// Check samples whose parametric displacement under update `d` exceeds `level`.
     fn band_samples(&self, d: &[DVec3], level: f64) -> Vec<usize> {
         let p = self.work.degree();
+        let mut cand: Option<BSplineCurve> = None;
         (0..self.chk_u.len())
             .filter(|&j| {
                 let f = self.chk_first[j];
@@ -957,7 +960,20 @@ impl FairingSetup {
                         delta += d[li as usize] * self.chk_b[j * (p + 1) + i];
                     }
                 }
-                delta.length() > level
+                if delta.length() <= level {
+                    return false;
+                }
+                // the displacement at equal u overestimates where the curve slid along itself: only samples
+                // whose distance to the curve (Newton projection) is near the band are at its edge
+                if cand.is_none() {
+                    let mut pts = self.work.points().to_vec();
+                    for (k, x) in d.iter().enumerate() {
+                        pts[self.i0 + k] += *x;
+                    }
+                    cand = self.work.with_points(pts).ok();
+                }
+                cand.as_ref()
+                    .is_none_or(|c| project_near(c, self.chk_q[j], self.chk_u[j], self.chk_h, 0.0) > level)
             })
             .collect()
     }
