@@ -188,7 +188,10 @@ impl App {
                 (1, "target point drag"),
                 (2, "region end drag, new setup per frame"),
             ] {
-                let mut line = format!("bench ({name}, {n_points} control points):");
+                let mut line = format!(
+                    "bench ({name}, {n_points} control points, target {:?}, integrator {:?}):",
+                    self.prefs.fair.method, self.prefs.fair.integrator
+                );
                 for (what, v) in [
                     ("show() thread CPU", &b.cpu[ph]),
                     ("whole frame main-thread CPU", &b.frame_cpu[ph]),

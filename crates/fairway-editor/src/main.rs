@@ -115,6 +115,11 @@ fn main() -> eframe::Result {
             }
             v3.apply(&mut app, tolerance.as_ref().map(|t| t[0]));
             app.bench = bench.map(|f| fairway_editor::Bench::new(f[0]));
+            if app.bench.is_some() {
+                // measure the defaults, not whatever fairing options this user's stored settings hold
+                // (an old stored target method, e.g. Average, changes the cost)
+                app.prefs = fairway_editor::Prefs::default();
+            }
             if let Some(p) = export_png.clone() {
                 app.export_png_then_quit(p);
             }
