@@ -748,32 +748,16 @@ impl App {
                 ui.separator();
                 self.export_menu_ui(ui);
                 ui.separator();
-                ui.label("Path:");
-                ui.add(
-                    egui::TextEdit::singleline(&mut self.path_input)
-                        .hint_text("/path/to/curve.ron")
-                        .desired_width(320.0),
-                )
-                .on_hover_text("Type a file path when no file dialog is available");
-                ui.horizontal(|ui| {
-                    let p = PathBuf::from(self.path_input.trim());
-                    if ui
-                        .button("Open path")
-                        .on_hover_text("Open the file at the typed path")
-                        .clicked()
-                    {
-                        self.request(Pending::Open(p.clone()));
-                        ui.close();
-                    }
-                    if ui
-                        .button("Save to path")
-                        .on_hover_text("Save the document to the typed path")
-                        .clicked()
-                    {
-                        self.push(Command::SaveTo(p));
-                        ui.close();
-                    }
-                });
+                match typed_path_ui(
+                    ui,
+                    &mut self.path_input,
+                    "/path/to/curve.ron",
+                    "Type a file path when no file dialog is available",
+                ) {
+                    Some(TypedPath::Open(p)) => self.request(Pending::Open(p)),
+                    Some(TypedPath::SaveTo(p)) => self.push(Command::SaveTo(p)),
+                    None => {}
+                }
                 self.export_path_ui(ui);
                 ui.separator();
                 ui.menu_button("Recent", |ui| {
@@ -1107,6 +1091,47 @@ pub fn demo_curve_n(n: usize) -> BSplineCurve {
     knots.extend((1..=inner).map(|k| k as f64 / (inner + 1) as f64));
     knots.extend(vec![1.0; p + 1]);
     BSplineCurve::new_2d(p, knots, &pts).expect("valid demo curve")
+}
+
+/// What the File menu's typed-path row asks for.
+pub enum TypedPath {
+    /// "Open path".
+    Open(PathBuf),
+    /// "Save to path".
+    SaveTo(PathBuf),
+}
+
+/// The File menu's typed-path row (for sessions without a file dialog), shared by the curve and the
+/// surface screens: a path field with "Open path" and "Save to path"; closes the menu on a click.
+pub fn typed_path_ui(ui: &mut egui::Ui, path_input: &mut String, hint: &str, tip: &str) -> Option<TypedPath> {
+    ui.label("Path:");
+    ui.add(
+        egui::TextEdit::singleline(path_input)
+            .hint_text(hint)
+            .desired_width(320.0),
+    )
+    .on_hover_text(tip);
+    let mut out = None;
+    ui.horizontal(|ui| {
+        let p = PathBuf::from(path_input.trim());
+        if ui
+            .button("Open path")
+            .on_hover_text("Open the file at the typed path")
+            .clicked()
+        {
+            out = Some(TypedPath::Open(p.clone()));
+            ui.close();
+        }
+        if ui
+            .button("Save to path")
+            .on_hover_text("Save the document to the typed path")
+            .clicked()
+        {
+            out = Some(TypedPath::SaveTo(p));
+            ui.close();
+        }
+    });
+    out
 }
 
 /// The tolerance controls shared by the curve and surface screens: a log

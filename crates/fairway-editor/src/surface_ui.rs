@@ -482,32 +482,16 @@ impl SurfaceEditor {
     fn menu_ui(&mut self, ui: &mut egui::Ui) {
         egui::MenuBar::new().ui(ui, |ui| {
             ui.menu_button("File", |ui| {
-                ui.label("Path:");
-                ui.add(
-                    egui::TextEdit::singleline(&mut self.path_input)
-                        .hint_text("/path/to/surface.json")
-                        .desired_width(320.0),
-                )
-                .on_hover_text("A .ron document or .json surface (a curve file returns to the curve editor)");
-                ui.horizontal(|ui| {
-                    let p = PathBuf::from(self.path_input.trim());
-                    if ui
-                        .button("Open path")
-                        .on_hover_text("Open the file at the typed path")
-                        .clicked()
-                    {
-                        self.push(SurfCommand::Open(p.clone()));
-                        ui.close();
-                    }
-                    if ui
-                        .button("Save to path")
-                        .on_hover_text("Save the document to the typed path")
-                        .clicked()
-                    {
-                        self.push(SurfCommand::SaveTo(p));
-                        ui.close();
-                    }
-                });
+                match crate::typed_path_ui(
+                    ui,
+                    &mut self.path_input,
+                    "/path/to/surface.json",
+                    "A .ron document or .json surface (a curve file returns to the curve editor)",
+                ) {
+                    Some(crate::TypedPath::Open(p)) => self.push(SurfCommand::Open(p)),
+                    Some(crate::TypedPath::SaveTo(p)) => self.push(SurfCommand::SaveTo(p)),
+                    None => {}
+                }
                 if ui
                     .add_enabled(self.path.is_some(), egui::Button::new("Save"))
                     .on_hover_text("Save to the open file (Ctrl+S)")
