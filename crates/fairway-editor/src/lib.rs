@@ -812,19 +812,10 @@ impl App {
                     .on_hover_text("Green diamonds: inflections; orange dots: curvature extrema");
             });
             ui.separator();
-            if ui
-                .add_enabled(self.history.can_undo(), egui::Button::new("Undo"))
-                .on_hover_text("Undo (Ctrl+Z)")
-                .clicked()
-            {
-                self.push(Command::Undo);
-            }
-            if ui
-                .add_enabled(self.history.can_redo(), egui::Button::new("Redo"))
-                .on_hover_text("Redo (Ctrl+Shift+Z / Ctrl+Y)")
-                .clicked()
-            {
-                self.push(Command::Redo);
+            match undo_redo_ui(ui, self.history.can_undo(), self.history.can_redo()) {
+                Some(true) => self.push(Command::Undo),
+                Some(false) => self.push(Command::Redo),
+                None => {}
             }
             if ui
                 .button("Fit")
@@ -1091,6 +1082,27 @@ pub fn demo_curve_n(n: usize) -> BSplineCurve {
     knots.extend((1..=inner).map(|k| k as f64 / (inner + 1) as f64));
     knots.extend(vec![1.0; p + 1]);
     BSplineCurve::new_2d(p, knots, &pts).expect("valid demo curve")
+}
+
+/// The toolbar's Undo / Redo buttons, shared by the curve and surface screens:
+/// `Some(true)` for Undo, `Some(false)` for Redo.
+pub fn undo_redo_ui(ui: &mut egui::Ui, can_undo: bool, can_redo: bool) -> Option<bool> {
+    let mut out = None;
+    if ui
+        .add_enabled(can_undo, egui::Button::new("Undo"))
+        .on_hover_text("Undo (Ctrl+Z)")
+        .clicked()
+    {
+        out = Some(true);
+    }
+    if ui
+        .add_enabled(can_redo, egui::Button::new("Redo"))
+        .on_hover_text("Redo (Ctrl+Shift+Z / Ctrl+Y)")
+        .clicked()
+    {
+        out = Some(false);
+    }
+    out
 }
 
 /// What the File menu's typed-path row asks for.

@@ -504,19 +504,10 @@ impl SurfaceEditor {
                 }
             });
             ui.separator();
-            if ui
-                .add_enabled(self.history.can_undo(), egui::Button::new("Undo"))
-                .on_hover_text("Undo (Ctrl+Z)")
-                .clicked()
-            {
-                self.push(SurfCommand::Undo);
-            }
-            if ui
-                .add_enabled(self.history.can_redo(), egui::Button::new("Redo"))
-                .on_hover_text("Redo (Ctrl+Shift+Z / Ctrl+Y)")
-                .clicked()
-            {
-                self.push(SurfCommand::Redo);
+            match crate::undo_redo_ui(ui, self.history.can_undo(), self.history.can_redo()) {
+                Some(true) => self.push(SurfCommand::Undo),
+                Some(false) => self.push(SurfCommand::Redo),
+                None => {}
             }
             ui.separator();
             self.view.toolbar_ui(ui);
@@ -650,34 +641,25 @@ impl SurfaceEditor {
         });
         if let Some(((mut a, mut b), (mut c, mut d))) = self.region() {
             let mut changed = false;
-            ui.horizontal(|ui| {
-                for (v, lo, hi, name) in [(&mut a, du0, du1, "u1"), (&mut b, du0, du1, "u2")] {
-                    let l = ui.label(name);
-                    changed |= ui
-                        .add(
-                            egui::DragValue::new(v)
-                                .range(lo..=hi)
-                                .speed((hi - lo) * 1e-3)
-                                .max_decimals(5),
-                        )
-                        .labelled_by(l.id)
-                        .changed();
-                }
-            });
-            ui.horizontal(|ui| {
-                for (v, lo, hi, name) in [(&mut c, dv0, dv1, "v1"), (&mut d, dv0, dv1, "v2")] {
-                    let l = ui.label(name);
-                    changed |= ui
-                        .add(
-                            egui::DragValue::new(v)
-                                .range(lo..=hi)
-                                .speed((hi - lo) * 1e-3)
-                                .max_decimals(5),
-                        )
-                        .labelled_by(l.id)
-                        .changed();
-                }
-            });
+            for row in [
+                [(&mut a, du0, du1, "u1"), (&mut b, du0, du1, "u2")],
+                [(&mut c, dv0, dv1, "v1"), (&mut d, dv0, dv1, "v2")],
+            ] {
+                ui.horizontal(|ui| {
+                    for (v, lo, hi, name) in row {
+                        let l = ui.label(name);
+                        changed |= ui
+                            .add(
+                                egui::DragValue::new(v)
+                                    .range(lo..=hi)
+                                    .speed((hi - lo) * 1e-3)
+                                    .max_decimals(5),
+                            )
+                            .labelled_by(l.id)
+                            .changed();
+                    }
+                });
+            }
             if changed && a < b && c < d {
                 self.push(SurfCommand::SetRegion(Some(((a, b), (c, d)))));
             }
