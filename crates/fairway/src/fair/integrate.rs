@@ -88,11 +88,19 @@ fn normal_of(t: DVec3, k: usize, tr: &Track<'_>) -> DVec3 {
         let l = (t.x * t.x + t.y * t.y).sqrt();
         DVec3::new(-t.y / l, t.x / l, 0.0)
     } else {
-        let tu = t.normalize();
-        let n = tr.normals[k];
-        let m = n - tu * n.dot(tu);
-        let l = m.length();
-        if l > 1e-12 { m / l } else { tu.any_orthonormal_vector() }
+        normal_of_unit(t.normalize(), tr.normals[k])
+    }
+}
+
+/// The 3D normal at a unit tangent `tu`: the sample's normal `n` made orthogonal to `tu`.
+#[inline]
+fn normal_of_unit(tu: DVec3, n: DVec3) -> DVec3 {
+    let m = n - tu * n.dot(tu);
+    let l2 = m.length_squared();
+    if l2 > 1e-24 {
+        m * (1.0 / l2.sqrt())
+    } else {
+        tu.any_orthonormal_vector()
     }
 }
 
@@ -104,8 +112,20 @@ fn half_angle(th: f64) -> (f64, f64, f64) {
     let x = 0.5 * th;
     if x.abs() <= 0.05 {
         let x2 = x * x;
-        let sinc = 1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0)));
-        let c = 1.0 - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0 * (1.0 - x2 / 56.0)));
+        // multiplications by the reciprocals: a division by a constant is not turned into one (it is
+        // not exact), and eight dependent divisions per step were the integrator's largest cost
+        const R: [f64; 8] = [
+            1.0 / 6.0,
+            1.0 / 20.0,
+            1.0 / 42.0,
+            1.0 / 72.0,
+            1.0 / 2.0,
+            1.0 / 12.0,
+            1.0 / 30.0,
+            1.0 / 56.0,
+        ];
+        let sinc = 1.0 - x2 * R[0] * (1.0 - x2 * R[1] * (1.0 - x2 * R[2] * (1.0 - x2 * R[3])));
+        let c = 1.0 - x2 * R[4] * (1.0 - x2 * R[5] * (1.0 - x2 * R[6] * (1.0 - x2 * R[7])));
         (x * sinc, c, sinc)
     } else {
         let (s, c) = x.sin_cos();
@@ -138,6 +158,7 @@ pub fn integrate_one(
     ts[k0] = t * sgn;
     let m = pull.tolerance;
     let use_pull = m > 0.0 && m.is_finite();
+    let inv_m2 = 1.0 / (m * m);
     for j in 0..n - 1 {
         let (k, k1) = (idx(j), idx(j + 1));
         let (ga, gb) = (gs * g[k], gs * g[k1]);
@@ -162,7 +183,7 @@ pub fn integrate_one(
                 let nn = if tr.dim == 2 {
                     DVec3::new(-tu.y, tu.x, 0.0)
                 } else {
-                    normal_of(tu, k, tr)
+                    normal_of_unit(tu, tr.normals[k])
                 };
                 let th = h * 0.5 * (ga + gb);
                 let (s2, c2, sinc) = half_angle(th);
@@ -174,12 +195,13 @@ pub fn integrate_one(
         }
         if use_pull {
             let d = tr.points[k1] - x;
-            let w = (d.length_squared() / (m * m)).min(1.0);
+            let w = (d.length_squared() * inv_m2).min(1.0);
             x += d * w;
-            if pull.correct_tangent {
+            if pull.correct_tangent && w > 0.0 {
                 let to = tr.tangents[k1] * sgn;
                 let tl = t.length();
-                t = (t + (to * tl - t) * w).normalize() * tl;
+                let tn = t + (to * tl - t) * w;
+                t = tn * (tl / tn.length());
             }
         }
         xs[k1] = x;

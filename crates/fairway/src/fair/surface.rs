@@ -356,7 +356,7 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
         &[f64::NAN]
     };
     // fairness energy over the moving rectangle (auto-smoothing selection, module docs step 6)
-    let mut energy = opts.auto_smoothing.then(|| FairnessGrid::new(&s, (au, bu), (av, bv)));
+    let energy = opts.auto_smoothing.then(|| FairnessGrid::new(&s, (au, bu), (av, bv)));
     // the fairest candidate holding the band so far: (points, dev, m_iso, smoothing, round, energy)
     type Pick = (Vec<DVec3>, f64, f64, SurfaceSmoothing, usize, f64);
     let mut pick: Option<Pick> = None;
@@ -365,11 +365,30 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
     } else {
         MAX_ROUNDS
     };
+    // With auto smoothing the first round fairs the isocurves at all `iso_levels` tolerances m, m/3, m/9, …
+    // at once (one setup per isocurve, re-faired per level); the rounds that step down a level take their
+    // cloud from here. A tightening round (no level held the band) computes its own.
+    let mut level_clouds: Vec<(f64, Vec<DVec3>)> = Vec::new();
+    if opts.auto_smoothing && opts.iso_levels > 1 {
+        let mut levels = vec![m_iso];
+        for _ in 1..opts.iso_levels {
+            levels.push(levels[levels.len() - 1] * ISO_LEVEL_FACTOR);
+        }
+        let clouds = combined_cloud(&s, &opts, &levels, (u1, u2), (v1, v2), &us, &vs, &orig, &mut tm)?;
+        level_clouds = levels.into_iter().zip(clouds).collect();
+    }
     for _ in 0..max_rounds {
         rounds += 1;
-        let data = combined_cloud(&s, &opts, m_iso, (u1, u2), (v1, v2), &us, &vs, &orig, &mut tm)?;
+        let data = match level_clouds.iter().position(|(l, _)| *l == m_iso) {
+            Some(i) => level_clouds.swap_remove(i).1,
+            None => combined_cloud(&s, &opts, &[m_iso], (u1, u2), (v1, v2), &us, &vs, &orig, &mut tm)?
+                .pop()
+                .expect("one level"),
+        };
         let mut level_best: Option<Pick> = None;
-        for &st in ladder {
+        // the fits and their fairness energies are independent: computed in parallel, then checked in order
+        let t0 = Instant::now();
+        let cands = par_map(ladder, opts.threads.unwrap_or_else(iso_threads), |&st| {
             let sm = if st.is_nan() {
                 opts.smoothing
             } else {
@@ -379,13 +398,16 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
                     order: opts.smoothing.order,
                 }
             };
-            let t0 = Instant::now();
             let pts = fit_surface_grid(&s, &us, &vs, &data, free_u.clone(), free_v.clone(), sm)?;
             let faired = s.with_points(pts.clone())?;
+            let e = energy.as_ref().map(|eg| eg.energy(&faired));
+            Ok::<_, Error>((sm, pts, faired, e))
+        });
+        tm.fit += t0.elapsed();
+        for cand in cands {
+            let (sm, pts, faired, e) = cand?;
             let t1 = Instant::now();
-            tm.fit += t1 - t0;
-            // with auto smoothing the energy first: a candidate no fairer than the level's best is not checked
-            let e = energy.as_mut().map(|eg| eg.energy(&faired));
+            // with auto smoothing: a candidate no fairer than the level's best is not checked
             if let (Some(e), Some(lb)) = (e, level_best.as_ref())
                 && e >= lb.5
             {
@@ -549,25 +571,66 @@ pub fn iso_threads() -> usize {
         .clamp(1, 16)
 }
 
+/// `f` over `items` on up to `threads` scoped threads (a shared work counter hands out the items), results in
+/// the order of `items`. The result of each item does not depend on the thread count. A panic in a worker
+/// is re-raised here (the editor's frame guard reports it).
+fn par_map<T: Sync, R: Send>(items: &[T], threads: usize, f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    let threads = threads.clamp(1, 64).min(items.len()).max(1);
+    if threads == 1 {
+        return items.iter().map(f).collect();
+    }
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let mut results: Vec<Option<R>> = (0..items.len()).map(|_| None).collect();
+    std::thread::scope(|sc| {
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                sc.spawn(|| {
+                    let mut done = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        if i >= items.len() {
+                            break done;
+                        }
+                        done.push((i, f(&items[i])));
+                    }
+                })
+            })
+            .collect();
+        for w in workers {
+            for (i, r) in w.join().unwrap_or_else(|e| std::panic::resume_unwind(e)) {
+                results[i] = Some(r);
+            }
+        }
+    });
+    results
+        .into_iter()
+        .map(|r| r.expect("every item is mapped once"))
+        .collect()
+}
+
 /// Isocurves per block of neighbours (warm-started band search, one unit of parallel work).
 pub const ISO_BLOCK: usize = 8;
 
-/// Fair the isocurves and combine the clouds: returns the grid data `S + Δ`.
+/// Fair the isocurves and combine the clouds: returns the grid data `S + Δ`, one per isocurve tolerance
+/// of `levels`. Each isocurve's setup (arc length, samples, basis rows, normal equations) does not depend on
+/// the tolerance, so it is built once and re-faired per level (each level warm-starts its band search from
+/// the neighbouring isocurve's μ at the same level, exactly as one call per level would).
 fn combined_cloud(
     s: &BSplineSurface,
     opts: &SurfaceFairingOptions,
-    m_iso: f64,
+    levels: &[f64],
     ru: (f64, f64),
     rv: (f64, f64),
     us: &[f64],
     vs: &[f64],
     orig: &[DVec3],
     tm: &mut SurfaceTimings,
-) -> Result<Vec<DVec3>> {
+) -> Result<Vec<Vec<DVec3>>> {
     let t0 = Instant::now();
     let (mu, mv) = (us.len(), vs.len());
-    let mut du = vec![DVec3::ZERO; mu * mv];
-    let mut dv = vec![DVec3::ZERO; mu * mv];
+    let nl = levels.len();
+    let mut du = vec![vec![DVec3::ZERO; mu * mv]; nl];
+    let mut dv = vec![vec![DVec3::ZERO; mu * mv]; nl];
     // A direction whose region holds fewer than p + 1 knot spans has no movable isocurve control point for
     // the curve engine (e.g. a cubic direction with one span): its isocurves stay, Δ = 0.
     let spans_in = |k: &crate::knots::KnotVector, (a, b): (f64, f64)| {
@@ -590,8 +653,10 @@ fn combined_cloud(
         .chunk_by(|a, b| a.0 == b.0)
         .flat_map(|c| c.chunks(ISO_BLOCK))
         .collect();
-    let fair_block = |block: &[(bool, usize)]| -> Result<Vec<Vec<DVec3>>> {
-        let mut hint = None;
+    // per isocurve of the block, per level: the faired isocurve at the grid parameters
+    type BlockResult = Result<Vec<Vec<Vec<DVec3>>>>;
+    let fair_block = |block: &[(bool, usize)]| -> BlockResult {
+        let mut hints = vec![None; nl];
         block
             .iter()
             .map(|&(is_u, i)| {
@@ -600,65 +665,35 @@ fn combined_cloud(
                 } else {
                     (s.iso_v(us[i]), rv, spans_v, vs, ("v", "u", us[i]))
                 };
-                let res = isocurve_setup(&iso, opts, m_iso, r, spans)
-                    .and_then(|mut st| {
-                        st.set_mu_hint(hint);
-                        st.fair()
-                    })
-                    .map_err(|e| {
-                        Error::InvalidInput(format!("fairing the {}-isocurve at {} = {}: {e}", at.0, at.1, at.2))
-                    })?;
-                hint = Some(res.mu);
-                Ok(t.iter().map(|&x| res.curve.point(x)).collect())
+                let err = |e: Error| {
+                    Error::InvalidInput(format!("fairing the {}-isocurve at {} = {}: {e}", at.0, at.1, at.2))
+                };
+                let mut st = isocurve_setup(&iso, opts, levels[0], r, spans).map_err(err)?;
+                let mut out = Vec::with_capacity(nl);
+                for (&m_iso, hint) in levels.iter().zip(hints.iter_mut()) {
+                    st.set_tolerance(m_iso).map_err(err)?;
+                    st.set_mu_hint(*hint);
+                    let res = st.fair().map_err(err)?;
+                    *hint = Some(res.mu);
+                    out.push(t.iter().map(|&x| res.curve.point(x)).collect());
+                }
+                Ok(out)
             })
             .collect()
     };
-    let threads = opts
-        .threads
-        .unwrap_or_else(iso_threads)
-        .clamp(1, 64)
-        .min(blocks.len())
-        .max(1);
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let mut results: Vec<Option<Result<Vec<Vec<DVec3>>>>> = (0..blocks.len()).map(|_| None).collect();
-    if threads == 1 {
-        for (b, r) in results.iter_mut().enumerate() {
-            *r = Some(fair_block(blocks[b]));
-        }
-    } else {
-        std::thread::scope(|sc| {
-            let workers: Vec<_> = (0..threads)
-                .map(|_| {
-                    sc.spawn(|| {
-                        let mut done = Vec::new();
-                        loop {
-                            let b = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                            if b >= blocks.len() {
-                                break done;
-                            }
-                            done.push((b, fair_block(blocks[b])));
-                        }
-                    })
-                })
-                .collect();
-            for w in workers {
-                // a panic in a worker is re-raised here (the editor's frame guard reports it)
-                for (b, r) in w.join().unwrap_or_else(|e| std::panic::resume_unwind(e)) {
-                    results[b] = Some(r);
-                }
-            }
-        });
-    }
+    let results = par_map(&blocks, opts.threads.unwrap_or_else(iso_threads), |b| fair_block(b));
     for (block, res) in blocks.iter().zip(results) {
-        let pts = res.expect("every block is fair_block'ed once")?;
-        for (&(is_u, i), p) in block.iter().zip(pts) {
-            if is_u {
-                for k in 0..mu {
-                    du[k * mv + i] = p[k] - orig[k * mv + i];
-                }
-            } else {
-                for l in 0..mv {
-                    dv[i * mv + l] = p[l] - orig[i * mv + l];
+        let pts = res?;
+        for (&(is_u, i), per_level) in block.iter().zip(pts) {
+            for (lv, p) in per_level.into_iter().enumerate() {
+                if is_u {
+                    for k in 0..mu {
+                        du[lv][k * mv + i] = p[k] - orig[k * mv + i];
+                    }
+                } else {
+                    for l in 0..mv {
+                        dv[lv][i * mv + l] = p[l] - orig[i * mv + l];
+                    }
                 }
             }
         }
@@ -674,33 +709,40 @@ fn combined_cloud(
     };
     let (a0, a1) = (us[0], us[mu - 1]);
     let (b0, b1) = (vs[0], vs[mv - 1]);
-    let mut data = vec![DVec3::ZERO; mu * mv];
-    for k in 0..mu {
-        let d_u = border_dist(us[k], a0, a1, du0, du1);
-        for l in 0..mv {
-            let d_v = border_dist(vs[l], b0, b1, dv0, dv1);
-            let (beta_u, beta_v) = if d_u + d_v > 0.0 {
-                (d_v / (d_u + d_v), d_u / (d_u + d_v))
-            } else {
-                (0.5, 0.5)
-            };
-            let (x, y) = (du[k * mv + l], dv[k * mv + l]);
-            let (mut a, mut b) = match opts.combine {
-                Combine::Average => (0.5, 0.5),
-                Combine::Border => (beta_u, beta_v),
-                Combine::Weighted | Combine::Smoothed => (beta_u * x.length(), beta_v * y.length()),
-            };
-            if !(a + b > 0.0) {
-                (a, b) = (beta_u, beta_v);
+    let clouds = du
+        .iter()
+        .zip(&dv)
+        .map(|(du, dv)| {
+            let mut data = vec![DVec3::ZERO; mu * mv];
+            for k in 0..mu {
+                let d_u = border_dist(us[k], a0, a1, du0, du1);
+                for l in 0..mv {
+                    let d_v = border_dist(vs[l], b0, b1, dv0, dv1);
+                    let (beta_u, beta_v) = if d_u + d_v > 0.0 {
+                        (d_v / (d_u + d_v), d_u / (d_u + d_v))
+                    } else {
+                        (0.5, 0.5)
+                    };
+                    let (x, y) = (du[k * mv + l], dv[k * mv + l]);
+                    let (mut a, mut b) = match opts.combine {
+                        Combine::Average => (0.5, 0.5),
+                        Combine::Border => (beta_u, beta_v),
+                        Combine::Weighted | Combine::Smoothed => (beta_u * x.length(), beta_v * y.length()),
+                    };
+                    if !(a + b > 0.0) {
+                        (a, b) = (beta_u, beta_v);
+                    }
+                    data[k * mv + l] = orig[k * mv + l] + (x * a + y * b) / (a + b);
+                }
             }
-            data[k * mv + l] = orig[k * mv + l] + (x * a + y * b) / (a + b);
-        }
-    }
-    if opts.combine == Combine::Smoothed {
-        umbrella_smooth(&mut data, mu, mv, 3, 0.25);
-    }
+            if opts.combine == Combine::Smoothed {
+                umbrella_smooth(&mut data, mu, mv, 3, 0.25);
+            }
+            data
+        })
+        .collect();
     tm.combine += t1.elapsed();
-    Ok(data)
+    Ok(clouds)
 }
 
 /// Normal umbrella smoothing: `P ← P + τ ((avg of the 4 neighbours − P)·n) n`, n the grid normal,
@@ -731,10 +773,6 @@ struct FairnessGrid {
     /// Per u-sample: span and the values, 1st and 2nd derivatives of the p + 1 basis functions.
     bu: Vec<(usize, [[f64; MAX_ORDER]; 3])>,
     bv: Vec<(usize, [[f64; MAX_ORDER]; 3])>,
-    /// Σ_i N_i^{(r)}(u_k) D_ij for r = 0, 1, 2, per (k, j).
-    t: Vec<[DVec3; 3]>,
-    h: Vec<f64>,
-    p: Vec<DVec3>,
 }
 
 /// Samples per knot span of the fairness energy grid.
@@ -756,32 +794,29 @@ impl FairnessGrid {
         Self {
             bu: basis_table(s.knots_u(), &span_grid(s.knots_u(), au, bu, ENERGY_PER_SPAN)),
             bv: basis_table(s.knots_v(), &span_grid(s.knots_v(), av, bv, ENERGY_PER_SPAN)),
-            t: Vec::new(),
-            h: Vec::new(),
-            p: Vec::new(),
         }
     }
 
-    fn energy(&mut self, s: &BSplineSurface) -> f64 {
+    fn energy(&self, s: &BSplineSurface) -> f64 {
         let (mu, mv) = (self.bu.len(), self.bv.len());
         let (pu, pv, nv) = (s.degree_u(), s.degree_v(), s.nv());
         let pts = s.points();
-        self.t.clear();
-        self.t.resize(mu * nv, [DVec3::ZERO; 3]);
+        // Σ_i N_i^{(r)}(u_k) D_ij for r = 0, 1, 2, per (k, j)
+        let mut tab = vec![[DVec3::ZERO; 3]; mu * nv];
+        let mut hs = Vec::with_capacity(mu * mv);
+        let mut ps = Vec::with_capacity(mu * mv);
         for (k, (sp, d)) in self.bu.iter().enumerate() {
             for a in 0..=pu {
                 let i = sp - pu + a;
                 for j in 0..nv {
                     let q = pts[i * nv + j];
-                    let t = &mut self.t[k * nv + j];
+                    let t = &mut tab[k * nv + j];
                     for r in 0..3 {
                         t[r] += q * d[r][a];
                     }
                 }
             }
         }
-        self.h.clear();
-        self.p.clear();
         for k in 0..mu {
             for (sp, d) in &self.bv {
                 let (mut p, mut su, mut sv, mut suu, mut suv, mut svv) = (
@@ -793,7 +828,7 @@ impl FairnessGrid {
                     DVec3::ZERO,
                 );
                 for b in 0..=pv {
-                    let t = self.t[k * nv + sp - pv + b];
+                    let t = tab[k * nv + sp - pv + b];
                     p += t[0] * d[0][b];
                     sv += t[0] * d[1][b];
                     svv += t[0] * d[2][b];
@@ -805,11 +840,11 @@ impl FairnessGrid {
                 let (e, f, g) = (su.dot(su), su.dot(sv), sv.dot(sv));
                 let det = e * g - f * f;
                 let h = (e * svv.dot(n) - 2.0 * f * suv.dot(n) + g * suu.dot(n)) / (2.0 * det);
-                self.h.push(if h.is_finite() { h } else { 0.0 });
-                self.p.push(p);
+                hs.push(if h.is_finite() { h } else { 0.0 });
+                ps.push(p);
             }
         }
-        let (h, p) = (&self.h, &self.p);
+        let (h, p) = (&hs, &ps);
         let mut e = 0.0;
         let len = |a: usize, b: usize| (p[a] - p[b]).length();
         for k in 0..mu.saturating_sub(1) {
