@@ -3,6 +3,7 @@
 //!
 //! ```sh
 //! cargo run --release -p fairway --example surface_combine
+//! REFAIR_LEVELS=1 cargo run --release -p fairway --example surface_combine   # isocurves re-faired per level
 //! ```
 //!
 //! Columns: principal-curvature RMS error against the noise-free surface
@@ -117,6 +118,7 @@ fn main() {
                         tolerance: 3e-3,
                         combine,
                         region,
+                        refair_levels: std::env::var("REFAIR_LEVELS").is_ok(),
                         ..Default::default()
                     },
                 )

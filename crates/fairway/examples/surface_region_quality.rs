@@ -4,6 +4,7 @@
 //!
 //! ```sh
 //! cargo run --release -p fairway --example surface_region_quality [u1 u2 v1 v2]
+//! REFAIR_LEVELS=1 cargo run --release -p fairway --example surface_region_quality   # isocurves re-faired per level
 //! ```
 //!
 //! Columns: Σ∫(dκ_n/ds)² ds of 20 isocurves per direction (`E`) and
@@ -63,6 +64,7 @@ fn main() {
                     .ok()
                     .map_or(Default::default(), |c| c.parse().unwrap()),
                 auto_smoothing: std::env::var("STRENGTH").is_err(),
+                refair_levels: std::env::var("REFAIR_LEVELS").is_ok(),
                 smoothing: fairway::fit_surface::SurfaceSmoothing {
                     strength_u: std::env::var("STRENGTH").ok().map_or(0.0, |c| c.parse().unwrap()),
                     strength_v: std::env::var("STRENGTH").ok().map_or(0.0, |c| c.parse().unwrap()),

@@ -6,6 +6,7 @@
 //! cargo run --release -p fairway --example surface_timing [-- REPEATS]
 //! FAIRWAY_THREADS=1 cargo run --release -p fairway --example surface_timing [-- REPEATS]
 //! ISO_LEVELS=1 cargo run --release -p fairway --example surface_timing   # one isocurve tolerance only
+//! REFAIR_LEVELS=1 cargo run --release -p fairway --example surface_timing   # isocurves re-faired per level
 //! ```
 //!
 //! The isocurves are faired on all cores unless `FAIRWAY_THREADS` says
@@ -61,6 +62,7 @@ fn main() {
                 .ok()
                 .and_then(|x| x.parse().ok())
                 .unwrap_or(3),
+            refair_levels: std::env::var("REFAIR_LEVELS").is_ok(),
             ..Default::default()
         };
         // best wall time of `repeats` (least disturbed by other load on the machine), with its thread CPU time

@@ -101,8 +101,24 @@
 //!    and ∫∫|∇H|² ×0.73–0.74 for m = 2e-3…2e-2, the whole surface ×0.94 / ×0.93
 //!    (it is not fairer outside; the held G2 strip next to the border keeps its
 //!    noise). The whole-surface fairing also gains at small m (bumpy surface,
-//!    m = 2e-3: Σ∫(dκ/ds)² ×0.99 → ×0.041). Cost: up to `iso_levels` isocurve
-//!    passes instead of one (`iso_levels: 1` for a live preview).
+//!    m = 2e-3: Σ∫(dκ/ds)² ×0.99 → ×0.041).
+//!
+//!    **How the levels are made.** By default the isocurves are faired once,
+//!    at m, and level k's cloud is the original plus the combined correction
+//!    scaled by 3⁻ᵏ; with `refair_levels` every isocurve is faired again at
+//!    m/3, m/9, … (its setup is reused, so a level costs the band search and
+//!    integration only). Scaling is what a smaller band mostly does to the
+//!    correction's size; what it does not reproduce is the isocurve's own
+//!    re-balancing at the smaller band. Measured (`cargo run --release -p
+//!    fairway --example surface_combine`, curvature error against the exact
+//!    surface, default `Weighted`, refair → scaled): cylinder whole 0.0643 →
+//!    0.0643, local 0.3347 → 0.3315; bump 0.1410 → 0.1410, local 0.2379 →
+//!    0.2406; saddle 0.0036 → 0.0040, local 0.3493 → 0.3493; wave 0.0453 →
+//!    0.0455, local 0.3365 → 0.3365. Interior regions of the bumpy sample
+//!    (`surface_region_quality`): region Σ∫(dκ/ds)² ×0.721–0.753 refaired,
+//!    ×0.722–0.738 scaled. Cost of the isocurves: one pass instead of up to
+//!    `iso_levels` (100 × 100: 118 ms instead of 220 ms wall on 2 threads), so
+//!    scaling is the default.
 //! 7. **Hard tolerance.** The result is checked on a grid of
 //!    `CHECK_PER_SPAN` samples per knot span of the moving rectangle (outside
 //!    it nothing moved): `|S_f(u,v) − S(u,v)|` bounds both one-sided
@@ -187,6 +203,11 @@ pub struct SurfaceFairingOptions {
     /// With `auto_smoothing`: at most this many isocurve tolerances `m, m/3, m/9, …` ([`ISO_LEVEL_FACTOR`]) are tried
     /// (greedy: stop at the first level that does not lower the fairness energy), ≥ 1 (module docs, step 6).
     pub iso_levels: usize,
+    /// How the levels below m are made: `false` (default) scales the combined correction of the one
+    /// isocurve pass at m by 1/3, 1/9, … (no further isocurve work); `true` fairs every isocurve again at
+    /// each level's tolerance m/3, m/9, … (one setup per isocurve, re-faired per level: about 2× the
+    /// isocurve time). Measured in the module docs (step 6): the same fairness within a few per cent.
+    pub refair_levels: bool,
 }
 
 impl Default for SurfaceFairingOptions {
@@ -205,6 +226,7 @@ impl Default for SurfaceFairingOptions {
             auto_smoothing: true,
             threads: None,
             iso_levels: 3,
+            refair_levels: false,
         }
     }
 }
@@ -365,16 +387,32 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
     } else {
         MAX_ROUNDS
     };
-    // With auto smoothing the first round fairs the isocurves at all `iso_levels` tolerances m, m/3, m/9, …
-    // at once (one setup per isocurve, re-faired per level); the rounds that step down a level take their
-    // cloud from here. A tightening round (no level held the band) computes its own.
+    // With auto smoothing the clouds of all `iso_levels` levels m, m/3, m/9, … are made in the first round:
+    // the correction of the pass at m scaled by 1/3, 1/9, … or, with `refair_levels`, the isocurves faired at
+    // each tolerance (one setup per isocurve, re-faired per level). The rounds that step down a level take
+    // their cloud from here; a tightening round (no level held the band) fairs the isocurves at its own m_iso.
     let mut level_clouds: Vec<(f64, Vec<DVec3>)> = Vec::new();
     if opts.auto_smoothing && opts.iso_levels > 1 {
         let mut levels = vec![m_iso];
         for _ in 1..opts.iso_levels {
             levels.push(levels[levels.len() - 1] * ISO_LEVEL_FACTOR);
         }
-        let clouds = combined_cloud(&s, &opts, &levels, (u1, u2), (v1, v2), &us, &vs, &orig, &mut tm)?;
+        let clouds = if opts.refair_levels {
+            combined_cloud(&s, &opts, &levels, (u1, u2), (v1, v2), &us, &vs, &orig, &mut tm)?
+        } else {
+            let first = combined_cloud(&s, &opts, &levels[..1], (u1, u2), (v1, v2), &us, &vs, &orig, &mut tm)?;
+            let first = first.into_iter().next().expect("one level");
+            let t0 = Instant::now();
+            let scaled = levels
+                .iter()
+                .map(|l| {
+                    let a = l / levels[0];
+                    first.iter().zip(&orig).map(|(c, o)| *o + (*c - *o) * a).collect()
+                })
+                .collect();
+            tm.combine += t0.elapsed();
+            scaled
+        };
         level_clouds = levels.into_iter().zip(clouds).collect();
     }
     for _ in 0..max_rounds {
@@ -1108,6 +1146,42 @@ mod tests {
                 e_all < 1.0 && h_all < 1.0,
                 "m = {m}: whole E x{e_all}, |grad H|^2 x{h_all}"
             );
+        }
+    }
+
+    /// The default levels (the pass at m scaled) against the isocurves re-faired per level
+    /// (`refair_levels`): both hold the band, and the scaled levels are as fair to within 10 %.
+    #[test]
+    fn scaled_levels_are_as_fair_as_refaired_levels() {
+        use crate::measure_surface::iso_stats_in;
+        let exact = graph(16, |u, v| 0.15 * (4.0 * u).sin() * (4.8 * v).cos() + 0.05 * u * v);
+        let s = noisy(&exact, 1e-3, 11);
+        let e = |x: &BSplineSurface, r| {
+            let st = iso_stats_in(x, r, 12, 0.0);
+            st.e_var_u + st.e_var_v
+        };
+        for (region, m) in [(((0.15, 0.85), (0.15, 0.85)), 1e-2), (s.domain(), 3e-3)] {
+            let run = |refair_levels| {
+                fair_surface(
+                    &s,
+                    SurfaceFairingOptions {
+                        region: Some(region),
+                        tolerance: m,
+                        refair_levels,
+                        ..Default::default()
+                    },
+                )
+                .unwrap()
+            };
+            let (scaled, refaired) = (run(false), run(true));
+            let e0 = e(&s, region);
+            let (es, er) = (e(&scaled.surface, region) / e0, e(&refaired.surface, region) / e0);
+            eprintln!(
+                "region {region:?}, m {m:.0e}: E x{es:.3} scaled (m_iso {:.1e}), x{er:.3} refaired (m_iso {:.1e})",
+                scaled.iso_tolerance, refaired.iso_tolerance
+            );
+            assert!(scaled.max_deviation <= m && refaired.max_deviation <= m);
+            assert!(es < 1.0 && es <= 1.1 * er, "scaled x{es} vs refaired x{er}");
         }
     }
 
