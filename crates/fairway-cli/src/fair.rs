@@ -56,6 +56,10 @@ pub struct Args {
     /// the core) or smoothed.
     #[arg(long, default_value = "weighted")]
     pub combine: Combine,
+    /// Surfaces: fair the isocurves again at each smaller isocurve tolerance m/3, m/9 (about twice the
+    /// isocurve time) instead of scaling the correction of the pass at m (default).
+    #[arg(long)]
+    pub refair_levels: bool,
     /// Output file (.json or .ron).
     #[arg(short = 'o', long = "output")]
     pub output: PathBuf,
@@ -233,6 +237,7 @@ fn fair_surface_cmd(a: &Args, surface: &BSplineSurface, curve: FairingOptions) -
         tolerance: a.tolerance,
         curve,
         combine: a.combine,
+        refair_levels: a.refair_levels,
         ..Default::default()
     };
     let t0 = Instant::now();
@@ -273,6 +278,10 @@ mod tests {
         let a = Cmd::try_parse_from(["fair", "in.json", "--tolerance", "1e-3", "-o", "out.json"]).unwrap();
         assert_eq!(a.args.combine, Combine::default());
         assert_eq!(a.args.combine, SurfaceFairingOptions::default().combine);
+        assert_eq!(a.args.refair_levels, SurfaceFairingOptions::default().refair_levels);
+        let r =
+            Cmd::try_parse_from(["fair", "in.json", "--tolerance", "1", "-o", "o.json", "--refair-levels"]).unwrap();
+        assert!(r.args.refair_levels);
         for (name, want) in [
             ("average", Combine::Average),
             ("border", Combine::Border),
