@@ -68,6 +68,27 @@ impl BandedSpd {
         self.data[i * (self.bw + 1) + (i - j)] += v;
     }
 
+    /// `A[base + a][base + b] += v[a] v[b]` for all a, b < `v.len()` (a rank-1 update on a diagonal
+    /// block, e.g. one row of a Jacobian into `JᵀJ`). Panics if the block leaves the band or the matrix.
+    #[inline]
+    pub fn add_outer(&mut self, base: usize, v: &[f64]) {
+        let w = self.bw + 1;
+        assert!(
+            v.len() <= w && base + v.len() <= self.n,
+            "block outside the band or the matrix"
+        );
+        for (a, &va) in v.iter().enumerate() {
+            if va == 0.0 {
+                continue;
+            }
+            // row base + a holds A[i][i − k] at offset k: entries b = a, a − 1, …, 0 are offsets 0..=a
+            let row = &mut self.data[(base + a) * w..(base + a) * w + a + 1];
+            for (k, x) in row.iter_mut().enumerate() {
+                *x += va * v[a - k];
+            }
+        }
+    }
+
     /// Cholesky factorization in place. Fails, naming the row, if the matrix
     /// is not positive definite (to working precision).
     pub fn factor(&mut self) -> Result<()> {
@@ -123,6 +144,26 @@ impl BandedSpd {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn add_outer_matches_entrywise_adds() {
+        let v = [0.5, -1.25, 0.0, 2.0];
+        let (mut a, mut b) = (BandedSpd::zeros(9, 4), BandedSpd::zeros(9, 4));
+        a.add_outer(3, &v);
+        a.add_outer(5, &v[..3]);
+        for (base, len) in [(3, 4), (5, 3)] {
+            for x in 0..len {
+                for y in 0..=x {
+                    b.add(base + x, base + y, v[x] * v[y]);
+                }
+            }
+        }
+        for i in 0..9 {
+            for j in 0..9 {
+                assert_eq!(a.get(i, j), b.get(i, j), "({i}, {j})");
+            }
+        }
+    }
 
     #[test]
     fn solves_a_tridiagonal_system() {

@@ -204,6 +204,9 @@ pub struct FairingSetup {
     chk_q: Vec<DVec3>,
     chk_first: Vec<isize>,
     chk_b: Vec<f64>,
+    /// Per check sample, filled when its band-edge projection first needs it (degree ≤ 3): see
+    /// [`ChkDeriv`]. The polish and the μ search project the same few band-edge samples many times.
+    chk_d: Vec<Option<ChkDeriv>>,
     chk_h: f64,
     target: Target,
     // scratch
@@ -424,6 +427,7 @@ impl FairingSetup {
             chk_q: vec![],
             chk_first: vec![],
             chk_b: vec![],
+            chk_d: vec![],
             chk_h: 0.0,
             target: Target::new(&[0.0; 3])?,
             scratch: IntegrationScratch::default(),
@@ -843,14 +847,9 @@ impl FairingSetup {
                 }
                 let width = ((f + p as isize + 1).min(self.nf as isize) - f.max(0)).max(0) as usize * dim;
                 for a in 0..width {
-                    if jrow[a] == 0.0 {
-                        continue;
-                    }
                     rhs[base * dim + a].x -= jrow[a] * r;
-                    for b in 0..=a {
-                        h.add(base * dim + a, base * dim + b, jrow[a] * jrow[b]);
-                    }
                 }
+                h.add_outer(base * dim, &jrow[..width]);
             }
             // The band is usually active at a few check samples: the step minimizes Σ (r + J s)² + ρ Σ_{j∈A}
             // |Δs(u_j)|² where A holds the check samples within 3 % of the band edge (their displacement is
@@ -972,8 +971,9 @@ impl FairingSetup {
                     }
                     cand = self.work.with_points(pts).ok();
                 }
+                let (u, h) = (self.chk_u[j], self.chk_h);
                 cand.as_ref()
-                    .is_none_or(|c| project_near(c, self.chk_q[j], self.chk_u[j], self.chk_h, 0.0) > level)
+                    .is_none_or(|c| project_near(c, self.chk_q[j], u, h, u, 0.0) > level)
             })
             .collect()
     }
@@ -1135,12 +1135,55 @@ impl FairingSetup {
         pad.clear();
         pad.resize(self.nf + 2 * off, DVec3::ZERO);
         pad[off..off + self.nf].copy_from_slice(d);
-        let worst = self.deviation_padded(&pad, d, sharpen);
+        let mut cache = std::mem::take(&mut self.chk_d);
+        let worst = self.deviation_padded(&pad, d, sharpen, &mut cache);
+        self.chk_d = cache;
         self.pad = pad;
         worst
     }
 
-    fn deviation_padded(&self, pad: &[DVec3], d: &[DVec3], sharpen: f64) -> f64 {
+    /// The parameter after one Newton step of the projection of check sample j's original point q onto
+    /// the updated curve, started at u_j where the update (its p + 1 padded rows `rows`) moved the
+    /// curve by `delta`: c(u_j) − q = delta, and c', c'' there come from the sample's cached
+    /// derivative rows (computed on first use), so the step needs no curve evaluation.
+    fn first_newton_step(&self, j: usize, rows: &[DVec3], delta: DVec3, cache: &mut Vec<Option<ChkDeriv>>) -> f64 {
+        let p = self.work.degree();
+        let u = self.chk_u[j];
+        if p > 3 {
+            return u;
+        }
+        if cache.len() != self.chk_u.len() {
+            cache.clear();
+            cache.resize(self.chk_u.len(), None);
+        }
+        let e = *cache[j].get_or_insert_with(|| {
+            let f = self.chk_first[j];
+            let span = (f + (p + self.i0) as isize) as usize;
+            let mut nd = [[0.0; MAX_ORDER]; 3];
+            ders_basis_funs(self.work.knots().values(), span, self.work.knots().clamp(u), p, &mut nd);
+            let mut e = ChkDeriv::default();
+            for i in 0..=p {
+                let q = self.work.points()[span - p + i];
+                e.d1 += q * nd[1][i];
+                e.d2 += q * nd[2][i];
+                let li = f + i as isize;
+                if li >= 0 && (li as usize) < self.nf {
+                    e.b1[i] = nd[1][i];
+                    e.b2[i] = nd[2][i];
+                }
+            }
+            e
+        });
+        let (mut d1, mut d2) = (e.d1, e.d2);
+        for (i, x) in rows.iter().enumerate() {
+            d1 += *x * e.b1[i];
+            d2 += *x * e.b2[i];
+        }
+        let (f, df) = (d1.dot(delta), d2.dot(delta) + d1.length_squared());
+        if df > 0.0 { u - f / df } else { u }
+    }
+
+    fn deviation_padded(&self, pad: &[DVec3], d: &[DVec3], sharpen: f64, cache: &mut Vec<Option<ChkDeriv>>) -> f64 {
         let p = self.work.degree();
         let off = p + 1;
         let mut worst = 0.0f64;
@@ -1163,7 +1206,15 @@ impl FairingSetup {
                     cand = self.work.with_points(pts).ok();
                 }
                 if let Some(c) = &cand {
-                    dist = dist.min(project_near(c, self.chk_q[j], self.chk_u[j], self.chk_h, sharpen));
+                    let start = self.first_newton_step(j, rows, delta, cache);
+                    dist = dist.min(project_near(
+                        c,
+                        self.chk_q[j],
+                        self.chk_u[j],
+                        self.chk_h,
+                        start,
+                        sharpen,
+                    ));
                 }
                 if dist > sharpen {
                     // the band is broken: callers only compare with `sharpen`, so stop here
@@ -1174,6 +1225,16 @@ impl FairingSetup {
         }
         worst
     }
+}
+
+/// Cached derivative data of one check sample (degree ≤ 3): the first and second derivatives of the
+/// free rows' basis functions at u_j (zero for held rows) and the original's c'(u_j), c''(u_j).
+#[derive(Debug, Clone, Copy, Default)]
+struct ChkDeriv {
+    b1: [f64; 4],
+    b2: [f64; 4],
+    d1: DVec3,
+    d2: DVec3,
 }
 
 /// Signed curvature from (c', c'') and its gradients with respect to c' and c''.
@@ -1198,15 +1259,20 @@ fn kappa_and_gradients(dim: usize, nn: DVec3, d1: DVec3, d2: DVec3) -> (f64, DVe
 }
 
 /// Distance from `q` to the best point of `c` found by safeguarded Newton on
-/// `c'(t)·(c(t) − q)` in `[u − w, u + w]`, started at `u`. Every evaluated
+/// `c'(t)·(c(t) − q)` in `[u − w, u + w]`, started at `start` (clamped to it). Every evaluated
 /// point is on the curve, so the result bounds the true distance from above.
 /// Stops as soon as a point within `enough` is found (the band check only
 /// needs to know that the distance is below the band).
-pub(crate) fn project_near(c: &BSplineCurve, q: DVec3, u: f64, w: f64, enough: f64) -> f64 {
+pub(crate) fn project_near(c: &BSplineCurve, q: DVec3, u: f64, w: f64, start: f64, enough: f64) -> f64 {
     let (d0, d1) = c.domain();
     let (lo, hi) = ((u - w).max(d0), (u + w).min(d1));
-    let mut t = u;
-    let mut best = f64::INFINITY;
+    let mut t = if start.is_finite() { start.clamp(lo, hi) } else { u };
+    // the point alone first: near the band edge one Newton step from u_j usually lands within `enough`
+    let first = c.point(t).distance(q);
+    if first <= enough {
+        return first;
+    }
+    let mut best = first;
     for _ in 0..12 {
         let d = c.derivs(t);
         let r = d.p - q;
