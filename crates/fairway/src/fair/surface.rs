@@ -77,7 +77,8 @@
 //!    `auto_smoothing`, the default). For the isocurve tolerances
 //!    `m_iso = m, m/3, m/9, …` ([`ISO_LEVEL_FACTOR`], at most
 //!    `iso_levels`, greedy: stop at the first level that is no fairer), each
-//!    smoothing strength of [`AUTO_STRENGTHS`] is fitted; among the
+//!    smoothing strength of [`AUTO_STRENGTHS`] is fitted (after the first
+//!    level only those next to the pick, see below); among the
 //!    candidates that hold the band (step 7) the one with the least
 //!    *fairness energy* is taken: the Dirichlet energy of the mean curvature
 //!    H on a grid of [`ENERGY_PER_SPAN`] samples per knot span of the moving
@@ -118,7 +119,10 @@
 //!    (`surface_region_quality`): region Σ∫(dκ/ds)² ×0.721–0.753 refaired,
 //!    ×0.722–0.738 scaled. Cost of the isocurves: one pass instead of up to
 //!    `iso_levels` (100 × 100: 118 ms instead of 220 ms wall on 2 threads), so
-//!    scaling is the default.
+//!    scaling is the default. After the first level, only the picked strength
+//!    and its two neighbours on [`AUTO_STRENGTHS`] are fitted (3 fits and
+//!    energies instead of 8 per level; `surface_combine` and
+//!    `surface_region_quality` give the same or lower curvature errors).
 //! 7. **Hard tolerance.** The result is checked on a grid of
 //!    `CHECK_PER_SPAN` samples per knot span of the moving rectangle (outside
 //!    it nothing moved): `|S_f(u,v) − S(u,v)|` bounds both one-sided
@@ -426,7 +430,16 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
         let mut level_best: Option<Pick> = None;
         // the fits and their fairness energies are independent: computed in parallel, then checked in order
         let t0 = Instant::now();
-        let cands = par_map(ladder, opts.threads.unwrap_or_else(iso_threads), |&st| {
+        // After the first level only the pick's strength and its two neighbours on the ladder are fitted
+        // (module docs, step 6): the fairest strength moves little from one level to the next.
+        let near: Vec<f64> = match &pick {
+            Some(pk) => {
+                let i = ladder.iter().position(|&x| x == pk.3.strength_u).unwrap_or(0);
+                ladder[i.saturating_sub(1)..(i + 2).min(ladder.len())].to_vec()
+            }
+            _ => ladder.to_vec(),
+        };
+        let cands = par_map(&near, opts.threads.unwrap_or_else(iso_threads), |&st| {
             let sm = if st.is_nan() {
                 opts.smoothing
             } else {
