@@ -357,17 +357,15 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
     let us = span_grid(&ku, au, bu, opts.samples_per_span);
     let vs = span_grid(&kv, av, bv, opts.samples_per_span);
     let t_orig = Instant::now();
-    let orig: Vec<DVec3> = us
-        .iter()
-        .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
-        .map(|(u, v)| s.point(u, v))
-        .collect();
-    let mut full_check = CheckGrid::new(
+    let orig = grid_points(&s, &us, &vs);
+    let threads = opts.threads.unwrap_or_else(iso_threads);
+    let full_check = CheckGrid::new(
         &s,
         &span_grid(&ku, au, bu, CHECK_PER_SPAN),
         &span_grid(&kv, av, bv, CHECK_PER_SPAN),
+        threads,
     );
-    let mut coarse_check = CheckGrid::new(&s, &span_grid(&ku, au, bu, 3), &span_grid(&kv, av, bv, 3));
+    let coarse_check = CheckGrid::new(&s, &span_grid(&ku, au, bu, 3), &span_grid(&kv, av, bv, 3), threads);
 
     let mut tm = SurfaceTimings {
         isocurves: t_orig.elapsed(),
@@ -948,17 +946,47 @@ struct CheckGrid {
     v: GridBasis,
     pu: usize,
     pv: usize,
-    tmp: Vec<DVec3>,
+    threads: usize,
+}
+
+/// Rows of a check grid per unit of parallel work (fixed, so the result does not depend on the threads).
+const CHECK_ROWS_PER_TASK: usize = 16;
+
+/// The surface at every grid node `(us[k], vs[l])` (row-major over k), evaluated separably:
+/// `T[k][j] = Σ_i N_i(u_k) P_ij`, then `S = Σ_j M_j(v_l) T[k][j]` (O(grid · p) instead of a point
+/// evaluation per node).
+fn grid_points(s: &BSplineSurface, us: &[f64], vs: &[f64]) -> Vec<DVec3> {
+    let (bu, bv) = (GridBasis::new(s.knots_u(), us), GridBasis::new(s.knots_v(), vs));
+    let (pu, pv, nv) = (s.degree_u(), s.degree_v(), s.nv());
+    let pts = s.points();
+    let mut out = Vec::with_capacity(us.len() * vs.len());
+    let mut row = vec![DVec3::ZERO; nv];
+    for k in 0..us.len() {
+        row.fill(DVec3::ZERO);
+        let sp = bu.spans[k];
+        for a in 0..=pu {
+            let w = bu.vals[k][a];
+            let src = &pts[(sp - pu + a) * nv..(sp - pu + a + 1) * nv];
+            for (r, q) in row.iter_mut().zip(src) {
+                *r += *q * w;
+            }
+        }
+        for l in 0..vs.len() {
+            let sp = bv.spans[l];
+            out.push((0..=pv).map(|b| row[sp - pv + b] * bv.vals[l][b]).sum());
+        }
+    }
+    out
 }
 
 impl CheckGrid {
-    fn new(s: &BSplineSurface, cu: &[f64], cv: &[f64]) -> Self {
+    fn new(s: &BSplineSurface, cu: &[f64], cv: &[f64], threads: usize) -> Self {
         Self {
             u: GridBasis::new(s.knots_u(), cu),
             v: GridBasis::new(s.knots_v(), cv),
             pu: s.degree_u(),
             pv: s.degree_v(),
-            tmp: Vec::new(),
+            threads,
         }
     }
 
@@ -969,7 +997,7 @@ impl CheckGrid {
     /// the first sharpened value above `m` (a proof that the band is broken,
     /// not the maximum).
     fn deviation(
-        &mut self,
+        &self,
         a: &BSplineSurface,
         b: &BSplineSurface,
         fu: &Range<usize>,
@@ -981,8 +1009,7 @@ impl CheckGrid {
         let nfv = fv.len();
         let (mu, mv) = (self.u.params.len(), self.v.params.len());
         // T[k][jj] = Σ_a N_a(u_k) ΔD[i][fv.start + jj]
-        self.tmp.clear();
-        self.tmp.resize(mu * nfv, DVec3::ZERO);
+        let mut tmp = vec![DVec3::ZERO; mu * nfv];
         let (pa, pb) = (a.points(), b.points());
         for k in 0..mu {
             let sp = self.u.spans[k];
@@ -992,39 +1019,59 @@ impl CheckGrid {
                     continue;
                 }
                 let w = self.u.vals[k][ia];
-                let row = &mut self.tmp[k * nfv..(k + 1) * nfv];
+                let row = &mut tmp[k * nfv..(k + 1) * nfv];
                 for (jj, t) in row.iter_mut().enumerate() {
                     let idx = i * nv + fv.start + jj;
                     *t += (pb[idx] - pa[idx]) * w;
                 }
             }
         }
-        let mut max = 0.0f64;
-        for k in 0..mu {
-            for l in 0..mv {
-                let sp = self.v.spans[l];
-                let mut d = DVec3::ZERO;
-                for jb in 0..=self.pv {
-                    let j = sp - self.pv + jb;
-                    if fv.contains(&j) {
-                        d += self.tmp[k * nfv + j - fv.start] * self.v.vals[l][jb];
-                    }
+        // rows in fixed chunks, in parallel; each chunk returns (its max, whether it stopped at a violation)
+        let chunks: Vec<(usize, Range<usize>)> = (0..mu)
+            .step_by(CHECK_ROWS_PER_TASK)
+            .map(|k0| k0..(k0 + CHECK_ROWS_PER_TASK).min(mu))
+            .enumerate()
+            .collect();
+        // with stop_early, chunks after one that proved a violation need not finish (the result is the
+        // violation of the first such chunk in grid order, as a sequential scan would return)
+        let first_violation = std::sync::atomic::AtomicUsize::new(usize::MAX);
+        let per_chunk = par_map(&chunks, self.threads, |(c, rows)| {
+            let mut max = 0.0f64;
+            for k in rows.clone() {
+                if stop_early && first_violation.load(std::sync::atomic::Ordering::Relaxed) < *c {
+                    return (max, false);
                 }
-                let mut dist = d.length();
-                if dist > m {
-                    let (u, v) = (self.u.params[k], self.v.params[l]);
-                    let (qa, qb) = (a.point(u, v), b.point(u, v));
-                    let d1 = newton_project(b, qa, (u, v)).distance;
-                    let d2 = newton_project(a, qb, (u, v)).distance;
-                    dist = dist.min(d1.max(d2));
-                    if stop_early && dist > m {
-                        return dist;
+                for l in 0..mv {
+                    let sp = self.v.spans[l];
+                    let mut d = DVec3::ZERO;
+                    for jb in 0..=self.pv {
+                        let j = sp - self.pv + jb;
+                        if fv.contains(&j) {
+                            d += tmp[k * nfv + j - fv.start] * self.v.vals[l][jb];
+                        }
                     }
+                    let mut dist = d.length();
+                    if dist > m {
+                        let (u, v) = (self.u.params[k], self.v.params[l]);
+                        let (qa, qb) = (a.point(u, v), b.point(u, v));
+                        let d1 = newton_project(b, qa, (u, v)).distance;
+                        let d2 = newton_project(a, qb, (u, v)).distance;
+                        dist = dist.min(d1.max(d2));
+                        if stop_early && dist > m {
+                            first_violation.fetch_min(*c, std::sync::atomic::Ordering::Relaxed);
+                            return (dist, true);
+                        }
+                    }
+                    max = max.max(dist);
                 }
-                max = max.max(dist);
             }
+            (max, false)
+        });
+        // with stop_early: the first chunk (in grid order) that proved a violation
+        if let Some(&(d, _)) = per_chunk.iter().find(|c| c.1) {
+            return d;
         }
-        max
+        per_chunk.iter().fold(0.0f64, |acc, c| acc.max(c.0))
     }
 }
 
