@@ -109,9 +109,9 @@ impl Basis1 {
         Self { spans, vals, p }
     }
 
-    /// `P = AᵀA + λ G` (full size, banded) with λ = strength · tr(AᵀA)/tr(G).
-    fn normal_matrix(&self, knots: &KnotVector, strength: f64, order: usize) -> BandedSpd {
-        let (n, p) = (knots.n_points(), self.p);
+    /// `AᵀA` (full size, banded).
+    fn gram(&self, n: usize) -> BandedSpd {
+        let p = self.p;
         let mut a = BandedSpd::zeros(n, p);
         for (s, nb) in self.spans.iter().zip(&self.vals) {
             for i in 0..=p {
@@ -120,21 +120,28 @@ impl Basis1 {
                 }
             }
         }
-        if strength > 0.0 {
-            let g = derivative_gram(knots, order);
-            let tr_a: f64 = (0..n).map(|i| a.get(i, i)).sum();
-            let tr_g: f64 = (0..n).map(|i| g.get(i, i)).sum();
-            if tr_g > 0.0 {
-                let lambda = strength * tr_a / tr_g;
-                for i in 0..n {
-                    for j in i.saturating_sub(p)..=i {
-                        a.add(i, j, lambda * g.get(i, j));
-                    }
+        a
+    }
+}
+
+/// `P = AᵀA + λ G` with λ = strength · tr(AᵀA)/tr(G) (G the derivative Gram matrix of `order`).
+fn normal_matrix(ata: &BandedSpd, knots: &KnotVector, strength: f64, order: usize) -> BandedSpd {
+    let mut a = ata.clone();
+    if strength > 0.0 {
+        let (n, p) = (knots.n_points(), knots.degree());
+        let g = derivative_gram(knots, order);
+        let tr_a: f64 = (0..n).map(|i| a.get(i, i)).sum();
+        let tr_g: f64 = (0..n).map(|i| g.get(i, i)).sum();
+        if tr_g > 0.0 {
+            let lambda = strength * tr_a / tr_g;
+            for i in 0..n {
+                for j in i.saturating_sub(p)..=i {
+                    a.add(i, j, lambda * g.get(i, j));
                 }
             }
         }
-        a
     }
+    a
 }
 
 fn sub_matrix(a: &BandedSpd, r: &Range<usize>) -> BandedSpd {
@@ -167,132 +174,205 @@ pub fn fit_surface_grid(
     free_v: Range<usize>,
     smoothing: SurfaceSmoothing,
 ) -> Result<Vec<DVec3>> {
-    if base.is_rational() {
-        return Err(Error::InvalidInput(
-            "surface fit: the surface is rational; convert it (equal weights) or fair a non-rational surface".into(),
-        ));
-    }
-    let (nu, nv) = (base.nu(), base.nv());
-    let (mu, mv) = (us.len(), vs.len());
-    if data.len() != mu * mv {
-        return Err(Error::LengthMismatch {
-            field: "surface fit data".into(),
-            count: data.len(),
-            expected: mu * mv,
-        });
-    }
-    if free_u.end > nu || free_v.end > nv {
-        return Err(Error::InvalidInput(format!(
-            "surface fit: free block {free_u:?} × {free_v:?} outside the {nu} × {nv} control net"
-        )));
-    }
-    if let Some(k) = us.iter().chain(vs).position(|t| !t.is_finite()) {
-        return Err(Error::NotFinite {
-            field: "surface fit parameters".into(),
-            index: k,
-        });
-    }
-    if let Some(k) = data.iter().position(|p| !p.is_finite()) {
-        return Err(Error::NotFinite {
-            field: "surface fit data".into(),
-            index: k,
-        });
-    }
-    let mut out = base.points().to_vec();
-    if free_u.is_empty() || free_v.is_empty() {
-        return Ok(out);
-    }
-    let (ku, kv) = (base.knots_u(), base.knots_v());
-    let (pu, pv) = (ku.degree(), kv.degree());
-    let bu = Basis1::new(ku, us);
-    let bv = Basis1::new(kv, vs);
-    let full_u = bu.normal_matrix(ku, smoothing.strength_u, smoothing.order);
-    let full_v = bv.normal_matrix(kv, smoothing.strength_v, smoothing.order);
+    let fit = GridFit::new(base, us, vs, free_u, free_v)?;
+    let rhs = fit.project(data)?;
+    fit.solve(&rhs, smoothing)
+}
 
-    // T = X B (mu × nv), then C = Aᵀ T restricted to the free block.
-    let mut t = vec![DVec3::ZERO; mu * nv];
-    for k in 0..mu {
-        let row = &data[k * mv..(k + 1) * mv];
-        let trow = &mut t[k * nv..(k + 1) * nv];
-        for (l, x) in row.iter().enumerate() {
-            let (s, nb) = (bv.spans[l], &bv.vals[l]);
-            for b in 0..=pv {
-                trow[s - pv + b] += *x * nb[b];
+/// [`fit_surface_grid`] split in its parts, for fitting several data sets or smoothing strengths on the
+/// same grid: the bases and `AᵀA` once ([`Self::new`]), the data term `[AᵀX B]_ff` once per data set
+/// ([`Self::project`]), then one banded solve per smoothing ([`Self::solve`]). The results are
+/// bit-identical to [`fit_surface_grid`].
+pub struct GridFit<'a> {
+    base: &'a BSplineSurface,
+    mu: usize,
+    mv: usize,
+    bu: Basis1,
+    bv: Basis1,
+    ata_u: BandedSpd,
+    ata_v: BandedSpd,
+    free_u: Range<usize>,
+    free_v: Range<usize>,
+}
+
+impl<'a> GridFit<'a> {
+    /// Prepare the fit of `base`'s block `free_u × free_v` to data at the grid `us × vs` (see
+    /// [`fit_surface_grid`] for the arguments and the errors).
+    pub fn new(
+        base: &'a BSplineSurface,
+        us: &[f64],
+        vs: &[f64],
+        free_u: Range<usize>,
+        free_v: Range<usize>,
+    ) -> Result<Self> {
+        if base.is_rational() {
+            return Err(Error::InvalidInput(
+                "surface fit: the surface is rational; convert it (equal weights) or fair a non-rational surface"
+                    .into(),
+            ));
+        }
+        let (nu, nv) = (base.nu(), base.nv());
+        if free_u.end > nu || free_v.end > nv {
+            return Err(Error::InvalidInput(format!(
+                "surface fit: free block {free_u:?} × {free_v:?} outside the {nu} × {nv} control net"
+            )));
+        }
+        if let Some(k) = us.iter().chain(vs).position(|t| !t.is_finite()) {
+            return Err(Error::NotFinite {
+                field: "surface fit parameters".into(),
+                index: k,
+            });
+        }
+        let bu = Basis1::new(base.knots_u(), us);
+        let bv = Basis1::new(base.knots_v(), vs);
+        let (ata_u, ata_v) = (bu.gram(nu), bv.gram(nv));
+        Ok(Self {
+            base,
+            mu: us.len(),
+            mv: vs.len(),
+            bu,
+            bv,
+            ata_u,
+            ata_v,
+            free_u,
+            free_v,
+        })
+    }
+
+    /// The data term `[AᵀX B]_ff` of `data` (`us.len() × vs.len()` points, row-major), row-major over
+    /// the free block.
+    pub fn project(&self, data: &[DVec3]) -> Result<Vec<DVec3>> {
+        let (mu, mv) = (self.mu, self.mv);
+        let nv = self.base.nv();
+        if data.len() != mu * mv {
+            return Err(Error::LengthMismatch {
+                field: "surface fit data".into(),
+                count: data.len(),
+                expected: mu * mv,
+            });
+        }
+        if let Some(k) = data.iter().position(|p| !p.is_finite()) {
+            return Err(Error::NotFinite {
+                field: "surface fit data".into(),
+                index: k,
+            });
+        }
+        let (free_u, free_v) = (&self.free_u, &self.free_v);
+        let (nfu, nfv) = (free_u.len(), free_v.len());
+        if nfu == 0 || nfv == 0 {
+            return Ok(Vec::new());
+        }
+        let (pu, pv) = (self.bu.p, self.bv.p);
+        let (bu, bv) = (&self.bu, &self.bv);
+        // T = X B (mu × nv), then C = Aᵀ T restricted to the free block.
+        let mut t = vec![DVec3::ZERO; mu * nv];
+        for k in 0..mu {
+            let row = &data[k * mv..(k + 1) * mv];
+            let trow = &mut t[k * nv..(k + 1) * nv];
+            for (l, x) in row.iter().enumerate() {
+                let (s, nb) = (bv.spans[l], &bv.vals[l]);
+                for b in 0..=pv {
+                    trow[s - pv + b] += *x * nb[b];
+                }
             }
         }
-    }
-    let (nfu, nfv) = (free_u.len(), free_v.len());
-    let mut rhs = vec![DVec3::ZERO; nfu * nfv]; // row-major over the free block
-    for k in 0..mu {
-        let (s, nb) = (bu.spans[k], &bu.vals[k]);
-        for a in 0..=pu {
-            let i = s - pu + a;
-            if !free_u.contains(&i) {
-                continue;
-            }
-            let r = &mut rhs[(i - free_u.start) * nfv..(i - free_u.start + 1) * nfv];
-            for (jj, x) in r.iter_mut().enumerate() {
-                *x += t[k * nv + free_v.start + jj] * nb[a];
-            }
-        }
-    }
-    // subtract [Pu D_b Pv]_ff, D_b = net with the free block zeroed: W = D_b Pv (only
-    // free columns needed), then Pu W (only free rows).
-    let mut db = base.points().to_vec();
-    for i in free_u.clone() {
-        for j in free_v.clone() {
-            db[i * nv + j] = DVec3::ZERO;
-        }
-    }
-    let mut w = vec![DVec3::ZERO; nu * nfv];
-    for i in 0..nu {
-        for (jj, j) in free_v.clone().enumerate() {
-            let mut s = DVec3::ZERO;
-            for jb in j.saturating_sub(pv)..(j + pv + 1).min(nv) {
-                s += db[i * nv + jb] * full_v.get(jb, j);
-            }
-            w[i * nfv + jj] = s;
-        }
-    }
-    for (ii, i) in free_u.clone().enumerate() {
-        for ib in i.saturating_sub(pu)..(i + pu + 1).min(nu) {
-            let c = full_u.get(i, ib);
-            if c == 0.0 {
-                continue;
-            }
-            for jj in 0..nfv {
-                rhs[ii * nfv + jj] -= w[ib * nfv + jj] * c;
+        let mut rhs = vec![DVec3::ZERO; nfu * nfv]; // row-major over the free block
+        for k in 0..mu {
+            let (s, nb) = (bu.spans[k], &bu.vals[k]);
+            for a in 0..=pu {
+                let i = s - pu + a;
+                if !free_u.contains(&i) {
+                    continue;
+                }
+                let r = &mut rhs[(i - free_u.start) * nfv..(i - free_u.start + 1) * nfv];
+                for (jj, x) in r.iter_mut().enumerate() {
+                    *x += t[k * nv + free_v.start + jj] * nb[a];
+                }
             }
         }
+        Ok(rhs)
     }
-    // solve Pu_ff Y = RHS (columns), then Pv_ff Dᵀ = Yᵀ (rows)
-    let underdetermined = |dir: &str| {
-        Error::Solve(format!(
-            "surface fit: too few data points in the support of some free control points in {dir}; \
-             use more samples per knot span or a smoothing term"
-        ))
-    };
-    let mut su = sub_matrix(&full_u, &free_u);
-    su.factor().map_err(|_| underdetermined("u"))?;
-    let mut sv = sub_matrix(&full_v, &free_v);
-    sv.factor().map_err(|_| underdetermined("v"))?;
-    let mut col = vec![DVec3::ZERO; nfu];
-    for jj in 0..nfv {
-        for ii in 0..nfu {
-            col[ii] = rhs[ii * nfv + jj];
+
+    /// Solve for the free block with `smoothing`, given the data term `rhs` of [`Self::project`];
+    /// returns the full row-major control net (held points bit-for-bit unchanged).
+    pub fn solve(&self, rhs: &[DVec3], smoothing: SurfaceSmoothing) -> Result<Vec<DVec3>> {
+        let base = self.base;
+        let (nu, nv) = (base.nu(), base.nv());
+        let (free_u, free_v) = (&self.free_u, &self.free_v);
+        let mut out = base.points().to_vec();
+        if free_u.is_empty() || free_v.is_empty() {
+            return Ok(out);
         }
-        su.solve_in_place(&mut col);
-        for ii in 0..nfu {
-            rhs[ii * nfv + jj] = col[ii];
+        let (nfu, nfv) = (free_u.len(), free_v.len());
+        if rhs.len() != nfu * nfv {
+            return Err(Error::LengthMismatch {
+                field: "surface fit data term".into(),
+                count: rhs.len(),
+                expected: nfu * nfv,
+            });
         }
-    }
-    for ii in 0..nfu {
-        sv.solve_in_place(&mut rhs[ii * nfv..(ii + 1) * nfv]);
+        let (pu, pv) = (self.bu.p, self.bv.p);
+        let full_u = normal_matrix(&self.ata_u, base.knots_u(), smoothing.strength_u, smoothing.order);
+        let full_v = normal_matrix(&self.ata_v, base.knots_v(), smoothing.strength_v, smoothing.order);
+        let mut rhs = rhs.to_vec();
+        // subtract [Pu D_b Pv]_ff, D_b = net with the free block zeroed: W = D_b Pv (only
+        // free columns needed), then Pu W (only free rows).
+        let mut db = base.points().to_vec();
+        for i in free_u.clone() {
+            for j in free_v.clone() {
+                db[i * nv + j] = DVec3::ZERO;
+            }
+        }
+        let mut w = vec![DVec3::ZERO; nu * nfv];
+        for i in 0..nu {
+            for (jj, j) in free_v.clone().enumerate() {
+                let mut s = DVec3::ZERO;
+                for jb in j.saturating_sub(pv)..(j + pv + 1).min(nv) {
+                    s += db[i * nv + jb] * full_v.get(jb, j);
+                }
+                w[i * nfv + jj] = s;
+            }
+        }
+        for (ii, i) in free_u.clone().enumerate() {
+            for ib in i.saturating_sub(pu)..(i + pu + 1).min(nu) {
+                let c = full_u.get(i, ib);
+                if c == 0.0 {
+                    continue;
+                }
+                for jj in 0..nfv {
+                    rhs[ii * nfv + jj] -= w[ib * nfv + jj] * c;
+                }
+            }
+        }
+        // solve Pu_ff Y = RHS (columns), then Pv_ff Dᵀ = Yᵀ (rows)
+        let underdetermined = |dir: &str| {
+            Error::Solve(format!(
+                "surface fit: too few data points in the support of some free control points in {dir}; \
+                 use more samples per knot span or a smoothing term"
+            ))
+        };
+        let mut su = sub_matrix(&full_u, free_u);
+        su.factor().map_err(|_| underdetermined("u"))?;
+        let mut sv = sub_matrix(&full_v, free_v);
+        sv.factor().map_err(|_| underdetermined("v"))?;
+        let mut col = vec![DVec3::ZERO; nfu];
         for jj in 0..nfv {
-            out[(free_u.start + ii) * nv + free_v.start + jj] = rhs[ii * nfv + jj];
+            for ii in 0..nfu {
+                col[ii] = rhs[ii * nfv + jj];
+            }
+            su.solve_in_place(&mut col);
+            for ii in 0..nfu {
+                rhs[ii * nfv + jj] = col[ii];
+            }
         }
+        for ii in 0..nfu {
+            sv.solve_in_place(&mut rhs[ii * nfv..(ii + 1) * nfv]);
+            for jj in 0..nfv {
+                out[(free_u.start + ii) * nv + free_v.start + jj] = rhs[ii * nfv + jj];
+            }
+        }
+        Ok(out)
     }
-    Ok(out)
 }
 
 #[cfg(test)]

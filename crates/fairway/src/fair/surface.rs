@@ -147,7 +147,7 @@ use super::curve::{FairingOptions, FairingSetup};
 use super::target::TargetMethod;
 use crate::basis::{MAX_ORDER, basis_funs};
 use crate::error::{Error, Result};
-use crate::fit_surface::{SurfaceSmoothing, fit_surface_grid, free_range};
+use crate::fit_surface::{GridFit, SurfaceSmoothing, free_range};
 use crate::knots::KnotVector;
 use crate::measure_surface::newton_project;
 use crate::surface::BSplineSurface;
@@ -381,6 +381,7 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
     };
     // fairness energy over the moving rectangle (auto-smoothing selection, module docs step 6)
     let energy = opts.auto_smoothing.then(|| FairnessGrid::new(&s, (au, bu), (av, bv)));
+    let grid_fit = GridFit::new(&s, &us, &vs, free_u.clone(), free_v.clone())?;
     // the fairest candidate holding the band so far: (points, dev, m_iso, smoothing, round, energy)
     type Pick = (Vec<DVec3>, f64, f64, SurfaceSmoothing, usize, f64);
     let mut pick: Option<Pick> = None;
@@ -437,6 +438,8 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
             }
             _ => ladder.to_vec(),
         };
+        // the data term is the same for every strength: projected once per level
+        let rhs = grid_fit.project(&data)?;
         let cands = par_map(&near, opts.threads.unwrap_or_else(iso_threads), |&st| {
             let sm = if st.is_nan() {
                 opts.smoothing
@@ -447,7 +450,7 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
                     order: opts.smoothing.order,
                 }
             };
-            let pts = fit_surface_grid(&s, &us, &vs, &data, free_u.clone(), free_v.clone(), sm)?;
+            let pts = grid_fit.solve(&rhs, sm)?;
             let faired = s.with_points(pts.clone())?;
             let e = energy.as_ref().map(|eg| eg.energy(&faired));
             Ok::<_, Error>((sm, pts, faired, e))
@@ -510,7 +513,7 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
         }
         if best.is_none() {
             let t0 = Instant::now();
-            let pts = fit_surface_grid(&s, &us, &vs, &data, free_u.clone(), free_v.clone(), opts.smoothing)?;
+            let pts = grid_fit.solve(&rhs, opts.smoothing)?;
             let t1 = Instant::now();
             tm.fit += t1 - t0;
             let dev = full_check.deviation(&s, &s.with_points(pts.clone())?, &free_u, &free_v, m, false);
