@@ -6,6 +6,7 @@
 //! cargo run --release -p fairway --example surface_timing [-- REPEATS]
 //! FAIRWAY_THREADS=1 cargo run --release -p fairway --example surface_timing [-- REPEATS]
 //! ISO_LEVELS=1 cargo run --release -p fairway --example surface_timing   # one isocurve tolerance only
+//! COMBINE=weighted cargo run --release -p fairway --example surface_timing   # the default combination
 //! REFAIR_LEVELS=1 cargo run --release -p fairway --example surface_timing   # isocurves re-faired per level
 //! ```
 //!
@@ -57,7 +58,7 @@ fn main() {
         let s = noisy_net(n);
         let opts = SurfaceFairingOptions {
             tolerance: 3e-3,
-            combine: Combine::Border,
+            combine: std::env::var("COMBINE").map_or(Combine::Border, |c| c.parse().expect("combine")),
             iso_levels: std::env::var("ISO_LEVELS")
                 .ok()
                 .and_then(|x| x.parse().ok())
