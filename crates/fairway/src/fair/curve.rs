@@ -540,8 +540,19 @@ impl FairingSetup {
         // check samples: CHECK_SAMPLES at equal arc length over the whole curve, those inside the stretch
         // (check_samples = 0: the fairing samples themselves, no second table)
         let all = if check_samples == 0 {
+            // the fairing samples' own rows (the same basis values, positions and row offsets)
             s.chk_h = 4.0 * du;
-            s.params.clone()
+            for k in 0..ns {
+                let u = s.params[k];
+                if u <= range.0 || u >= range.1 {
+                    continue;
+                }
+                s.chk_u.push(u);
+                s.chk_q.push(s.pts[k]);
+                s.chk_first.push(s.first[k]);
+                s.chk_b.extend_from_slice(&s.b0[k * (p + 1)..(k + 1) * (p + 1)]);
+            }
+            Vec::new()
         } else {
             // only the check samples inside the stretch are inverted (the others cannot move)
             s.chk_h = (d1 - d0) / check_samples as f64 * 4.0;

@@ -133,35 +133,58 @@ fn half_angle(th: f64) -> (f64, f64, f64) {
     }
 }
 
-/// Integrate forward over all samples (dir = +1) or backward (dir = −1),
-/// writing points and unit tangents (in the forward direction) into `xs`, `ts`.
-pub fn integrate_one(
-    tr: &Track<'_>,
-    g: &[f64],
-    scheme: Integrator,
-    pull: PullBack,
+/// One direction of an integration: its running point and tangent (module docs).
+struct Walker {
     backward: bool,
-    xs: &mut [DVec3],
-    ts: &mut [DVec3],
-) {
-    let n = g.len();
-    let idx = |j: usize| if backward { n - 1 - j } else { j };
-    // 2D: reversing the direction negates the signed curvature and the normal; g·N is unchanged
-    // when N is recomputed from the reversed tangent, so negate g. 3D normals are explicit.
-    let gs = if backward && tr.dim == 2 { -1.0 } else { 1.0 };
-    let sgn = if backward { -1.0 } else { 1.0 };
-    let h = tr.h;
-    let k0 = idx(0);
-    let mut x = tr.points[k0];
-    let mut t = tr.tangents[k0] * sgn;
-    xs[k0] = x;
-    ts[k0] = t * sgn;
-    let m = pull.tolerance;
-    let use_pull = m > 0.0 && m.is_finite();
-    let inv_m2 = 1.0 / (m * m);
-    for j in 0..n - 1 {
-        let (k, k1) = (idx(j), idx(j + 1));
-        let (ga, gb) = (gs * g[k], gs * g[k1]);
+    /// 2D: reversing the direction negates the signed curvature and the normal; g·N is unchanged
+    /// when N is recomputed from the reversed tangent, so negate g. 3D normals are explicit.
+    gs: f64,
+    sgn: f64,
+    x: DVec3,
+    t: DVec3,
+}
+
+impl Walker {
+    /// Start at the first sample of the direction, writing it into `xs`, `ts`.
+    fn start(tr: &Track<'_>, n: usize, backward: bool, xs: &mut [DVec3], ts: &mut [DVec3]) -> Self {
+        let gs = if backward && tr.dim == 2 { -1.0 } else { 1.0 };
+        let sgn = if backward { -1.0 } else { 1.0 };
+        let k0 = if backward { n - 1 } else { 0 };
+        let (x, t) = (tr.points[k0], tr.tangents[k0] * sgn);
+        xs[k0] = x;
+        ts[k0] = t * sgn;
+        Self {
+            backward,
+            gs,
+            sgn,
+            x,
+            t,
+        }
+    }
+
+    /// Step j → j + 1 of the direction, writing the new sample into `xs`, `ts`.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn step(
+        &mut self,
+        tr: &Track<'_>,
+        g: &[f64],
+        scheme: Integrator,
+        pull: PullBack,
+        inv_m2: f64,
+        j: usize,
+        xs: &mut [DVec3],
+        ts: &mut [DVec3],
+    ) {
+        let n = g.len();
+        let (k, k1) = if self.backward {
+            (n - 1 - j, n - 2 - j)
+        } else {
+            (j, j + 1)
+        };
+        let h = tr.h;
+        let (ga, gb) = (self.gs * g[k], self.gs * g[k1]);
+        let (mut x, mut t) = (self.x, self.t);
         match scheme {
             Integrator::Euler => {
                 let nn = normal_of(t, k, tr);
@@ -193,12 +216,13 @@ pub fn integrate_one(
                 t = tu * c + nn * s;
             }
         }
-        if use_pull {
+        let m = pull.tolerance;
+        if m > 0.0 && m.is_finite() {
             let d = tr.points[k1] - x;
             let w = (d.length_squared() * inv_m2).min(1.0);
             x += d * w;
             if pull.correct_tangent && w > 0.0 {
-                let to = tr.tangents[k1] * sgn;
+                let to = tr.tangents[k1] * self.sgn;
                 let tl = t.length();
                 let tn = t + (to * tl - t) * w;
                 t = tn * (tl / tn.length());
@@ -206,10 +230,53 @@ pub fn integrate_one(
         }
         xs[k1] = x;
         if scheme != Integrator::Arc {
-            ts[k1] = t.normalize() * sgn;
+            ts[k1] = t.normalize() * self.sgn;
         } else {
-            ts[k1] = t * sgn;
+            ts[k1] = t * self.sgn;
         }
+        (self.x, self.t) = (x, t);
+    }
+}
+
+/// Integrate forward over all samples (dir = +1) or backward (dir = −1),
+/// writing points and unit tangents (in the forward direction) into `xs`, `ts`.
+pub fn integrate_one(
+    tr: &Track<'_>,
+    g: &[f64],
+    scheme: Integrator,
+    pull: PullBack,
+    backward: bool,
+    xs: &mut [DVec3],
+    ts: &mut [DVec3],
+) {
+    let n = g.len();
+    let inv_m2 = 1.0 / (pull.tolerance * pull.tolerance);
+    let mut w = Walker::start(tr, n, backward, xs, ts);
+    for j in 0..n - 1 {
+        w.step(tr, g, scheme, pull, inv_m2, j, xs, ts);
+    }
+}
+
+/// Both directions of [`integrate_one`] in one loop: two independent dependency chains per step,
+/// which the processor overlaps (each step is a serial chain of square roots and divisions).
+#[allow(clippy::too_many_arguments)]
+fn integrate_both(
+    tr: &Track<'_>,
+    g: &[f64],
+    scheme: Integrator,
+    pull: PullBack,
+    fx: &mut [DVec3],
+    ft: &mut [DVec3],
+    bx: &mut [DVec3],
+    bt: &mut [DVec3],
+) {
+    let n = g.len();
+    let inv_m2 = 1.0 / (pull.tolerance * pull.tolerance);
+    let mut f = Walker::start(tr, n, false, fx, ft);
+    let mut b = Walker::start(tr, n, true, bx, bt);
+    for j in 0..n - 1 {
+        f.step(tr, g, scheme, pull, inv_m2, j, fx, ft);
+        b.step(tr, g, scheme, pull, inv_m2, j, bx, bt);
     }
 }
 
@@ -244,8 +311,16 @@ pub fn integrate_blended(
         v.clear();
         v.resize(n, DVec3::ZERO);
     }
-    integrate_one(tr, g, scheme, pull, false, &mut scratch.left, &mut scratch.left_t);
-    integrate_one(tr, g, scheme, pull, true, &mut scratch.right, &mut scratch.right_t);
+    integrate_both(
+        tr,
+        g,
+        scheme,
+        pull,
+        &mut scratch.left,
+        &mut scratch.left_t,
+        &mut scratch.right,
+        &mut scratch.right_t,
+    );
     xs.clear();
     ts.clear();
     for k in 0..n {
