@@ -242,7 +242,9 @@ pub struct SurfaceFairingResult {
     pub surface: BSplineSurface,
     /// Verified upper bound of the deviation on the check grid (≤ tolerance).
     pub max_deviation: f64,
-    /// Isocurve tolerance of the final round.
+    /// Isocurve tolerance of the picked level (m, m/3, m/9, … or a tightened one). With the default
+    /// scaled levels (`refair_levels` off), level k's isocurve corrections are those of the pass at m
+    /// scaled by 3⁻ᵏ, so this bounds their size the same way.
     pub iso_tolerance: f64,
     /// Rounds of isocurve fairing done.
     pub rounds: usize,
