@@ -2,7 +2,7 @@
 //!
 //! The NURBS Book (Piegl & Tiller, 2nd ed.), algorithms A2.2 (`basis_funs`)
 //! and A2.3 (`ders_basis_funs`). Buffers are fixed-size stack arrays sized by
-//! [`MAX_DEGREE`](crate::knots::MAX_DEGREE).
+//! [`crate::knots::MAX_DEGREE`].
 
 use crate::knots::MAX_DEGREE;
 

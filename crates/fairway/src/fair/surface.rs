@@ -72,7 +72,7 @@
 //!    0.419 / 0.336 for Average / Weighted.) `Smoothed` (umbrella smoothing
 //!    also shrinks curved regions) is offered, not default.
 //! 5. **Fit** the control block to `S + Δ` on the grid with the original
-//!    knots and parameters ([`fit_surface_grid`], separable, O(n)).
+//!    knots and parameters ([`GridFit`], separable, O(n)).
 //! 6. **Choice of the isocurve tolerance and the fit smoothing** (with
 //!    `auto_smoothing`, the default). For the isocurve tolerances
 //!    `m_iso = m, m/3, m/9, …` ([`ISO_LEVEL_FACTOR`], at most

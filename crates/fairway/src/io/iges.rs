@@ -32,7 +32,7 @@
 //! [`IgesFile::unit`], unless [`ReadOptions::unit`] asks for a conversion
 //! (which also divides by the model-space scale).
 //!
-//! Writing ([`write`], [`to_string`]) emits each float as its shortest
+//! Writing ([`write()`], [`to_string`]) emits each float as its shortest
 //! round-trip decimal with a `D` exponent, so Fairway → IGES → Fairway is
 //! exact. The parser never panics and never sizes an allocation from a
 //! count in the file (counts are checked against the number of parameters
@@ -199,7 +199,7 @@ pub struct EntityInfo {
     pub label: String,
 }
 
-/// Options of [`write`].
+/// Options of [`write()`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct WriteOptions {
     /// Unit written to G14/G15 (Fairway documents are unitless; default mm).
