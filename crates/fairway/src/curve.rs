@@ -5,7 +5,8 @@
 //! curvature *signed* (positive when turning left), a 3D curve unsigned.
 //! Evaluation follows The NURBS Book: A3.2 (derivatives of a B-spline curve
 //! through basis derivatives), A4.2 (rational derivatives by the quotient
-//! rule on homogeneous coordinates), A5.1 (Boehm knot insertion).
+//! rule on homogeneous coordinates), A5.1 (Boehm knot insertion), A5.8 (knot
+//! removal).
 
 use glam::{DVec3, DVec4};
 
@@ -482,6 +483,103 @@ impl BSplineCurve {
         q.extend_from_slice(&h[k..]);
         let knots = self.knots.with_inserted(u);
         self.rebuild_homogeneous(knots, q)
+    }
+
+    /// Remove the interior knot `u` `times` times (The NURBS Book A5.8, one removal at a time),
+    /// the inverse of [`Self::insert_knot`]. Each removal solves for the p − s new control points
+    /// from both sides of the knot (s its multiplicity) and accepts only if the two solutions meet
+    /// within `tol` (a distance in model units; for a rational curve the book's bound
+    /// `tol·w_min/(1 + max|P|)` on the homogeneous points), so the curve moves by at most about
+    /// `tol`. A knot of multiplicity s can be removed once exactly when the curve is C^(p−s) there.
+    ///
+    /// Errors: `u` not an interior knot of multiplicity ≥ `times`, a negative or non-finite `tol`,
+    /// or [`Error::KnotNotRemovable`] when a removal would move the curve by more than `tol` (a kink
+    /// or a derivative jump at `u`); the curve is then left as it was.
+    pub fn remove_knot(&self, u: f64, times: usize, tol: f64) -> Result<Self> {
+        let (a, b) = self.domain();
+        if !(u > a && u < b) {
+            return Err(Error::OutOfDomain {
+                what: "knot to remove".into(),
+                value: u,
+                start: a,
+                end: b,
+            });
+        }
+        if !(tol.is_finite() && tol >= 0.0) {
+            return Err(Error::InvalidInput(format!(
+                "knot removal tolerance must be finite and ≥ 0, got {tol}"
+            )));
+        }
+        let s = self.knots.multiplicity(u);
+        if s < times {
+            return Err(Error::InvalidInput(format!(
+                "knot {u} has multiplicity {s}: it cannot be removed {times} time(s)"
+            )));
+        }
+        let mut c = self.clone();
+        for t in 0..times {
+            c = c.remove_once(u, tol).ok_or(Error::KnotNotRemovable {
+                value: u,
+                requested: times,
+                removed: t,
+                tolerance: tol,
+            })?;
+        }
+        Ok(c)
+    }
+
+    /// One removal of the interior knot `u` (present), or `None` if it would move the curve by more than `tol`.
+    fn remove_once(&self, u: f64, tol: f64) -> Option<Self> {
+        let p = self.degree() as isize;
+        let kv = self.knots.values();
+        let s = self.knots.multiplicity(u) as isize;
+        let r = kv.partition_point(|&k| k <= u) as isize - 1; // last index of u
+        let mut h = self.homogeneous();
+        let tol = match &self.weights {
+            None => tol,
+            Some(w) => {
+                let wmin = w.iter().fold(f64::INFINITY, |m, &x| m.min(x));
+                let pmax = self.points.iter().fold(0.0f64, |m, q| m.max(q.length()));
+                tol * wmin / (1.0 + pmax)
+            }
+        };
+        let (first, last) = (r - p, r - s);
+        let off = first - 1;
+        let at = |i: isize| i as usize;
+        let mut temp = vec![DVec4::ZERO; at(last - off + 2)];
+        temp[0] = h[at(off)];
+        temp[at(last + 1 - off)] = h[at(last + 1)];
+        let (mut i, mut j, mut ii, mut jj) = (first, last, 1isize, last - off);
+        while j - i > 0 {
+            let alfi = (u - kv[at(i)]) / (kv[at(i + p + 1)] - kv[at(i)]);
+            let alfj = (u - kv[at(j)]) / (kv[at(j + p + 1)] - kv[at(j)]);
+            temp[at(ii)] = (h[at(i)] - temp[at(ii - 1)] * (1.0 - alfi)) / alfi;
+            temp[at(jj)] = (h[at(j)] - temp[at(jj + 1)] * alfj) / (1.0 - alfj);
+            i += 1;
+            ii += 1;
+            j -= 1;
+            jj -= 1;
+        }
+        let dev = if j - i < 0 {
+            temp[at(ii - 1)].distance(temp[at(jj + 1)])
+        } else {
+            let alfi = (u - kv[at(i)]) / (kv[at(i + p + 1)] - kv[at(i)]);
+            h[at(i)].distance(temp[at(ii + 1)] * alfi + temp[at(ii - 1)] * (1.0 - alfi))
+        };
+        if !(dev <= tol) {
+            return None;
+        }
+        let (mut i, mut j) = (first, last);
+        while j - i > 0 {
+            h[at(i)] = temp[at(i - off)];
+            h[at(j)] = temp[at(j - off)];
+            i += 1;
+            j -= 1;
+        }
+        h.remove(at((2 * r - s - p) / 2));
+        let mut knots = kv.to_vec();
+        knots.remove(at(r));
+        self.rebuild_homogeneous(knots, h).ok()
     }
 
     /// Insert every value of `us` (sorted or not) once: knot refinement.

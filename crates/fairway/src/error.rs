@@ -171,6 +171,22 @@ pub enum Error {
     /// A linear system could not be solved.
     #[error("linear solve failed: {0}")]
     Solve(String),
+    /// Knot removal (The NURBS Book A5.8) would change the curve by more than the tolerance:
+    /// the curve is not smooth enough at that knot (a kink, or a derivative jump).
+    #[error(
+        "knot {value} cannot be removed {requested} time(s) within {tolerance}: only {removed} removal(s) keep \
+         the curve (it is not smooth enough there)"
+    )]
+    KnotNotRemovable {
+        /// The knot.
+        value: f64,
+        /// Removals asked for.
+        requested: usize,
+        /// Removals that stayed within the tolerance.
+        removed: usize,
+        /// The tolerance (a distance).
+        tolerance: f64,
+    },
 }
 
 /// Result alias of the core library.

@@ -17,11 +17,14 @@
 //!      knot up to multiplicity `p − 1` / `p` (Boehm, the curve is unchanged),
 //!      which frees one / two more control points and leaves C1 / C0 at the
 //!      join; the result then has those extra knots.
-//!    * At an end of the curve's domain (and at the seam of a closed curve,
-//!      first point = last point) the first / last 3 (G2), 2 (G1) or 1 (G0)
-//!      control points are kept, so end point, end tangent and end curvature
-//!      stay — for a closed curve the seam keeps its original G2 state and
-//!      the target is pinned there, so no seam artifact is introduced.
+//!    * At an end of the curve's domain the first / last 3 (G2), 2 (G1) or 1
+//!      (G0) control points are kept, so end point, end tangent and end
+//!      curvature stay. One pass treats the seam of a closed curve (first
+//!      point = last point) the same way: the seam keeps its original G2
+//!      state and shape, unfaired ([`FairingResult::seam`] is
+//!      [`Seam::Held`]). [`fair_curve`] on a whole closed curve fairs across
+//!      the seam instead, by re-seaming and a second pass
+//!      ([`super::closed`]).
 //!
 //!    The moving stretch `[a, b]` is the union of the free points' supports.
 //! 2. **Samples.** n points at equal arc length over `[a, b]`
@@ -66,6 +69,7 @@
 
 use glam::DVec3;
 
+use super::closed::Seam;
 use super::integrate::{IntegrationScratch, Integrator, PullBack, Track, integrate_blended};
 use super::target::{Target, TargetMethod};
 use crate::arclength::ArcLengthTable;
@@ -167,6 +171,10 @@ pub struct FairingResult {
     pub solves: usize,
     /// The paper's E = Σ (κ(p_k) − g_k)² at the sample parameters.
     pub energy: f64,
+    /// What happened at the seam of a closed curve (see [`Seam`]): a single pass of
+    /// [`FairingSetup`] holds it; [`fair_curve`] on a whole closed curve fairs across it, or says
+    /// why it could not.
+    pub seam: Seam,
 }
 
 /// Number of arc-length samples used to verify the band (as `measure`).
@@ -221,6 +229,7 @@ pub struct FairingSetup {
     // μ of the last fair (warm start of the next)
     last_mu: Option<f64>,
     pad: Vec<DVec3>,
+    seam: Seam,
 }
 
 /// Smallest fairness weight μ tried (see the module docs, step 6).
@@ -440,6 +449,18 @@ impl FairingSetup {
             m: BandedSpd::zeros(nf, p),
             last_mu: None,
             pad: Vec::new(),
+            seam: Seam::Open,
+        };
+        s.seam = if !super::closed::is_closed_curve(&s.input) {
+            Seam::Open
+        } else if range.0 <= d0 + eps || range.1 >= d1 - eps {
+            Seam::Held(
+                "the moving stretch reaches the seam, which one pass holds like a G2 region end (its first/last \
+                 control points stay); fair_curve on the whole closed curve fairs across it"
+                    .into(),
+            )
+        } else {
+            Seam::Untouched
         };
         // one basis evaluation per sample (values, 1st and 2nd derivatives): position and derivatives of
         // the curve, and the rows of the fit restricted to the free points
@@ -587,6 +608,11 @@ impl FairingSetup {
         });
         s.target.smooth(opts.target, strength);
         Ok(s)
+    }
+
+    /// The seam state of this pass ([`Seam::Held`] when a closed curve's moving stretch reaches its seam).
+    pub fn seam(&self) -> &Seam {
+        &self.seam
     }
 
     /// The curve as given (non-rational).
@@ -806,6 +832,7 @@ impl FairingSetup {
             alpha,
             solves,
             energy,
+            seam: self.seam.clone(),
         })
     }
 
@@ -1314,8 +1341,13 @@ pub fn default_passes(n: usize) -> usize {
     ((1.5 * sigma * sigma).round() as usize).clamp(1, 10000)
 }
 
-/// Fair `curve` with `opts` in one call (setup + [`FairingSetup::fair`]).
+/// Fair `curve` with `opts` in one call: setup + [`FairingSetup::fair`], or for a whole closed curve
+/// (fast method, [`super::closed::applies`]) the two passes of [`super::closed::fair_closed`], which
+/// fair across the seam (the result's [`FairingResult::seam`] says whether they could).
 pub fn fair_curve(curve: &BSplineCurve, opts: FairingOptions) -> Result<FairingResult> {
+    if super::closed::applies(curve, &opts) {
+        return super::closed::fair_closed(curve, opts);
+    }
     FairingSetup::new(curve, opts)?.fair()
 }
 

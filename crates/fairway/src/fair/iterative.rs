@@ -180,6 +180,7 @@ pub fn fair_iterative(setup: &FairingSetup, opts: IterativeOptions) -> Result<Fa
         alpha: 1.0,
         solves: sweeps * free.len(),
         energy,
+        seam: setup.seam().clone(),
     })
 }
 

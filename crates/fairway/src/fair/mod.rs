@@ -7,6 +7,7 @@
 //!   pull-back (Euler, RK2, exact arc steps);
 //! * [`curve`] — [`FairingSetup`]: sampling, free control points of the
 //!   region, the constrained fit with a fairness term, the band control;
+//! * [`closed`] — closed curves faired across the seam (re-seaming, two passes);
 //! * [`iterative`] — the downhill-simplex baseline;
 //! * [`surface`] — surfaces (paper §3.2): isocurves faired by the curve engine, combined, fitted.
 //!
@@ -30,12 +31,14 @@
 //! assert!(second.max_deviation <= 0.005);
 //! ```
 
+pub mod closed;
 pub mod curve;
 pub mod integrate;
 pub mod iterative;
 pub mod surface;
 pub mod target;
 
+pub use closed::{Seam, fair_closed};
 pub use curve::{EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, fair_curve};
 pub use integrate::Integrator;
 pub use iterative::{IterativeOptions, fair_iterative};
