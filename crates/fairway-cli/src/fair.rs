@@ -10,8 +10,8 @@ use std::time::Instant;
 use anyhow::{Context, Result, anyhow, bail};
 use fairway::Geometry;
 use fairway::fair::{
-    Combine, EndCondition, FairingOptions, FairingSetup, FitMode, Integrator, IterativeOptions, SurfaceFairingOptions,
-    TargetMethod, fair_iterative, fair_surface,
+    Combine, EndCondition, FairingOptions, FairingSetup, FitMode, Integrator, IterativeOptions, Seam,
+    SurfaceFairingOptions, TargetMethod, closed, fair_iterative, fair_surface,
 };
 use fairway::io::Document;
 use fairway::measure::{Measures, measure};
@@ -109,8 +109,10 @@ pub struct Report {
     pub energy_before: f64,
     /// The same after.
     pub energy: f64,
-    /// Free control points [first, last) of the working curve.
+    /// Free control points [first, last) of the working curve (of the first pass for a closed curve).
     pub free_points: [usize; 2],
+    /// The seam of a closed curve: "open", "untouched", "faired" or "held: <reason>".
+    pub seam: String,
     /// Measures of the result against the input.
     pub measures: Measures,
 }
@@ -187,8 +189,11 @@ fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions) -> R
     let mut setup = FairingSetup::new(curve, opts).context("fairing setup")?;
     let setup_ms = t0.elapsed().as_secs_f64() * 1e3;
     let t1 = Instant::now();
+    // a whole closed curve: fair_curve fairs across the seam (two passes, see fairway::fair::closed)
     let result = if a.method == "iterative" {
         fair_iterative(&setup, IterativeOptions::default())
+    } else if closed::applies(curve, &opts) {
+        closed::fair_closed(curve, opts)
     } else {
         setup.fair()
     }
@@ -209,6 +214,12 @@ fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions) -> R
             energy_before: setup.energy(setup.working_curve()),
             energy: result.energy,
             free_points: [setup.free_points().start, setup.free_points().end],
+            seam: match &result.seam {
+                Seam::Open => "open".into(),
+                Seam::Untouched => "untouched".into(),
+                Seam::Faired => "faired".into(),
+                Seam::Held(why) => format!("held: {why}"),
+            },
             measures: measure(curve, &result.curve),
         };
         write_report(path, &report)?;
