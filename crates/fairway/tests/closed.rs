@@ -104,12 +104,18 @@ fn remove_knot_refuses_where_the_curve_is_not_smooth_enough() {
 fn periodic_ellipse(n: usize, sigma: f64, seed: u64) -> BSplineCurve {
     let mut rng = Rng::new(seed);
     let shrink = (4.0 + 2.0 * (std::f64::consts::TAU / n as f64).cos()) / 6.0;
-    let q: Vec<DVec2> = (0..n)
+    let q: Vec<DVec3> = (0..n)
         .map(|j| {
             let t = std::f64::consts::TAU * j as f64 / n as f64;
-            DVec2::new(2.0 * t.cos(), t.sin()) / shrink + DVec2::new(rng.gauss(), rng.gauss()) * sigma
+            DVec3::new(2.0 * t.cos(), t.sin(), 0.0) / shrink + DVec3::new(rng.gauss(), rng.gauss(), 0.0) * sigma
         })
         .collect();
+    periodic(&q, 2)
+}
+
+/// The uniform periodic cubic of the cyclic control points `q`, as a clamped curve on [0, 1].
+fn periodic(q: &[DVec3], dim: usize) -> BSplineCurve {
+    let n = q.len();
     let at = |j: isize| q[j.rem_euclid(n as isize) as usize];
     let mut pts = vec![(at(-1) + at(0) * 4.0 + at(1)) / 6.0, (at(0) * 2.0 + at(1)) / 3.0];
     pts.extend((2..=n).map(|j| at(j as isize - 1)));
@@ -118,7 +124,7 @@ fn periodic_ellipse(n: usize, sigma: f64, seed: u64) -> BSplineCurve {
     let mut k = vec![0.0; 4];
     k.extend((1..n).map(|i| i as f64 / n as f64));
     k.extend([1.0; 4]);
-    BSplineCurve::new_2d(3, k, &pts).unwrap()
+    BSplineCurve::try_new(3, k, pts, None, dim).unwrap()
 }
 
 #[test]
@@ -278,4 +284,56 @@ fn seam_state_of_regions_and_open_curves() {
     let r = fair_curve(&o, opts(1e-2)).unwrap();
     assert_eq!(r.seam, Seam::Open);
     assert!(fair_closed(&o, opts(1e-2)).is_err());
+}
+
+#[test]
+fn g2_seam_with_a_speed_jump_is_held_and_said_so() {
+    // G2 but not C2 at the seam: at b, c' = k c'(a) and c'' = k² c''(a) (the same curve geometry up to
+    // second order, another speed). Uniform clamped knots: c'(b) ∝ P_{n−1} − P_{n−2},
+    // c''(b) ∝ P_{n−3} − 3P_{n−2} + 2P_{n−1}; at a, P1 − P0 and P2 − 3P1 + 2P0.
+    let c = periodic_ellipse(40, 1e-3, 4);
+    let mut pts = c.points().to_vec();
+    let n = pts.len();
+    let k = 1.3;
+    let (d1, d2) = (pts[1] - pts[0], pts[2] - pts[1] * 3.0 + pts[0] * 2.0);
+    pts[n - 2] = pts[0] - d1 * k;
+    pts[n - 3] = d2 * (k * k) + pts[n - 2] * 3.0 - pts[0] * 2.0;
+    let c = c.with_points(pts).unwrap();
+    let (s0, s1) = (c.derivs(0.0), c.derivs(1.0));
+    assert!(s0.d1.normalize().distance(s1.d1.normalize()) < 1e-12);
+    assert!((s0.curvature(2) - s1.curvature(2)).abs() < 1e-9 * s0.curvature(2).abs());
+    let r = fair_curve(&c, opts(3e-3)).unwrap();
+    match &r.seam {
+        Seam::Held(why) => assert!(why.contains("not parametrically C2"), "{why}"),
+        other => panic!("{other:?}"),
+    }
+    assert!(dev_max(&c, &r.curve) <= 3e-3);
+}
+
+#[test]
+fn closed_3d_curve_is_faired_across_the_seam() {
+    // a noisy closed ellipse on a tilted plane with an out-of-plane wave (non-planar: torsion ≠ 0)
+    let mut rng = Rng::new(2);
+    let n = 40;
+    let q: Vec<DVec3> = (0..n)
+        .map(|j| {
+            let t = std::f64::consts::TAU * j as f64 / n as f64;
+            let (x, y) = (2.0 * t.cos(), t.sin());
+            DVec3::new(x, 0.8 * y, 0.6 * y + 0.2 * (2.0 * t).sin())
+                + DVec3::new(rng.gauss(), rng.gauss(), rng.gauss()) * 1e-3
+        })
+        .collect();
+    let c = periodic(&q, 3);
+    assert!(c.torsion(0.3).abs() > 1e-3);
+    let m = 3e-3;
+    let r = fair_curve(&c, opts(m)).unwrap();
+    assert_eq!(r.seam, Seam::Faired);
+    assert_eq!(r.curve.knots().values(), c.knots().values());
+    assert!(r.curve.is_closed(1e-12));
+    let (s0, s1) = (r.curve.derivs(0.0), r.curve.derivs(1.0));
+    assert!(s0.d1.normalize().distance(s1.d1.normalize()) <= 1e-9);
+    assert!(s0.curvature_vector().distance(s1.curvature_vector()) <= 1e-9 * s0.curvature_vector().length());
+    assert!(dev_max(&c, &r.curve) <= m);
+    // the seam's control points moved (one pass holds them)
+    assert!(r.curve.points()[1].distance(c.points()[1]) > 1e-7);
 }

@@ -236,9 +236,12 @@ pub fn unrotate(rot: &BSplineCurve, original: &BSplineCurve, tol: f64) -> Result
 fn seam_reason(c: &BSplineCurve) -> String {
     let (a, b) = c.domain();
     let (s, e) = (c.derivs(a), c.derivs(b));
-    let ang = s.d1.angle_between(e.d1).to_degrees();
-    if !(ang <= 1e-6) {
-        return format!("the seam is a corner (tangents differ by {ang:.3}°): held");
+    let ang = s.d1.angle_between(e.d1);
+    if !(ang <= 1e-8) {
+        return format!(
+            "the seam is a corner (tangents differ by {:.3e}°): held",
+            ang.to_degrees()
+        );
     }
     let (k0, k1) = (s.curvature_vector(), e.curvature_vector());
     if k0.distance(k1) > 1e-6 * k0.length().max(k1.length()).max(1e-300) {
