@@ -69,6 +69,27 @@ fn remove_knot_undoes_insert_knot() {
 }
 
 #[test]
+fn remove_knot_undoes_insert_knot_on_a_rational_curve() {
+    let c = wavy(3, 10);
+    let w: Vec<f64> = (0..10).map(|i| 1.0 + 0.3 * ((i * 5) % 4) as f64).collect();
+    let r = BSplineCurve::try_new(3, c.knots().values().to_vec(), c.points().to_vec(), Some(w), 2).unwrap();
+    let (a, b) = r.domain();
+    let u = a + 0.61 * (b - a);
+    let up = r.insert_knot(u, 3).unwrap();
+    let back = up.remove_knot(u, 3, 1e-9).unwrap();
+    assert_eq!(back.knots().values(), r.knots().values());
+    assert!(max_point_diff(&back, &r) <= 1e-12);
+    let dw = back
+        .weights()
+        .unwrap()
+        .iter()
+        .zip(r.weights().unwrap())
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    assert!(dw <= 1e-12, "{dw:e}");
+}
+
+#[test]
 fn remove_knot_refuses_where_the_curve_is_not_smooth_enough() {
     // a generic cubic is C2 but not C3 at a simple knot: removing it would change the curve
     let c = wavy(3, 10);
