@@ -189,7 +189,7 @@ fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions) -> R
     let mut setup = FairingSetup::new(curve, opts).context("fairing setup")?;
     let setup_ms = t0.elapsed().as_secs_f64() * 1e3;
     let t1 = Instant::now();
-    // a whole closed curve: fair_curve fairs across the seam (two passes, see fairway::fair::closed)
+    // a whole closed curve: faired across the seam (two passes, see fairway::fair::closed)
     let result = if a.method == "iterative" {
         fair_iterative(&setup, IterativeOptions::default())
     } else if closed::applies(curve, &opts) {

@@ -4,8 +4,8 @@
 //! curve is a clamped curve whose first and last control points coincide, and its *seam* is the
 //! parameter pair `a ≡ b` of its domain ends. One pass of [`FairingSetup`] holds the first and last
 //! three control points (G2), so the seam keeps the original's wiggle and curvature — a visible
-//! unfaired spot. [`fair_closed`] (which [`fair_curve`](super::fair_curve) calls for a whole closed
-//! curve) removes it by **exact re-seaming** and two passes:
+//! unfaired spot ([`fair_curve`](super::fair_curve) is that one pass too). [`fair_closed`] (which
+//! `fairway fair` calls for a closed curve) removes it by **exact re-seaming** and two passes:
 //!
 //! 1. **Pass 1** fairs the curve as it is, seam held (G2 ends whatever the options say: a closed
 //!    curve has no ends).
@@ -262,8 +262,9 @@ fn seam_reason(c: &BSplineCurve) -> String {
     )
 }
 
-/// Whether [`fair_curve`](super::fair_curve) sends `curve` with `opts` to [`fair_closed`]: a closed
-/// curve, faired whole (no region, or one covering the domain), in [`FitMode::Fairway`].
+/// Whether [`fair_closed`] fairs `curve` across its seam with `opts` (two passes): a closed curve,
+/// faired whole (no region, or one covering the domain), in [`FitMode::Fairway`]; otherwise it is
+/// one pass of [`FairingSetup`].
 pub fn applies(curve: &BSplineCurve, opts: &FairingOptions) -> bool {
     if opts.mode != FitMode::Fairway || !is_closed_curve(curve) {
         return false;
@@ -276,9 +277,11 @@ pub fn applies(curve: &BSplineCurve, opts: &FairingOptions) -> bool {
     }
 }
 
-/// Fair a whole closed curve across its seam (module docs); `opts.region` and `opts.ends` are
-/// ignored (the whole loop, G2 everywhere). Errors as [`FairingSetup`] for the first pass, and for
-/// an open curve; every failure of the seam treatment falls back to the first pass's result with
+/// Fair a closed curve, across its seam when it is faired whole (module docs; [`applies`]; then
+/// `opts.ends` is ignored: the whole loop, G2 everywhere); with a region that does not cover the
+/// domain, or in [`FitMode::Paper`], it is one pass of [`FairingSetup`] (the seam is then a G2
+/// region end or untouched, as the result's `seam` says). Errors as [`FairingSetup`], and for an
+/// open curve; every failure of the seam treatment falls back to the first pass's result with
 /// [`Seam::Held`] and the reason.
 pub fn fair_closed(curve: &BSplineCurve, opts: FairingOptions) -> Result<FairingResult> {
     let input = curve.to_polynomial()?;
@@ -287,6 +290,9 @@ pub fn fair_closed(curve: &BSplineCurve, opts: FairingOptions) -> Result<Fairing
             "fair_closed: the curve is not closed (first and last points {} apart)",
             input.points()[0].distance(*input.points().last().unwrap())
         )));
+    }
+    if !applies(&input, &opts) {
+        return FairingSetup::new(&input, opts)?.fair();
     }
     let m = opts.tolerance;
     let b = input.domain().1;
