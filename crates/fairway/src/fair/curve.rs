@@ -34,7 +34,8 @@
 //!    normal is flipped whenever it would turn by more than 90° from the
 //!    previous sample, and carried over (projected on the normal plane)
 //!    where κ ≈ 0, so the target does not fold at inflections.
-//! 3. **Target** g ([`Target`]), ends pinned to the original κ.
+//! 3. **Target** g ([`Target`]), ends pinned to the original κ at G2 ends and
+//!    free (smoothed like the interior) at G1 / G0 ends, whose curvature is not kept.
 //! 4. **Integration** from both ends, blended ([`super::integrate`]), with
 //!    the pull-back term; in [`FitMode::Fairway`] the tangent is pulled back too.
 //! 5. **Fit** with the original knots and the original parameters `p_k`.
@@ -602,6 +603,12 @@ impl FairingSetup {
             }
         }
         s.target = Target::new(&kappa)?;
+        // a G1 / G0 end does not keep its curvature: the target is free there (smoothed like the interior)
+        for (last, e) in [(false, ends[0]), (true, ends[1])] {
+            if e != EndCondition::G2 {
+                s.target.release_end(last);
+            }
+        }
         let strength = opts.strength.unwrap_or(match opts.target {
             TargetMethod::Fit => 20,
             _ => default_passes(ns),

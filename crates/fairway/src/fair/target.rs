@@ -5,7 +5,10 @@
 //! original curvature κ_k, the target g_k and a pin flag per sample. Pinned
 //! samples are never changed by smoothing; the two end samples are pinned
 //! at construction to the original curvature, so that the faired stretch
-//! meets its untouched neighbours with the same curvature (G2).
+//! meets its untouched neighbours with the same curvature (G2). An end whose
+//! curvature is not kept (a G1 or G0 end) is released ([`Target::release_end`]):
+//! smoothing then treats it as a free end (no flux across it: the mirrored
+//! stencil), so a noisy end curvature is smoothed like the interior.
 //!
 //! Smoothing methods ([`TargetMethod`]):
 //! * `Average` — the paper's repeated neighbour averaging
@@ -67,6 +70,8 @@ pub struct Target {
     original: Vec<f64>,
     values: Vec<f64>,
     pinned: Vec<bool>,
+    /// Ends released by [`Self::release_end`] (start, end).
+    free_ends: [bool; 2],
 }
 
 impl Target {
@@ -93,7 +98,21 @@ impl Target {
             original: kappa.to_vec(),
             values: kappa.to_vec(),
             pinned,
+            free_ends: [false; 2],
         })
+    }
+
+    /// Release the first (`last = false`) or the last end sample: its curvature is not a join
+    /// condition (G1 or G0 end), so it is unpinned and smoothing treats it as a free end.
+    pub fn release_end(&mut self, last: bool) {
+        let k = if last { self.len() - 1 } else { 0 };
+        self.free_ends[last as usize] = true;
+        self.pinned[k] = false;
+    }
+
+    /// Whether the first / last end sample was released ([`Self::release_end`]).
+    pub fn free_ends(&self) -> [bool; 2] {
+        self.free_ends
     }
 
     /// Number of samples.
@@ -139,20 +158,34 @@ impl Target {
         }
     }
 
-    /// Unpin sample k. The two end samples stay pinned (they carry the G2 join).
+    /// Unpin sample k. The two end samples stay pinned (they carry the G2 join) unless released.
     pub fn unpin(&mut self, k: usize) {
-        if k > 0 && k + 1 < self.len() {
+        let n = self.len();
+        if (k > 0 && k + 1 < n) || (k == 0 && self.free_ends[0]) || (k + 1 == n && self.free_ends[1]) {
             self.pinned[k] = false;
         }
     }
 
-    /// Back to the original curvature; only the ends stay pinned.
+    /// Back to the original curvature; only the ends that were not released stay pinned.
     pub fn reset(&mut self) {
         self.values.copy_from_slice(&self.original);
         self.pinned.fill(false);
         let n = self.len();
-        self.pinned[0] = true;
-        self.pinned[n - 1] = true;
+        self.pinned[0] = !self.free_ends[0];
+        self.pinned[n - 1] = !self.free_ends[1];
+    }
+
+    /// The smoothed index range of `a..=b`: the end samples only when free (not pinned), else the
+    /// samples around the range are fixed boundary values.
+    fn smoothed(&self, a: usize, b: usize) -> (usize, usize) {
+        let n = self.len();
+        let lo = if a == 0 && !self.pinned[0] { 0 } else { a.max(1) };
+        let hi = if b == n - 1 && !self.pinned[n - 1] {
+            n - 1
+        } else {
+            b.min(n - 2)
+        };
+        (lo, hi)
     }
 
     /// Smooth the whole target.
@@ -179,16 +212,21 @@ impl Target {
     fn passes(&mut self, a: usize, b: usize, strength: usize, w: [f64; 3]) {
         // Jacobi sweeps in place: `prev` carries the old value of k − 1, and k + 1 is not yet updated
         let n = self.len();
-        let (lo, hi) = (a.max(1), b.min(n - 2));
+        let (lo, hi) = self.smoothed(a, b);
         if lo > hi {
             return;
         }
         for _ in 0..strength {
-            let mut prev = self.values[lo - 1];
+            // a free end mirrors onto itself (no flux across it)
+            let mut prev = self.values[lo.max(1) - 1];
+            if lo == 0 {
+                prev = self.values[0];
+            }
             for k in lo..=hi {
                 let cur = self.values[k];
+                let next = if k + 1 < n { self.values[k + 1] } else { cur };
                 if !self.pinned[k] {
-                    self.values[k] = w[0] * prev + w[1] * cur + w[2] * self.values[k + 1];
+                    self.values[k] = w[0] * prev + w[1] * cur + w[2] * next;
                 }
                 prev = cur;
             }
@@ -201,7 +239,7 @@ impl Target {
     /// samples around the stretch are Dirichlet values), a diagonally dominant tridiagonal system.
     fn heat(&mut self, a: usize, b: usize, strength: usize) {
         let n = self.len();
-        let (lo, hi) = (a.max(1), b.min(n - 2));
+        let (lo, hi) = self.smoothed(a, b);
         if lo > hi {
             return;
         }
@@ -214,20 +252,27 @@ impl Target {
             // forward sweep of the Thomas algorithm; row i is sample lo + i
             for i in 0..m {
                 let k = lo + i;
+                // a free end sample (k = 0 or n − 1, not pinned) has one neighbour: no flux across the end
                 let (diag, off, mut rhs) = if self.pinned[k] {
                     (1.0, 0.0, self.values[k])
+                } else if k == 0 || k + 1 == n {
+                    (1.0 + tau, -tau, self.values[k])
                 } else {
                     (1.0 + 2.0 * tau, -tau, self.values[k])
                 };
                 // lower neighbour: known value outside the unknowns, else eliminated
                 let lower = if i == 0 {
-                    rhs -= off * self.values[k - 1];
+                    if k > 0 {
+                        rhs -= off * self.values[k - 1];
+                    }
                     0.0
                 } else {
                     off
                 };
                 let upper = if i + 1 == m {
-                    rhs -= off * self.values[k + 1];
+                    if k + 1 < n {
+                        rhs -= off * self.values[k + 1];
+                    }
                     0.0
                 } else {
                     off
@@ -279,9 +324,9 @@ impl Target {
         let Ok(spline) = crate::curve::BSplineCurve::try_new(3, knots.values().to_vec(), cp, None, 3) else {
             return;
         };
-        let n = self.len();
         for (j, k) in (a..=b).enumerate() {
-            if self.pinned[k] || k == 0 || k == n - 1 {
+            // pinned samples (the ends unless released) keep their value
+            if self.pinned[k] {
                 continue;
             }
             self.values[k] = spline.point(params[j]).x;
@@ -320,6 +365,43 @@ pub fn quintic(t: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn released_ends_are_smoothed_like_the_interior() {
+        // a constant signal with noisy ends: pinned ends keep their values, released ones are smoothed
+        // towards the interior; the heat flow with two free ends conserves the sum (no flux out)
+        let mut k = vec![1.0; 41];
+        (k[0], k[1], k[39], k[40]) = (3.9, 1.6, 1.4, 2.2);
+        for method in [
+            TargetMethod::Heat,
+            TargetMethod::Average,
+            TargetMethod::Binomial,
+            TargetMethod::Fit,
+        ] {
+            let mut pinned = Target::new(&k).unwrap();
+            pinned.smooth(method, 30);
+            assert_eq!((pinned.values()[0], pinned.values()[40]), (3.9, 2.2), "{method:?}");
+            let mut free = Target::new(&k).unwrap();
+            free.release_end(false);
+            free.release_end(true);
+            assert_eq!(free.free_ends(), [true, true]);
+            assert!(!free.pinned()[0] && !free.pinned()[40]);
+            free.smooth(method, 30);
+            let (a, b) = (free.values()[0], free.values()[40]);
+            assert!(a < 2.0 && b < 1.6, "{method:?}: ends {a}, {b}");
+            assert!(free.values().iter().all(|v| v.is_finite()));
+            if method == TargetMethod::Heat {
+                let (s0, s1): (f64, f64) = (k.iter().sum(), free.values().iter().sum());
+                assert!((s0 - s1).abs() < 1e-12 * s0, "{s0} vs {s1}");
+            }
+            // reset keeps the released ends free; unpin works on them
+            free.reset();
+            assert!(!free.pinned()[0] && !free.pinned()[40]);
+            free.pin(0);
+            free.unpin(0);
+            assert!(!free.pinned()[0]);
+        }
+    }
 
     #[test]
     fn binomial_kills_zigzag_and_keeps_ends() {
