@@ -1229,20 +1229,37 @@ impl FairingSetup {
     }
 
     fn deviation_padded(&self, pad: &[DVec3], d: &[DVec3], sharpen: f64, cache: &mut Vec<Option<ChkDeriv>>) -> f64 {
-        let p = self.work.degree();
-        let off = p + 1;
-        let mut worst = 0.0f64;
+        // the common degrees with the row count known at compile time (an unrolled inner loop)
+        match self.work.degree() {
+            2 => self.scan::<3>(pad, d, sharpen, cache),
+            3 => self.scan::<4>(pad, d, sharpen, cache),
+            4 => self.scan::<5>(pad, d, sharpen, cache),
+            5 => self.scan::<6>(pad, d, sharpen, cache),
+            _ => self.scan::<0>(pad, d, sharpen, cache),
+        }
+    }
+
+    /// The band check's scan over the check samples; `N` = p + 1, or 0 for "read it from the curve".
+    /// Samples below the band are compared by squared length (the square root only of the maximum:
+    /// the same value, since the root is monotone and correctly rounded).
+    fn scan<const N: usize>(&self, pad: &[DVec3], d: &[DVec3], sharpen: f64, cache: &mut Vec<Option<ChkDeriv>>) -> f64 {
+        let np1 = if N > 0 { N } else { self.work.degree() + 1 };
+        let off = np1;
+        let sharpen2 = sharpen * sharpen;
+        let (mut worst2, mut worst_sharp) = (0.0f64, 0.0f64);
         let mut cand: Option<BSplineCurve> = None;
         for j in 0..self.chk_u.len() {
             let base = (self.chk_first[j] + off as isize) as usize;
-            let w = &self.chk_b[j * (p + 1)..(j + 1) * (p + 1)];
-            let rows = &pad[base..base + p + 1];
+            let w = &self.chk_b[j * np1..(j + 1) * np1];
+            let rows = &pad[base..base + np1];
             let mut delta = DVec3::ZERO;
             for (x, b) in rows.iter().zip(w) {
                 delta += *x * *b;
             }
-            let mut dist = delta.length();
-            if dist > sharpen {
+            let len2 = delta.length_squared();
+            // NaN-safe: a NaN update is "above the band"
+            if !(len2 <= sharpen2) {
+                let mut dist = len2.sqrt();
                 if cand.is_none() {
                     let mut pts = self.work.points().to_vec();
                     for (k, x) in d.iter().enumerate() {
@@ -1261,14 +1278,16 @@ impl FairingSetup {
                         sharpen,
                     ));
                 }
-                if dist > sharpen {
+                if !(dist <= sharpen) {
                     // the band is broken: callers only compare with `sharpen`, so stop here
                     return dist;
                 }
+                worst_sharp = worst_sharp.max(dist);
+            } else {
+                worst2 = worst2.max(len2);
             }
-            worst = worst.max(dist);
         }
-        worst
+        worst2.sqrt().max(worst_sharp)
     }
 }
 
