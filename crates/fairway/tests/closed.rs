@@ -306,8 +306,9 @@ fn seam_state_of_regions_and_open_curves() {
     // a region covering the domain is the whole curve
     let r = fair_closed(&c, with_region(0.0, 1.0)).unwrap();
     assert_eq!(r.seam, Seam::Faired);
-    // fair_curve and FairingSetup are one pass: the seam is held
-    let r = fair_curve(&c, opts(m)).unwrap();
+    // fair_curve sends a whole closed curve to fair_closed; FairingSetup is one pass: the seam is held
+    assert_eq!(fair_curve(&c, opts(m)).unwrap().seam, Seam::Faired);
+    let r = FairingSetup::new(&c, opts(m)).unwrap().fair().unwrap();
     assert!(matches!(r.seam, Seam::Held(_)), "{:?}", r.seam);
     // an open curve
     let o = wavy(3, 12);

@@ -4,8 +4,8 @@
 //! curve is a clamped curve whose first and last control points coincide, and its *seam* is the
 //! parameter pair `a ≡ b` of its domain ends. One pass of [`FairingSetup`] holds the first and last
 //! three control points (G2), so the seam keeps the original's wiggle and curvature — a visible
-//! unfaired spot ([`fair_curve`](super::fair_curve) is that one pass too). [`fair_closed`] (which
-//! `fairway fair` calls for a closed curve) removes it by **exact re-seaming** and two passes:
+//! unfaired spot. [`fair_closed`] (which [`fair_curve`](super::fair_curve) and `fairway fair` call
+//! for a whole closed curve) removes it by **exact re-seaming** and two passes:
 //!
 //! 1. **Pass 1** fairs the curve as it is, seam held (G2 ends whatever the options say: a closed
 //!    curve has no ends).

@@ -22,9 +22,9 @@
 //!      curvature stay. One pass treats the seam of a closed curve (first
 //!      point = last point) the same way: the seam keeps its original G2
 //!      state and shape, unfaired ([`FairingResult::seam`] is
-//!      [`Seam::Held`]). [`super::closed::fair_closed`] (and `fairway fair`)
-//!      fairs a whole closed curve across the seam instead, by re-seaming
-//!      and a second pass.
+//!      [`Seam::Held`]). [`fair_curve`] (and `fairway fair`) fairs a whole
+//!      closed curve across the seam instead, by re-seaming and a second
+//!      pass ([`super::closed::fair_closed`]).
 //!
 //!    The moving stretch `[a, b]` is the union of the free points' supports.
 //! 2. **Samples.** n points at equal arc length over `[a, b]`
@@ -173,8 +173,8 @@ pub struct FairingResult {
     /// The paper's E = Σ (κ(p_k) − g_k)² at the sample parameters.
     pub energy: f64,
     /// What happened at the seam of a closed curve (see [`Seam`]): a single pass of
-    /// [`FairingSetup`] holds it; [`super::closed::fair_closed`] on a whole closed curve fairs across
-    /// it, or says why it could not.
+    /// [`FairingSetup`] holds it; [`fair_curve`] on a whole closed curve fairs across it, or says
+    /// why it could not.
     pub seam: Seam,
 }
 
@@ -457,7 +457,7 @@ impl FairingSetup {
         } else if range.0 <= d0 + eps || range.1 >= d1 - eps {
             Seam::Held(
                 "the moving stretch reaches the seam, which one pass holds like a G2 region end (its first/last \
-                 control points stay); fair::closed::fair_closed on the whole closed curve fairs across it"
+                 control points stay); fair_curve on the whole closed curve fairs across it"
                     .into(),
             )
         } else {
@@ -1367,9 +1367,13 @@ pub fn default_passes(n: usize) -> usize {
     ((1.5 * sigma * sigma).round() as usize).clamp(1, 10000)
 }
 
-/// Fair `curve` with `opts` in one call (setup + [`FairingSetup::fair`]): one pass, so the seam of
-/// a closed curve is held ([`FairingResult::seam`]); [`super::closed::fair_closed`] fairs across it.
+/// Fair `curve` with `opts` in one call: setup + [`FairingSetup::fair`], or for a whole closed curve
+/// (fast method, [`super::closed::applies`]) the two passes of [`super::closed::fair_closed`], which
+/// fair across the seam (the result's [`FairingResult::seam`] says whether they could).
 pub fn fair_curve(curve: &BSplineCurve, opts: FairingOptions) -> Result<FairingResult> {
+    if super::closed::applies(curve, &opts) {
+        return super::closed::fair_closed(curve, opts);
+    }
     FairingSetup::new(curve, opts)?.fair()
 }
 
