@@ -34,11 +34,15 @@ fn assets_load_with_the_promised_kinds() {
     let mut curves_3d = 0;
     let mut surfaces = 0;
     let mut with_inflections = 0;
+    let mut closed = 0;
     for (name, _) in generate::generate() {
         let doc = fairway::io::load(&assets().join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
         match &doc.geometry {
             Geometry::Curve(c) if c.dim() == 2 => {
                 curves_2d += 1;
+                if fairway::fair::closed::is_closed_curve(c) {
+                    closed += 1;
+                }
                 if !c.inflections(8).is_empty() {
                     with_inflections += 1;
                 }
@@ -49,6 +53,7 @@ fn assets_load_with_the_promised_kinds() {
     }
     assert!(curves_2d >= 2, "2D curves: {curves_2d}");
     assert!(with_inflections >= 1, "a 2D curve with inflections");
+    assert!(closed >= 1, "a closed 2D curve");
     assert!(
         curves_3d >= 1 && surfaces >= 1,
         "3D curves {curves_3d}, surfaces {surfaces}"

@@ -5,7 +5,7 @@
 use eframe::egui;
 use egui::{Color32, Pos2, Rect, RichText, Sense, Shape, Stroke};
 use fairway::DVec2;
-use fairway::fair::{EndCondition, Integrator, TargetMethod};
+use fairway::fair::{EndCondition, Integrator, Seam, TargetMethod};
 
 use crate::canvas::colors;
 use crate::fairing::{Preview, default_strength};
@@ -107,6 +107,16 @@ impl App {
                         .on_hover_text("The full fair (with the E polish) runs when the drag ends");
                 } else {
                     ui.weak(format!("re-fair {:.2} ms", p.fair_ms));
+                }
+                match &p.result.seam {
+                    Seam::Faired => {
+                        ui.weak("closed curve: faired across the seam (C2)");
+                    }
+                    Seam::Held(why) => {
+                        ui.weak("closed curve: seam held (G2, unchanged there)")
+                            .on_hover_text(why.as_str());
+                    }
+                    Seam::Open | Seam::Untouched => {}
                 }
             }
             None => {}

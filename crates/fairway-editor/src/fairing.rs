@@ -6,7 +6,9 @@
 use std::time::Instant;
 
 use fairway::BSplineCurve;
-use fairway::fair::{EndCondition, FairingOptions, FairingResult, FairingSetup, Integrator, Target, TargetMethod};
+use fairway::fair::{
+    EndCondition, FairingOptions, FairingResult, FairingSetup, Integrator, Target, TargetMethod, fair_closed,
+};
 use fairway::io::DocumentSettings;
 use fairway::measure::{Measures, arc_params, deviations, measure};
 use serde::{Deserialize, Serialize};
@@ -214,7 +216,9 @@ impl Fairing {
             };
             let res = self.guarded("fairing", || {
                 let mismatch = !prepare(&mut setup, &rk);
-                run(&mut setup, tolerance, !polish).map(|p| (p, mismatch))
+                let mut p = run(&mut setup, tolerance, !polish)?;
+                across_the_seam(&setup, &rk, &mut p)?;
+                Ok((p, mismatch))
             });
             match res {
                 Ok(Ok((p, mismatch))) => {
@@ -330,6 +334,31 @@ fn run(setup: &mut FairingSetup, tolerance: f64, draft: bool) -> Result<Preview,
         fair_ms,
         draft,
     })
+}
+
+/// A whole closed curve with the automatic target, at full quality (not a draft): the core's
+/// [`fair_closed`] fairs it across the seam (two passes, about 4× a single fair); the single pass of
+/// the setup holds the seam. The target plot keeps showing the setup's samples. A hand-edited
+/// target or pins belong to the setup's samples, so then the single pass (seam held) stays.
+fn across_the_seam(setup: &FairingSetup, rk: &RunKey, p: &mut Preview) -> Result<(), String> {
+    let opts = FairingOptions {
+        tolerance: rk.tolerance,
+        ..*setup.options()
+    };
+    if p.draft
+        || rk.target.is_some()
+        || !rk.pinned.is_empty()
+        || !fairway::fair::closed::applies(setup.original(), &opts)
+    {
+        return Ok(());
+    }
+    let t0 = Instant::now();
+    let result = fair_closed(setup.original(), opts).map_err(|e| e.to_string())?;
+    let spans = result.curve.knots().breakpoints().len().saturating_sub(1).max(1);
+    p.sampled = Sampled::new(&result.curve, (spans * 24).clamp(400, 4000));
+    p.result = result;
+    p.fair_ms += t0.elapsed().as_secs_f64() * 1e3;
+    Ok(())
 }
 
 /// The default smoothing strength for `n` samples: the core's own default

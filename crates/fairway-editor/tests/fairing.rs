@@ -84,3 +84,43 @@ fn select_fair_edit_target_accept_undo_redo() {
     }
     assert_eq!(h.state().curve(), &faired);
 }
+
+/// A closed curve faired whole: the full preview goes through the core's two-pass seam fairing (seam
+/// faired, C2, original knots, band held, the seam's control points moved) and the panel says so; a
+/// hand-edited target keeps the single pass, whose seam is held.
+#[test]
+fn closed_curve_is_faired_across_the_seam() {
+    let path = common::asset("closed_section.json");
+    let doc = fairway::io::load(&path).expect("closed sample");
+    let mut h = harness(App::with_document(doc, Some(path)));
+    let c0 = h.state().curve().clone();
+    h.get_by_role_and_label(Role::Button, "Whole curve").click();
+    h.run();
+    let m = h.state().tolerance();
+    let p = h.state().preview().expect("a faired preview").clone();
+    assert_eq!(p.result.seam, fairway::fair::Seam::Faired, "{:?}", p.result.seam);
+    let f = &p.result.curve;
+    assert_eq!(f.knots().values(), c0.knots().values());
+    let (n, q) = (f.points().len(), f.points());
+    assert!(q[0].distance(q[n - 1]) <= 1e-12, "closed");
+    assert!(q[1].distance(c0.points()[1]) > 0.0, "the seam's control points moved");
+    let dev = fairway::measure::deviations(&c0, f, 2000);
+    assert!(dev.iter().all(|d| *d <= m * (1.0 + 1e-6)), "band");
+    h.get_by_label_contains("faired across the seam");
+    // a hand-edited target: one pass, seam held, and the panel says that instead
+    let k = p.target.len() / 2;
+    let mut t = p.target.clone();
+    t[k] *= 1.02;
+    h.state_mut().push(fairway_editor::Command::SetTarget {
+        values: Some(t),
+        pinned: vec![],
+    });
+    h.run();
+    let p2 = h.state().preview().expect("re-faired").clone();
+    assert!(
+        matches!(p2.result.seam, fairway::fair::Seam::Held(_)),
+        "{:?}",
+        p2.result.seam
+    );
+    h.get_by_label_contains("seam held");
+}
