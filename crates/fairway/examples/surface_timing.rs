@@ -53,7 +53,9 @@ fn ms(d: Duration) -> f64 {
 
 fn main() {
     let repeats: usize = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(5);
-    println!("n\tpoints\tcpu_ms\twall_ms\tiso_ms\tcombine_ms\tfit_ms\tverify_ms\trounds\tstrength\talpha\tdev");
+    println!(
+        "n\tpoints\tcpu_ms\twall_ms\tiso_ms\tcombine_ms\tfit_ms\tverify_ms\trounds\tm_iso/m\tstrength\talpha\tdev"
+    );
     for n in [10, 20, 30, 50, 70, 100] {
         let s = noisy_net(n);
         let opts = SurfaceFairingOptions {
@@ -81,7 +83,7 @@ fn main() {
         let (e, cpu, r) = best.unwrap();
         let t = r.timings;
         println!(
-            "{n}\t{}\t{cpu:.2}\t{:.2}\t{:.2}\t{:.2}\t{:.2}\t{:.2}\t{}\t{}\t{:.3}\t{:.2e}",
+            "{n}\t{}\t{cpu:.2}\t{:.2}\t{:.2}\t{:.2}\t{:.2}\t{:.2}\t{}\t{:.3}\t{}\t{:.3}\t{:.2e}",
             n * n,
             ms(e),
             ms(t.isocurves),
@@ -89,6 +91,7 @@ fn main() {
             ms(t.fit),
             ms(t.verify),
             r.rounds,
+            r.iso_tolerance / opts.tolerance,
             r.smoothing.strength_u,
             r.alpha,
             r.max_deviation
