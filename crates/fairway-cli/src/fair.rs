@@ -29,7 +29,8 @@ pub struct Args {
     /// Tolerance m: max deviation from the input (same units as the points).
     #[arg(long, allow_hyphen_values = true)]
     pub tolerance: f64,
-    /// Region to fair: `u1,u2` for a curve, `u1,u2,v1,v2` for a surface (default: everything).
+    /// Region to fair: `u1,u2` for a curve, `u1,u2,v1,v2` for a surface (default: everything). On a closed
+    /// curve `u1 > u2` is the stretch across the seam ([u1, end] then [start, u2]).
     #[arg(long, value_parser = parse_region, allow_hyphen_values = true)]
     pub region: Option<Region>,
     /// Continuity at the region ends: g0, g1 or g2.
@@ -186,18 +187,29 @@ fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions) -> R
         ),
     };
     let t0 = Instant::now();
-    let mut setup = FairingSetup::new(curve, opts).context("fairing setup")?;
+    // a region across the seam of a closed curve (u1 > u2): the setup is on the curve re-seamed inside the
+    // untouched rest, and the result is rotated back (see fairway::fair::closed::setup_across_seam)
+    let (mut setup, across) = if opts.region.is_some_and(|(u1, u2)| u1 > u2) {
+        let (s, back) = closed::setup_across_seam(curve, opts).context("fairing setup")?;
+        (s, Some(back))
+    } else {
+        (FairingSetup::new(curve, opts).context("fairing setup")?, None)
+    };
     let setup_ms = t0.elapsed().as_secs_f64() * 1e3;
     let t1 = Instant::now();
     // a whole closed curve: faired across the seam (two passes, see fairway::fair::closed)
     let result = if a.method == "iterative" {
         fair_iterative(&setup, IterativeOptions::default())
-    } else if closed::applies(curve, &opts) {
+    } else if across.is_none() && closed::applies(curve, &opts) {
         closed::fair_closed(curve, opts)
     } else {
         setup.fair()
     }
     .context("fairing")?;
+    let result = match &across {
+        Some(back) => back.back(result).context("fairing across the seam")?,
+        None => result,
+    };
     let solve_ms = t1.elapsed().as_secs_f64() * 1e3;
     fairway::io::save(&a.output, &Document::new(Geometry::Curve(result.curve.clone())))?;
     if let Some(path) = &a.report {

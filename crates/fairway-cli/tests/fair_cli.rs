@@ -416,4 +416,26 @@ fn fair_closed_curve_across_the_seam() {
         s(&rep),
     ]));
     assert!(json_file(&rep)["seam"].as_str().unwrap().starts_with("held: "));
+    // a region across the seam (u1 > u2): faired as one stretch, the rest [0.3, 0.7] untouched
+    ok(&fairway(&[
+        "fair",
+        s(&input),
+        "--tolerance",
+        "0.005",
+        "--region",
+        "0.7,0.3",
+        "-o",
+        s(&out),
+        "--report",
+        s(&rep),
+    ]));
+    let f = curve(&out);
+    assert_eq!(json_file(&rep)["seam"], "faired");
+    assert_eq!(f.knots().values(), c.knots().values());
+    assert!(f.is_closed(1e-12) && f.points()[0].distance(c.points()[0]) > 1e-6);
+    for k in 0..=40 {
+        let u = 0.3 + 0.4 * k as f64 / 40.0;
+        assert!(f.point(u).distance(c.point(u)) <= 1e-12, "moved at {u}");
+    }
+    assert!(fairway::measure::measure(&c, &f).dev_max <= 0.005);
 }

@@ -385,3 +385,89 @@ fn coarse_closed_curves_keep_their_form() {
         assert!(dev_max(&c, &r.curve) <= m);
     }
 }
+
+/// A region across the seam (u1 > u2: [u1, b] then [a, u2]) is faired as one stretch: outside it the
+/// curve is unchanged (≤ 1e-12), its ends join with G2, the seam inside it moved and stays closed and
+/// C2, the knots are the original's, the band holds; a seam that is not C2 or an open curve is a clear
+/// error, as is a region end outside the domain.
+#[test]
+fn region_across_the_seam_is_one_faired_stretch() {
+    let c = periodic_ellipse(60, 1e-3, 4);
+    let m = 3e-3;
+    let (u1, u2) = (0.8, 0.25);
+    let r = fair_closed(
+        &c,
+        FairingOptions {
+            region: Some((u1, u2)),
+            ..opts(m)
+        },
+    )
+    .unwrap();
+    assert_eq!(r.seam, Seam::Faired);
+    let f = &r.curve;
+    assert_eq!(f.knots(), c.knots());
+    let n = f.n_points();
+    assert!(f.points()[0].distance(f.points()[n - 1]) <= 1e-12, "closed");
+    assert!(
+        f.points()[0].distance(c.points()[0]) > 1e-6,
+        "the seam inside the region moved"
+    );
+    // outside the region [u2, u1] nothing moved
+    for k in 0..=200 {
+        let u = u2 + (u1 - u2) * k as f64 / 200.0;
+        assert!(f.point(u).distance(c.point(u)) <= 1e-12, "moved at u = {u}");
+    }
+    // G2 at the region ends, C2 at the seam (first and second derivatives at a and b)
+    for u in [u1, u2] {
+        let (a, b) = (c.derivs(u), f.derivs(u));
+        assert!(a.p.distance(b.p) <= 1e-12);
+        assert!(a.d1.angle_between(b.d1) <= 1e-9, "tangent at {u}");
+        let (ka, kb) = (a.curvature_vector(), b.curvature_vector());
+        assert!(ka.distance(kb) <= 1e-9 * ka.length(), "curvature at {u}");
+    }
+    let (s, e) = (f.derivs(0.0), f.derivs(1.0));
+    assert!(s.d1.distance(e.d1) <= 1e-9 * s.d1.length() && s.d2.distance(e.d2) <= 1e-8 * s.d2.length());
+    assert!(dev_max(&c, f) <= m, "band");
+    // fairer: the paper's E over the region's samples, original vs result (same re-seamed setup)
+    let (setup, _) = fairway::fair::closed::setup_across_seam(
+        &c,
+        FairingOptions {
+            region: Some((u1, u2)),
+            ..opts(m)
+        },
+    )
+    .unwrap();
+    let e0 = setup.energy(setup.working_curve());
+    println!("region across the seam: E {e0:.4e} -> {:.4e}", r.energy);
+    assert!(r.energy < 0.5 * e0, "E {e0} -> {}", r.energy);
+    // errors
+    let wrap = |c: &BSplineCurve, u1: f64, u2: f64| {
+        fair_closed(
+            c,
+            FairingOptions {
+                region: Some((u1, u2)),
+                ..opts(m)
+            },
+        )
+    };
+    assert!(matches!(wrap(&c, 1.2, 0.3), Err(Error::OutOfDomain { .. })));
+    let corner = {
+        let mut p = c.points().to_vec();
+        let last = p.len() - 1;
+        p[1] += DVec3::new(0.0, 0.05, 0.0);
+        p[last - 1] += DVec3::new(0.05, 0.0, 0.0);
+        c.with_points(p).unwrap()
+    };
+    let e = wrap(&corner, 0.8, 0.25).unwrap_err().to_string();
+    assert!(e.contains("re-seamed"), "{e}");
+    let e = fairway::fair::closed::setup_across_seam(
+        &wavy(3, 12),
+        FairingOptions {
+            region: Some((0.8, 0.25)),
+            ..opts(m)
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("not closed"), "{e}");
+}

@@ -62,8 +62,11 @@
 //! reaches the seam (`u1 = a` or `u2 = b`), the seam acts as a G2 region end — the faired stretch
 //! joins the untouched rest of the loop there with G2, which is what a designer who selected a
 //! stretch ending at the seam expects ([`Seam::Held`] says so). A region covering the whole domain
-//! is the whole curve and gets the seam treatment. (A region *across* the seam, `u1 > u2`, is not
-//! supported: it is an error as for an open curve.)
+//! is the whole curve and gets the seam treatment. A region *across* the seam, `u1 > u2` (the stretch
+//! `[u1, b]` followed by `[a, u2]`), is one pass on the curve re-seamed exactly in the middle of the
+//! untouched rest `[u2, u1]` ([`setup_across_seam`]): the region is then an ordinary interior stretch
+//! `[u1, u2 + L]`, faired with its own end conditions, and the result is rotated back to the original
+//! knot vector ([`AcrossSeam::back`]); it needs a parametrically C2 seam (else a clear error).
 
 use glam::DVec3;
 
@@ -235,6 +238,76 @@ pub fn unrotate(rot: &BSplineCurve, original: &BSplineCurve, tol: f64) -> Result
     )
 }
 
+/// The rotation behind a region across the seam ([`setup_across_seam`]).
+#[derive(Debug, Clone)]
+pub struct AcrossSeam {
+    original: BSplineCurve,
+    tol: f64,
+}
+
+impl AcrossSeam {
+    /// The result of the re-seamed setup's fair, rotated back onto the original curve's domain and knot
+    /// vector (exact: the control points next to the re-seaming point do not move).
+    pub fn back(&self, r: FairingResult) -> Result<FairingResult> {
+        let curve = unrotate(&r.curve, &self.original, self.tol)?;
+        Ok(FairingResult {
+            curve,
+            seam: Seam::Faired,
+            ..r
+        })
+    }
+}
+
+/// The fairing setup of a region across the seam of a closed curve: `opts.region = (u1, u2)` with
+/// `u1 > u2`, both in the domain `[a, b]`, meaning `[u1, b] ∪ [a, u2]`. The curve is re-seamed exactly
+/// at the middle of `[u2, u1]` (which stays untouched) and the setup fairs the rotated region
+/// `[u1, u2 + L]`, `L = b − a`, with `opts.ends` at its ends. Fair it (target edits work as usual, on
+/// its samples), then map the result back with [`AcrossSeam::back`]. Errors: an open curve, a region
+/// end outside the domain, a seam that is not parametrically C2 (the re-seaming needs it).
+pub fn setup_across_seam(curve: &BSplineCurve, opts: FairingOptions) -> Result<(FairingSetup, AcrossSeam)> {
+    let input = curve.to_polynomial()?;
+    let Some((u1, u2)) = opts.region.filter(|(u1, u2)| u1 > u2) else {
+        return Err(Error::InvalidInput(
+            "a region across the seam is given as (u1, u2) with u1 > u2".into(),
+        ));
+    };
+    if !is_closed_curve(&input) {
+        return Err(Error::InvalidInput(format!(
+            "region [{u1}, {u2}] runs across the seam (u1 > u2), but the curve is not closed: give u1 < u2"
+        )));
+    }
+    let (a, b) = input.domain();
+    for u in [u1, u2] {
+        if !(u >= a && u <= b) {
+            return Err(Error::OutOfDomain {
+                what: "region end".into(),
+                value: u,
+                start: a,
+                end: b,
+            });
+        }
+    }
+    let tol = removal_tolerance(&input);
+    let at = 0.5 * (u1 + u2);
+    let rot = reseam(&input, at, tol)
+        .map_err(|_| {
+            Error::InvalidInput(format!(
+                "a region across the seam needs a seam that can be re-seamed exactly; here {}",
+                seam_reason(&input)
+            ))
+        })?
+        .0;
+    let setup = FairingSetup::new_with_ends(
+        &rot,
+        FairingOptions {
+            region: Some((u1, u2 + (b - a))),
+            ..opts
+        },
+        [opts.ends; 2],
+    )?;
+    Ok((setup, AcrossSeam { original: input, tol }))
+}
+
 /// Why a seam cannot be re-seamed: corner, curvature jump or parametric speed jump.
 fn seam_reason(c: &BSplineCurve) -> String {
     let (a, b) = c.domain();
@@ -290,6 +363,11 @@ pub fn fair_closed(curve: &BSplineCurve, opts: FairingOptions) -> Result<Fairing
             "fair_closed: the curve is not closed (first and last points {} apart)",
             input.points()[0].distance(*input.points().last().unwrap())
         )));
+    }
+    if opts.region.is_some_and(|(u1, u2)| u1 > u2) {
+        let (mut setup, across) = setup_across_seam(&input, opts)?;
+        let r = setup.fair()?;
+        return across.back(r);
     }
     if !applies(&input, &opts) {
         return FairingSetup::new(&input, opts)?.fair();
