@@ -404,6 +404,16 @@ fn region_across_the_seam_is_one_faired_stretch() {
     )
     .unwrap();
     assert_eq!(r.seam, Seam::Faired);
+    // fair_curve takes the same path
+    let rc = fair_curve(
+        &c,
+        FairingOptions {
+            region: Some((u1, u2)),
+            ..opts(m)
+        },
+    )
+    .unwrap();
+    assert_eq!(rc.curve, r.curve);
     let f = &r.curve;
     assert_eq!(f.knots(), c.knots());
     let n = f.n_points();

@@ -1369,9 +1369,11 @@ pub fn default_passes(n: usize) -> usize {
 
 /// Fair `curve` with `opts` in one call: setup + [`FairingSetup::fair`], or for a whole closed curve
 /// (fast method, [`super::closed::applies`]) the two passes of [`super::closed::fair_closed`], which
-/// fair across the seam (the result's [`FairingResult::seam`] says whether they could).
+/// fair across the seam (the result's [`FairingResult::seam`] says whether they could); a region
+/// across the seam of a closed curve (`u1 > u2`) goes to [`super::closed::fair_closed`] as well.
 pub fn fair_curve(curve: &BSplineCurve, opts: FairingOptions) -> Result<FairingResult> {
-    if super::closed::applies(curve, &opts) {
+    let across = opts.region.is_some_and(|(u1, u2)| u1 > u2) && super::closed::is_closed_curve(curve);
+    if across || super::closed::applies(curve, &opts) {
         return super::closed::fair_closed(curve, opts);
     }
     FairingSetup::new(curve, opts)?.fair()
