@@ -189,7 +189,7 @@ fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions) -> R
     let t0 = Instant::now();
     // a region across the seam of a closed curve (u1 > u2): the setup is on the curve re-seamed inside the
     // untouched rest, and the result is rotated back (see fairway::fair::closed::setup_across_seam)
-    let (mut setup, across) = if opts.region.is_some_and(|(u1, u2)| u1 > u2) {
+    let (mut setup, across) = if opts.region.is_some_and(|(u1, u2)| u1 > u2) && closed::is_closed_curve(curve) {
         let (s, back) = closed::setup_across_seam(curve, opts).context("fairing setup")?;
         (s, Some(back))
     } else {
