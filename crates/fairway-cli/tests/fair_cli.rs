@@ -361,22 +361,14 @@ fn fair_bad_input_gives_clear_errors() {
 /// A closed, C2 cubic: the uniform periodic B-spline of `n` wavy points around a circle, written
 /// exactly as a clamped curve (blossoms at the seam: P0 = (Q₋₁ + 4Q₀ + Q₁)/6, P1 = (2Q₀ + Q₁)/3, …).
 fn closed_wavy(n: usize) -> BSplineCurve {
-    let q: Vec<fairway::DVec2> = (0..n)
+    let q: Vec<fairway::DVec3> = (0..n)
         .map(|j| {
             let t = std::f64::consts::TAU * j as f64 / n as f64;
             let r = 1.0 + 0.01 * ((7 * j) % 5) as f64;
-            fairway::DVec2::new(r * t.cos(), r * t.sin())
+            fairway::DVec3::new(r * t.cos(), r * t.sin(), 0.0)
         })
         .collect();
-    let at = |j: isize| q[j.rem_euclid(n as isize) as usize];
-    let mut pts = vec![(at(-1) + at(0) * 4.0 + at(1)) / 6.0, (at(0) * 2.0 + at(1)) / 3.0];
-    pts.extend((2..=n).map(|j| at(j as isize - 1)));
-    pts.push((at(n as isize - 1) + at(0) * 2.0) / 3.0);
-    pts.push(pts[0]);
-    let mut k = vec![0.0; 4];
-    k.extend((1..n).map(|i| i as f64 / n as f64));
-    k.extend([1.0; 4]);
-    BSplineCurve::new_2d(3, k, &pts).unwrap()
+    fairway::fair::closed::periodic_cubic(&q, 2).unwrap()
 }
 
 #[test]

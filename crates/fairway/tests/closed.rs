@@ -6,19 +6,7 @@ mod common;
 use common::*;
 use fairway::fair::closed::{reseam, rotate, unrotate};
 use fairway::fair::*;
-use fairway::measure::deviations;
 use fairway::{ArcLengthTable, BSplineCurve, CurveProjector, DVec2, DVec3, Error};
-
-fn dev_max(a: &BSplineCurve, b: &BSplineCurve) -> f64 {
-    deviations(a, b, 2000).into_iter().fold(0.0, f64::max)
-}
-
-fn opts(tol: f64) -> FairingOptions {
-    FairingOptions {
-        tolerance: tol,
-        ..Default::default()
-    }
-}
 
 /// A wavy open curve of degree p with non-uniform knots.
 fn wavy(p: usize, n: usize) -> BSplineCurve {
@@ -136,16 +124,26 @@ fn periodic_ellipse(n: usize, sigma: f64, seed: u64) -> BSplineCurve {
 
 /// The uniform periodic cubic of the cyclic control points `q`, as a clamped curve on [0, 1].
 fn periodic(q: &[DVec3], dim: usize) -> BSplineCurve {
-    let n = q.len();
-    let at = |j: isize| q[j.rem_euclid(n as isize) as usize];
-    let mut pts = vec![(at(-1) + at(0) * 4.0 + at(1)) / 6.0, (at(0) * 2.0 + at(1)) / 3.0];
-    pts.extend((2..=n).map(|j| at(j as isize - 1)));
-    pts.push((at(n as isize - 1) + at(0) * 2.0) / 3.0);
-    pts.push(pts[0]);
-    let mut k = vec![0.0; 4];
-    k.extend((1..n).map(|i| i as f64 / n as f64));
-    k.extend([1.0; 4]);
-    BSplineCurve::try_new(3, k, pts, None, dim).unwrap()
+    fairway::fair::closed::periodic_cubic(q, dim).unwrap()
+}
+
+/// `periodic_cubic` against the closed form of a uniform cubic B-spline: at the knot u = j/n the curve is
+/// (Q_{j−1} + 4 Q_j + Q_{j+1})/6, and the two ends meet with equal first and second derivatives.
+#[test]
+fn periodic_cubic_matches_the_uniform_b_spline_at_its_knots() {
+    let n = 9;
+    let q: Vec<DVec3> = (0..n)
+        .map(|j| DVec3::new((j as f64 * 1.7).sin(), (j as f64 * 0.9).cos(), 0.1 * j as f64))
+        .collect();
+    let c = fairway::fair::closed::periodic_cubic(&q, 3).unwrap();
+    for j in 0..=n {
+        let at = |k: isize| q[k.rem_euclid(n as isize) as usize];
+        let want = (at(j as isize - 1) + at(j as isize) * 4.0 + at(j as isize + 1)) / 6.0;
+        assert!(c.point(j as f64 / n as f64).distance(want) < 1e-14, "knot {j}");
+    }
+    let (s, e) = (c.derivs(0.0), c.derivs(1.0));
+    assert!(s.d1.distance(e.d1) < 1e-12 && s.d2.distance(e.d2) < 1e-10);
+    assert!(fairway::fair::closed::periodic_cubic(&q[..2], 3).is_err());
 }
 
 #[test]

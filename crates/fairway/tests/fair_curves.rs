@@ -7,21 +7,9 @@ mod common;
 
 use common::*;
 use fairway::fair::*;
-use fairway::measure::{deviations, measure};
+use fairway::measure::measure;
 use fairway::{BSplineCurve, DVec2, DVec3, Error, KnotVector};
 use proptest::prelude::*;
-
-/// Max closest-point distance from 2000 arc-length samples of `a` to `b` (the measure's dev_max).
-fn dev_max(a: &BSplineCurve, b: &BSplineCurve) -> f64 {
-    deviations(a, b, 2000).into_iter().fold(0.0, f64::max)
-}
-
-fn opts(tol: f64) -> FairingOptions {
-    FairingOptions {
-        tolerance: tol,
-        ..Default::default()
-    }
-}
 
 /// Knots of `b` missing in `a` (with multiplicity): the G0/G1 insertions.
 fn extra_knots(a: &BSplineCurve, b: &BSplineCurve) -> Vec<f64> {

@@ -106,9 +106,8 @@ pub fn spatial_curve() -> BSplineCurve {
 
 /// A closed 2D section (a hull-like rounded profile, 2.4 × 1.3): the uniform periodic cubic of 48
 /// control points `Q_j` on `x = 1.2 cos t, y = 0.6 sin t + 0.08 sin 2t` with σ = 1 mm noise, written
-/// exactly as a clamped curve (Boehm at the period start: `P_0 = (Q_{−1} + 4 Q_0 + Q_1)/6`,
-/// `P_1 = (2 Q_0 + Q_1)/3`, `P_{n+1} = (Q_{n−1} + 2 Q_0)/3`, last = first), so the seam is C2 and as
-/// noisy as anywhere else.
+/// exactly as a clamped curve (`fairway::fair::closed::periodic_cubic`), so the seam is C2 and as noisy
+/// as anywhere else.
 pub fn closed_section() -> BSplineCurve {
     let mut rng = Rng::new(0x00C1_05ED);
     let n = 48;
@@ -119,15 +118,7 @@ pub fn closed_section() -> BSplineCurve {
             DVec3::new(1.2 * t.cos(), 0.6 * t.sin() + 0.08 * (2.0 * t).sin(), 0.0) + noise
         })
         .collect();
-    let at = |j: isize| q[j.rem_euclid(n as isize) as usize];
-    let mut pts = vec![(at(-1) + at(0) * 4.0 + at(1)) / 6.0, (at(0) * 2.0 + at(1)) / 3.0];
-    pts.extend((1..n).map(|j| at(j as isize)));
-    pts.push((at(n as isize - 1) + at(0) * 2.0) / 3.0);
-    pts.push(pts[0]);
-    let mut k = vec![0.0; 4];
-    k.extend((1..n).map(|i| i as f64 / n as f64));
-    k.extend([1.0; 4]);
-    BSplineCurve::try_new(3, k, pts, None, 2).unwrap()
+    fairway::fair::closed::periodic_cubic(&q, 2).unwrap()
 }
 
 /// A bumpy bicubic surface over [0, 2] × [0, 1.6]:

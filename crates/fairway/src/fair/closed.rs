@@ -238,6 +238,29 @@ pub fn unrotate(rot: &BSplineCurve, original: &BSplineCurve, tol: f64) -> Result
     )
 }
 
+/// The uniform periodic cubic B-spline of the cyclic control points `q` (n ≥ 3), written exactly as a
+/// clamped closed curve on `[0, 1]` (first point = last point, C2 seam): knot insertion at the period
+/// start gives `P_0 = (Q_{−1} + 4 Q_0 + Q_1)/6`, `P_1 = (2 Q_0 + Q_1)/3`, `P_j = Q_{j−1}` for j = 2..n,
+/// `P_{n+1} = (Q_{n−1} + 2 Q_0)/3`, `P_{n+2} = P_0` with knots `0⁴, 1/n, …, (n−1)/n, 1⁴`. A periodic
+/// curve from another system (e.g. IGES with the periodic flag) is this form once clamped.
+pub fn periodic_cubic(q: &[DVec3], dim: usize) -> Result<BSplineCurve> {
+    let n = q.len();
+    if n < 3 {
+        return Err(Error::InvalidInput(format!(
+            "a periodic cubic needs at least 3 control points, got {n}"
+        )));
+    }
+    let at = |j: isize| q[j.rem_euclid(n as isize) as usize];
+    let mut pts = vec![(at(-1) + at(0) * 4.0 + at(1)) / 6.0, (at(0) * 2.0 + at(1)) / 3.0];
+    pts.extend((2..=n).map(|j| at(j as isize - 1)));
+    pts.push((at(n as isize - 1) + at(0) * 2.0) / 3.0);
+    pts.push(pts[0]);
+    let mut k = vec![0.0; 4];
+    k.extend((1..n).map(|i| i as f64 / n as f64));
+    k.extend([1.0; 4]);
+    BSplineCurve::try_new(3, k, pts, None, dim)
+}
+
 /// The rotation behind a region across the seam ([`setup_across_seam`]).
 #[derive(Debug, Clone)]
 pub struct AcrossSeam {

@@ -1,8 +1,23 @@
 //! Test curves: noisy samples of known shapes fitted by least squares (fixed seed).
 #![allow(dead_code)]
 
+use fairway::fair::FairingOptions;
 use fairway::fit::{Smoothing, fit_curve_points};
+use fairway::measure::deviations;
 use fairway::{BSplineCurve, DVec3, KnotVector};
+
+/// Max closest-point distance from 2000 arc-length samples of `a` to `b` (the measure's dev_max).
+pub fn dev_max(a: &BSplineCurve, b: &BSplineCurve) -> f64 {
+    deviations(a, b, 2000).into_iter().fold(0.0, f64::max)
+}
+
+/// Default fairing options with tolerance `tol`.
+pub fn opts(tol: f64) -> FairingOptions {
+    FairingOptions {
+        tolerance: tol,
+        ..Default::default()
+    }
+}
 
 /// xorshift64* + Box–Muller: reproducible Gaussian noise.
 pub struct Rng(u64);
