@@ -327,7 +327,14 @@ pub fn setup_across_seam(curve: &BSplineCurve, opts: FairingOptions) -> Result<(
             ..opts
         },
         [opts.ends; 2],
-    )?;
+    )
+    .map_err(|e| {
+        Error::InvalidInput(format!(
+            "region [{u1}, {u2}] across the seam (the stretch [{u1}, {b}] then [{a}, {u2}], fairing region \
+             [{u1}, {}] of the re-seamed curve): {e}",
+            u2 + (b - a)
+        ))
+    })?;
     Ok((setup, AcrossSeam { original: input, tol }))
 }
 
