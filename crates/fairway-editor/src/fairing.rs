@@ -216,9 +216,8 @@ impl Fairing {
             };
             let res = self.guarded("fairing", || {
                 let mismatch = !prepare(&mut setup, &rk);
-                let mut p = run(&mut setup, tolerance, !polish)?;
-                across_the_seam(&setup, &rk, &mut p)?;
-                Ok((p, mismatch))
+                let seam = across_the_seam(&setup, &rk, !polish);
+                run(&mut setup, tolerance, !polish, seam).map(|p| (p, mismatch))
             });
             match res {
                 Ok(Ok((p, mismatch))) => {
@@ -237,8 +236,13 @@ impl Fairing {
         }
         if want_trio && self.trio_key.as_ref() != Some(&rk) {
             if let Some(mut s) = self.setup.clone() {
-                let trio = [tolerance / 3.0, tolerance, tolerance * 3.0]
-                    .map(|m| (m, self.guarded("fairing", || run(&mut s, m, !polish)).and_then(|r| r)));
+                let trio = [tolerance / 3.0, tolerance, tolerance * 3.0].map(|m| {
+                    (
+                        m,
+                        self.guarded("fairing", || run(&mut s, m, !polish, false))
+                            .and_then(|r| r),
+                    )
+                });
                 self.trio = Some(trio);
                 self.trio_key = Some(rk);
                 changed = true;
@@ -316,10 +320,16 @@ fn prepare(setup: &mut FairingSetup, rk: &RunKey) -> bool {
     }
 }
 
-fn run(setup: &mut FairingSetup, tolerance: f64, draft: bool) -> Result<Preview, String> {
+/// Fair with the setup (or, with `seam`, the whole closed curve across its seam: [`across_the_seam`]).
+fn run(setup: &mut FairingSetup, tolerance: f64, draft: bool, seam: bool) -> Result<Preview, String> {
     let t0 = Instant::now();
     setup.set_tolerance(tolerance).map_err(|e| e.to_string())?;
-    let result = setup.fair().map_err(|e| e.to_string())?;
+    let result = if seam {
+        fair_closed(setup.original(), *setup.options())
+    } else {
+        setup.fair()
+    }
+    .map_err(|e| e.to_string())?;
     let fair_ms = t0.elapsed().as_secs_f64() * 1e3;
     let spans = result.curve.knots().breakpoints().len().saturating_sub(1).max(1);
     let sampled = Sampled::new(&result.curve, (spans * 24).clamp(400, 4000));
@@ -336,29 +346,15 @@ fn run(setup: &mut FairingSetup, tolerance: f64, draft: bool) -> Result<Preview,
     })
 }
 
-/// A whole closed curve with the automatic target, at full quality (not a draft): the core's
-/// [`fair_closed`] fairs it across the seam (two passes, about 4× a single fair); the single pass of
-/// the setup holds the seam. The target plot keeps showing the setup's samples. A hand-edited
-/// target or pins belong to the setup's samples, so then the single pass (seam held) stays.
-fn across_the_seam(setup: &FairingSetup, rk: &RunKey, p: &mut Preview) -> Result<(), String> {
-    let opts = FairingOptions {
-        tolerance: rk.tolerance,
-        ..*setup.options()
-    };
-    if p.draft
-        || rk.target.is_some()
-        || !rk.pinned.is_empty()
-        || !fairway::fair::closed::applies(setup.original(), &opts)
-    {
-        return Ok(());
-    }
-    let t0 = Instant::now();
-    let result = fair_closed(setup.original(), opts).map_err(|e| e.to_string())?;
-    let spans = result.curve.knots().breakpoints().len().saturating_sub(1).max(1);
-    p.sampled = Sampled::new(&result.curve, (spans * 24).clamp(400, 4000));
-    p.result = result;
-    p.fair_ms += t0.elapsed().as_secs_f64() * 1e3;
-    Ok(())
+/// Whether the full preview fairs a whole closed curve across its seam with the core's
+/// [`fair_closed`] (two passes, about 4× a single fair) instead of the setup's single pass, which
+/// holds the seam: not for a draft, and not with a hand-edited target or pins (they belong to the
+/// setup's samples). The target plot keeps showing the setup's samples.
+fn across_the_seam(setup: &FairingSetup, rk: &RunKey, draft: bool) -> bool {
+    !draft
+        && rk.target.is_none()
+        && rk.pinned.is_empty()
+        && fairway::fair::closed::applies(setup.original(), setup.options())
 }
 
 /// The default smoothing strength for `n` samples: the core's own default
