@@ -32,7 +32,9 @@
 //! The NURBS Book §9.4.1 made separable, as in Dierckx, *Curve and Surface
 //! Fitting with Splines* (1993), §10.2.
 
+use std::borrow::Cow;
 use std::ops::Range;
+use std::sync::OnceLock;
 
 use glam::DVec3;
 
@@ -124,12 +126,13 @@ impl Basis1 {
     }
 }
 
-/// `P = AᵀA + λ G` with λ = strength · tr(AᵀA)/tr(G) (G the derivative Gram matrix of `order`).
-fn normal_matrix(ata: &BandedSpd, knots: &KnotVector, strength: f64, order: usize) -> BandedSpd {
+/// `P = AᵀA + λ G` with λ = strength · tr(AᵀA)/tr(G) (`gram`: the derivative Gram matrix G, asked for
+/// only when the strength is positive).
+fn normal_matrix<'a>(ata: &BandedSpd, strength: f64, gram: impl FnOnce() -> Cow<'a, BandedSpd>) -> BandedSpd {
     let mut a = ata.clone();
     if strength > 0.0 {
-        let (n, p) = (knots.n_points(), knots.degree());
-        let g = derivative_gram(knots, order);
+        let (n, p) = (a.n(), a.bandwidth());
+        let g = gram();
         let tr_a: f64 = (0..n).map(|i| a.get(i, i)).sum();
         let tr_g: f64 = (0..n).map(|i| g.get(i, i)).sum();
         if tr_g > 0.0 {
@@ -191,6 +194,8 @@ pub struct GridFit<'a> {
     bv: Basis1,
     ata_u: BandedSpd,
     ata_v: BandedSpd,
+    /// Derivative Gram matrices (u, v) with their order, computed on the first smoothed solve.
+    gram: [OnceLock<(usize, BandedSpd)>; 2],
     free_u: Range<usize>,
     free_v: Range<usize>,
 }
@@ -234,6 +239,7 @@ impl<'a> GridFit<'a> {
             bv,
             ata_u,
             ata_v,
+            gram: [OnceLock::new(), OnceLock::new()],
             free_u,
             free_v,
         })
@@ -293,6 +299,21 @@ impl<'a> GridFit<'a> {
         Ok(rhs)
     }
 
+    /// The derivative Gram matrix of direction `dir` (0 = u) and `order`: cached for the first order asked.
+    fn gram(&self, dir: usize, order: usize) -> Cow<'_, BandedSpd> {
+        let knots = if dir == 0 {
+            self.base.knots_u()
+        } else {
+            self.base.knots_v()
+        };
+        let (o, g) = self.gram[dir].get_or_init(|| (order, derivative_gram(knots, order)));
+        if *o == order {
+            Cow::Borrowed(g)
+        } else {
+            Cow::Owned(derivative_gram(knots, order))
+        }
+    }
+
     /// Solve for the free block with `smoothing`, given the data term `rhs` of [`Self::project`];
     /// returns the full row-major control net (held points bit-for-bit unchanged).
     pub fn solve(&self, rhs: &[DVec3], smoothing: SurfaceSmoothing) -> Result<Vec<DVec3>> {
@@ -312,8 +333,8 @@ impl<'a> GridFit<'a> {
             });
         }
         let (pu, pv) = (self.bu.p, self.bv.p);
-        let full_u = normal_matrix(&self.ata_u, base.knots_u(), smoothing.strength_u, smoothing.order);
-        let full_v = normal_matrix(&self.ata_v, base.knots_v(), smoothing.strength_v, smoothing.order);
+        let full_u = normal_matrix(&self.ata_u, smoothing.strength_u, || self.gram(0, smoothing.order));
+        let full_v = normal_matrix(&self.ata_v, smoothing.strength_v, || self.gram(1, smoothing.order));
         let mut rhs = rhs.to_vec();
         // subtract [Pu D_b Pv]_ff, D_b = net with the free block zeroed: W = D_b Pv (only
         // free columns needed), then Pu W (only free rows).
