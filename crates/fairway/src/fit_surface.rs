@@ -182,6 +182,30 @@ pub fn fit_surface_grid(
     fit.solve(&rhs, smoothing)
 }
 
+/// The least-squares bicubic graph `z = f(u, v)` over `[0, 1]²` with an `n × n` net (n ≥ 4) and
+/// uniform knots, fitted to `4n × 4n` samples: a quick test or demo surface of known shape.
+pub fn fit_graph(n: usize, f: impl Fn(f64, f64) -> f64) -> Result<BSplineSurface> {
+    let k = KnotVector::uniform(3, n)?;
+    let base = BSplineSurface::try_new(
+        3,
+        3,
+        k.values().to_vec(),
+        k.values().to_vec(),
+        n,
+        n,
+        vec![DVec3::ZERO; n * n],
+        None,
+    )?;
+    let g: Vec<f64> = (0..4 * n).map(|i| i as f64 / (4 * n - 1) as f64).collect();
+    let data: Vec<DVec3> = g
+        .iter()
+        .flat_map(|&u| g.iter().map(move |&v| (u, v)))
+        .map(|(u, v)| DVec3::new(u, v, f(u, v)))
+        .collect();
+    let pts = fit_surface_grid(&base, &g, &g, &data, 0..n, 0..n, SurfaceSmoothing::NONE)?;
+    base.with_points(pts)
+}
+
 /// [`fit_surface_grid`] split in its parts, for fitting several data sets or smoothing strengths on the
 /// same grid: the bases and `AᵀA` once ([`Self::new`]), the data term `[AᵀX B]_ff` once per data set
 /// ([`Self::project`]), then one banded solve per smoothing ([`Self::solve`]). The results are
@@ -399,6 +423,18 @@ impl<'a> GridFit<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn fit_graph_reproduces_a_quadratic_graph() {
+        // a bicubic spline space holds every polynomial of degree ≤ 3 in each variable: exact fit
+        let f = |u: f64, v: f64| 0.3 + 0.2 * u - 0.1 * v + 0.5 * u * v - 0.4 * v * v;
+        let s = fit_graph(7, f).unwrap();
+        for (u, v) in [(0.0, 0.0), (0.13, 0.77), (0.5, 0.5), (0.91, 0.08), (1.0, 1.0)] {
+            let p = s.point(u, v);
+            assert!((p - DVec3::new(u, v, f(u, v))).length() < 1e-12, "({u}, {v}): {p}");
+        }
+        assert!(fit_graph(3, f).is_err());
+    }
 
     fn surface(nu: usize, nv: usize, f: impl Fn(f64, f64) -> f64) -> BSplineSurface {
         let ku = KnotVector::uniform(3, nu).unwrap();

@@ -813,35 +813,7 @@ mod tests {
 
     /// Least-squares bicubic graph of `f` over [0,1]² (test helper).
     fn graph(n: usize, f: impl Fn(f64, f64) -> f64) -> BSplineSurface {
-        let k = KnotVector::uniform(3, n).unwrap();
-        let base = BSplineSurface::try_new(
-            3,
-            3,
-            k.values().to_vec(),
-            k.values().to_vec(),
-            n,
-            n,
-            vec![DVec3::ZERO; n * n],
-            None,
-        )
-        .unwrap();
-        let g: Vec<f64> = (0..4 * n).map(|i| i as f64 / (4 * n - 1) as f64).collect();
-        let data: Vec<DVec3> = g
-            .iter()
-            .flat_map(|&u| g.iter().map(move |&v| (u, v)))
-            .map(|(u, v)| DVec3::new(u, v, f(u, v)))
-            .collect();
-        let pts = crate::fit_surface::fit_surface_grid(
-            &base,
-            &g,
-            &g,
-            &data,
-            0..n,
-            0..n,
-            crate::fit_surface::SurfaceSmoothing::NONE,
-        )
-        .unwrap();
-        base.with_points(pts).unwrap()
+        crate::fit_surface::fit_graph(n, f).unwrap()
     }
 
     fn default_iso(s: &BSplineSurface) -> IsophoteStats {
