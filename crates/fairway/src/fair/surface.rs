@@ -113,7 +113,7 @@
 //!    re-balancing at the smaller band. Measured (`cargo run --release -p
 //!    fairway --example surface_combine`, curvature error against the exact
 //!    surface, default `Weighted`, refair → scaled): cylinder whole 0.0643 →
-//!    0.0643, local 0.3347 → 0.3315; bump 0.1410 → 0.1410, local 0.2379 →
+//!    0.0643, local 0.3220 → 0.3119; bump 0.1410 → 0.1410, local 0.2379 →
 //!    0.2406; saddle 0.0036 → 0.0040, local 0.3493 → 0.3493; wave 0.0453 →
 //!    0.0455, local 0.3365 → 0.3365. Interior regions of the bumpy sample
 //!    (`surface_region_quality`): region Σ∫(dκ/ds)² ×0.721–0.753 refaired,
