@@ -5,7 +5,6 @@
 //! drag-and-drop and recent files, settings persisted in eframe storage,
 //! tooltips. Assertions are on the document and the app's state.
 
-use std::collections::HashMap;
 use std::sync::Arc;
 
 use eframe::egui;
@@ -16,7 +15,7 @@ use fairway::fair::{EndCondition, Integrator};
 use fairway_editor::{App, CombScaling, TargetTool};
 
 mod common;
-use common::{asset, drag, harness};
+use common::{MemStorage, asset, drag, harness};
 
 /// The demo curve with the whole curve selected (a preview is ready).
 fn whole_curve() -> Harness<'static, App> {
@@ -378,23 +377,6 @@ fn dropped_files_open_and_land_in_the_recent_menu() {
     assert_eq!(h.state().doc, fairway::io::load(&roof).unwrap());
     assert!(h.state().title().starts_with("car_roof.ron"), "{}", h.state().title());
     let _ = std::fs::remove_dir_all(&dir);
-}
-
-/// In-memory eframe storage.
-#[derive(Default)]
-struct MemStorage(HashMap<String, String>);
-
-impl eframe::Storage for MemStorage {
-    fn get_string(&self, key: &str) -> Option<String> {
-        self.0.get(key).cloned()
-    }
-    fn set_string(&mut self, key: &str, value: String) {
-        self.0.insert(key.to_owned(), value);
-    }
-    fn remove_string(&mut self, key: &str) {
-        self.0.remove(key);
-    }
-    fn flush(&mut self) {}
 }
 
 #[test]

@@ -3,8 +3,6 @@
 //! the curvature comb of a spatial curve in 3D, and the persistence of the
 //! 3D shading settings through eframe storage.
 
-use std::collections::HashMap;
-
 use eframe::egui;
 use egui::{Pos2, Role};
 use egui_kittest::kittest::{NodeT, Queryable};
@@ -15,7 +13,7 @@ use fairway_editor::curve3d::extrusion_height;
 use fairway_editor::view3d::{ShadeMode, Shading, View3dPrefs};
 
 mod common;
-use common::{asset, drag, harness};
+use common::{MemStorage, asset, drag, harness};
 
 #[test]
 fn extrusion_isophotes_show_the_curve_and_the_faired_curve_side_by_side() {
@@ -202,23 +200,6 @@ fn comb_of_a_spatial_curve_lies_along_the_principal_normal_in_3d() {
     assert_ne!(combs[1], teeth);
     // each comb is scaled to its own largest curvature
     assert!(scale_after.is_finite() && scale.is_finite());
-}
-
-/// In-memory eframe storage.
-#[derive(Default)]
-struct MemStorage(HashMap<String, String>);
-
-impl eframe::Storage for MemStorage {
-    fn get_string(&self, key: &str) -> Option<String> {
-        self.0.get(key).cloned()
-    }
-    fn set_string(&mut self, key: &str, value: String) {
-        self.0.insert(key.to_owned(), value);
-    }
-    fn remove_string(&mut self, key: &str) {
-        self.0.remove(key);
-    }
-    fn flush(&mut self) {}
 }
 
 #[test]
