@@ -377,16 +377,22 @@ fn fair_closed_curve_across_the_seam() {
     let (input, out, rep) = (dir.join("in.json"), dir.join("out.json"), dir.join("report.json"));
     let c = closed_wavy(40);
     fairway::io::save(&input, &fairway::io::Document::new(Geometry::Curve(c.clone()))).unwrap();
-    ok(&fairway(&[
-        "fair",
-        s(&input),
-        "--tolerance",
-        "0.005",
-        "-o",
-        s(&out),
-        "--report",
-        s(&rep),
-    ]));
+    // `fairway fair` at tolerance 0.005 with `extra` options, writing `out` and the report `rep`
+    let fair = |extra: &[&str]| {
+        let mut args = vec![
+            "fair",
+            s(&input),
+            "--tolerance",
+            "0.005",
+            "-o",
+            s(&out),
+            "--report",
+            s(&rep),
+        ];
+        args.extend_from_slice(extra);
+        ok(&fairway(&args));
+    };
+    fair(&[]);
     let f = curve(&out);
     assert_eq!(json_file(&rep)["seam"], "faired");
     assert_eq!(f.knots().values(), c.knots().values());
@@ -395,32 +401,10 @@ fn fair_closed_curve_across_the_seam() {
     assert!(f.points()[1].distance(c.points()[1]) > 1e-6);
     assert!(fairway::measure::measure(&c, &f).dev_max <= 0.005);
     // the iterative baseline is one pass: the seam is held, and the report says so
-    ok(&fairway(&[
-        "fair",
-        s(&input),
-        "--tolerance",
-        "0.005",
-        "--method",
-        "iterative",
-        "-o",
-        s(&out),
-        "--report",
-        s(&rep),
-    ]));
+    fair(&["--method", "iterative"]);
     assert!(json_file(&rep)["seam"].as_str().unwrap().starts_with("held: "));
     // a region across the seam (u1 > u2): faired as one stretch, the rest [0.3, 0.7] untouched
-    ok(&fairway(&[
-        "fair",
-        s(&input),
-        "--tolerance",
-        "0.005",
-        "--region",
-        "0.7,0.3",
-        "-o",
-        s(&out),
-        "--report",
-        s(&rep),
-    ]));
+    fair(&["--region", "0.7,0.3"]);
     let f = curve(&out);
     assert_eq!(json_file(&rep)["seam"], "faired");
     assert_eq!(f.knots().values(), c.knots().values());
