@@ -75,7 +75,7 @@ use super::target::quintic;
 use crate::arclength::ArcLengthTable;
 use crate::curve::BSplineCurve;
 use crate::error::{Error, Result};
-use crate::measure::{DEV_SAMPLES, arc_params};
+use crate::measure::DEV_SAMPLES;
 
 /// Rounds of the local scaling of the blend (module docs, step 6).
 const TAPER_ROUNDS: usize = 12;
@@ -417,7 +417,8 @@ pub fn fair_closed(curve: &BSplineCurve, opts: FairingOptions) -> Result<Fairing
     };
     let tol = removal_tolerance(&input);
     // rotation point: the interior knot nearest the arc-length midpoint
-    let table = ArcLengthTable::new(&input, 1e-10);
+    // (to 1e-12: the same table gives the measure's DEV_SAMPLES arc-length samples for the verification)
+    let table = ArcLengthTable::new(&input, 1e-12);
     let u_mid = table.param_at(&input, 0.5 * table.length());
     let bp = input.knots().breakpoints();
     // (the midpoint itself if no knot lies within 5 % of the length of it)
@@ -451,7 +452,7 @@ pub fn fair_closed(curve: &BSplineCurve, opts: FairingOptions) -> Result<Fairing
     // verification against the original: the measure's samples and closest points
     let l = b - input.domain().0;
     let p = input.degree();
-    let us = arc_params(&input, DEV_SAMPLES);
+    let us = table.equal_arc_params(&input, DEV_SAMPLES);
     let qs: Vec<DVec3> = us.iter().map(|&u| input.point(u)).collect();
     // closest points by Newton near the sample's own parameter (the result keeps the parametrization;
     // next to the seam also near its twin u ± L): points on the curve, so upper bounds of the distances
