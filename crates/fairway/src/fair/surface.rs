@@ -442,7 +442,7 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
         };
         // the data term is the same for every strength: projected once per level
         let rhs = grid_fit.project(&data)?;
-        let cands = par_map(&near, opts.threads.unwrap_or_else(iso_threads), |&st| {
+        let cands = par_map(&near, threads, |&st| {
             let sm = if st.is_nan() {
                 opts.smoothing
             } else {
