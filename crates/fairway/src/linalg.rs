@@ -89,6 +89,24 @@ impl BandedSpd {
         }
     }
 
+    /// [`Self::add_outer`] with the block width known at compile time (the polish's Jacobian rows).
+    #[inline]
+    pub fn add_outer_fixed<const W: usize>(&mut self, base: usize, v: &[f64; W]) {
+        let w = self.bw + 1;
+        assert!(W <= w && base + W <= self.n, "block outside the band or the matrix");
+        let data = &mut self.data[base * w..(base + W) * w];
+        for a in 0..W {
+            let va = v[a];
+            if va == 0.0 {
+                continue;
+            }
+            let row = &mut data[a * w..a * w + a + 1];
+            for (k, x) in row.iter_mut().enumerate() {
+                *x += va * v[a - k];
+            }
+        }
+    }
+
     /// Cholesky factorization in place. Fails, naming the row, if the matrix
     /// is not positive definite (to working precision).
     pub fn factor(&mut self) -> Result<()> {
@@ -161,6 +179,15 @@ mod tests {
         for i in 0..9 {
             for j in 0..9 {
                 assert_eq!(a.get(i, j), b.get(i, j), "({i}, {j})");
+            }
+        }
+        // the fixed-width form adds the same entries, bit for bit
+        let mut c = BandedSpd::zeros(9, 4);
+        c.add_outer_fixed(3, &v);
+        c.add_outer_fixed(5, &[v[0], v[1], v[2]]);
+        for i in 0..9 {
+            for j in 0..9 {
+                assert_eq!(a.get(i, j).to_bits(), c.get(i, j).to_bits(), "({i}, {j})");
             }
         }
     }

@@ -860,41 +860,18 @@ impl FairingSetup {
         let mut lambda = 1e-3;
         let mut h = BandedSpd::zeros(nu, bw);
         let mut rhs = vec![DVec3::ZERO; nu];
-        let mut jrow = vec![0.0; dim * (p + 1)];
         for _ in 0..POLISH_ITERS {
             let e_start = e;
             h.reset(nu, bw);
             rhs.fill(DVec3::ZERO);
-            for k in 0..self.params.len() {
-                let f = self.first[k];
-                let (mut d1, mut d2) = (self.d1[k], self.d2[k]);
-                for i in 0..=p {
-                    let li = f + i as isize;
-                    if li >= 0 && (li as usize) < self.nf {
-                        d1 += self.best[li as usize] * self.b1[k * (p + 1) + i];
-                        d2 += self.best[li as usize] * self.b2[k * (p + 1) + i];
-                    }
-                }
-                let (kap, g1, g2) = kappa_and_gradients(self.work.dim(), self.normals[k], d1, d2);
-                let r = kap - g[k];
-                // J row: ∂κ_k/∂P_{li, c} = g1_c N'_i(p_k) + g2_c N''_i(p_k), unknown index li·dim + c
-                let base = f.max(0) as usize;
-                jrow.fill(0.0);
-                for i in 0..=p {
-                    let li = f + i as isize;
-                    if li < 0 || li as usize >= self.nf {
-                        continue;
-                    }
-                    let gi = g1 * self.b1[k * (p + 1) + i] + g2 * self.b2[k * (p + 1) + i];
-                    for c in 0..dim {
-                        jrow[(li as usize - base) * dim + c] = gi[c];
-                    }
-                }
-                let width = ((f + p as isize + 1).min(self.nf as isize) - f.max(0)).max(0) as usize * dim;
-                for a in 0..width {
-                    rhs[base * dim + a].x -= jrow[a] * r;
-                }
-                h.add_outer(base * dim, &jrow[..width]);
+            match (p, dim) {
+                (2, 2) => self.gn_system::<3, 6>(&g, &mut h, &mut rhs),
+                (2, 3) => self.gn_system::<3, 9>(&g, &mut h, &mut rhs),
+                (3, 2) => self.gn_system::<4, 8>(&g, &mut h, &mut rhs),
+                (3, 3) => self.gn_system::<4, 12>(&g, &mut h, &mut rhs),
+                (4, 2) => self.gn_system::<5, 10>(&g, &mut h, &mut rhs),
+                (5, 2) => self.gn_system::<6, 12>(&g, &mut h, &mut rhs),
+                _ => self.gn_system::<0, 0>(&g, &mut h, &mut rhs),
             }
             // The band is usually active at a few check samples: the step minimizes Σ (r + J s)² + ρ Σ_{j∈A}
             // |Δs(u_j)|² where A holds the check samples within 3 % of the band edge (their displacement is
@@ -907,7 +884,9 @@ impl FairingSetup {
                 .collect();
             let tmax = traces.iter().fold(0.0f64, |a, &b| a.max(b));
             let rho = 1e3 * tmax;
-            let active: Vec<usize> = self.band_samples(&self.best, 0.97 * accept);
+            let best = std::mem::take(&mut self.best);
+            let active: Vec<usize> = self.band_samples(&best, 0.97 * accept);
+            self.best = best;
             let mut accepted = false;
             for _ in 0..12 {
                 let mut m = h.clone();
@@ -990,37 +969,113 @@ impl FairingSetup {
         dev
     }
 
-    /// Check samples whose parametric displacement under update `d` exceeds `level`.
-    fn band_samples(&self, d: &[DVec3], level: f64) -> Vec<usize> {
+    /// The polish's Gauss–Newton system at the update `self.best`: `h += JᵀJ`, `rhs −= Jᵀr` with
+    /// r_k = κ_k − g_k and J_k's row ∂κ_k/∂P_{li, c} = ∂κ/∂c'_c N'_i(p_k) + ∂κ/∂c''_c N''_i(p_k)
+    /// (unknown index li·dim + c). `N` = p + 1 and `W` = dim·(p + 1) for the common cases (samples
+    /// whose p + 1 rows are all free take an unrolled path), 0 for "read them from the curve".
+    fn gn_system<const N: usize, const W: usize>(&self, g: &[f64], h: &mut BandedSpd, rhs: &mut [DVec3]) {
         let p = self.work.degree();
+        let dim = self.work.dim();
+        let np1 = p + 1;
+        let mut jrow = vec![0.0; dim * np1];
+        for k in 0..self.params.len() {
+            let f = self.first[k];
+            if N > 0 && f >= 0 && f as usize + N <= self.nf {
+                let base = f as usize;
+                let (b1, b2) = (&self.b1[k * N..(k + 1) * N], &self.b2[k * N..(k + 1) * N]);
+                let rows = &self.best[base..base + N];
+                let (mut d1, mut d2) = (self.d1[k], self.d2[k]);
+                for i in 0..N {
+                    d1 += rows[i] * b1[i];
+                    d2 += rows[i] * b2[i];
+                }
+                let (kap, g1, g2) = kappa_and_gradients(dim, self.normals[k], d1, d2);
+                let r = kap - g[k];
+                let d = W / N;
+                let mut jr = [0.0; W];
+                for i in 0..N {
+                    let gi = g1 * b1[i] + g2 * b2[i];
+                    for c in 0..d {
+                        jr[i * d + c] = gi[c];
+                    }
+                }
+                for (a, x) in jr.iter().enumerate() {
+                    rhs[base * d + a].x -= x * r;
+                }
+                h.add_outer_fixed(base * d, &jr);
+                continue;
+            }
+            let (mut d1, mut d2) = (self.d1[k], self.d2[k]);
+            for i in 0..=p {
+                let li = f + i as isize;
+                if li >= 0 && (li as usize) < self.nf {
+                    d1 += self.best[li as usize] * self.b1[k * np1 + i];
+                    d2 += self.best[li as usize] * self.b2[k * np1 + i];
+                }
+            }
+            let (kap, g1, g2) = kappa_and_gradients(dim, self.normals[k], d1, d2);
+            let r = kap - g[k];
+            let base = f.max(0) as usize;
+            jrow.fill(0.0);
+            for i in 0..=p {
+                let li = f + i as isize;
+                if li < 0 || li as usize >= self.nf {
+                    continue;
+                }
+                let gi = g1 * self.b1[k * np1 + i] + g2 * self.b2[k * np1 + i];
+                for c in 0..dim {
+                    jrow[(li as usize - base) * dim + c] = gi[c];
+                }
+            }
+            let width = ((f + np1 as isize).min(self.nf as isize) - f.max(0)).max(0) as usize * dim;
+            for a in 0..width {
+                rhs[base * dim + a].x -= jrow[a] * r;
+            }
+            h.add_outer(base * dim, &jrow[..width]);
+        }
+    }
+
+    /// Check samples whose distance to the curve `c_orig + Σ N_i d_i` exceeds `level`: those whose
+    /// parametric displacement is above it, confirmed by a Newton projection (started one Newton step
+    /// from u_j with the cached derivative rows, stopped as soon as a point within `level` is found:
+    /// the displacement at equal u overestimates where the curve slid along itself).
+    fn band_samples(&mut self, d: &[DVec3], level: f64) -> Vec<usize> {
+        let np1 = self.work.degree() + 1;
+        let mut pad = std::mem::take(&mut self.pad);
+        pad.clear();
+        pad.resize(self.nf + 2 * np1, DVec3::ZERO);
+        pad[np1..np1 + self.nf].copy_from_slice(d);
+        let mut cache = std::mem::take(&mut self.chk_d);
         let mut cand: Option<BSplineCurve> = None;
-        (0..self.chk_u.len())
-            .filter(|&j| {
-                let f = self.chk_first[j];
-                let mut delta = DVec3::ZERO;
-                for i in 0..=p {
-                    let li = f + i as isize;
-                    if li >= 0 && (li as usize) < self.nf {
-                        delta += d[li as usize] * self.chk_b[j * (p + 1) + i];
-                    }
+        let mut out = vec![];
+        for j in 0..self.chk_u.len() {
+            let base = (self.chk_first[j] + np1 as isize) as usize;
+            let rows = &pad[base..base + np1];
+            let mut delta = DVec3::ZERO;
+            for (x, b) in rows.iter().zip(&self.chk_b[j * np1..(j + 1) * np1]) {
+                delta += *x * *b;
+            }
+            if delta.length() <= level {
+                continue;
+            }
+            if cand.is_none() {
+                let mut pts = self.work.points().to_vec();
+                for (k, x) in d.iter().enumerate() {
+                    pts[self.i0 + k] += *x;
                 }
-                if delta.length() <= level {
-                    return false;
-                }
-                // the displacement at equal u overestimates where the curve slid along itself: only samples
-                // whose distance to the curve (Newton projection) is near the band are at its edge
-                if cand.is_none() {
-                    let mut pts = self.work.points().to_vec();
-                    for (k, x) in d.iter().enumerate() {
-                        pts[self.i0 + k] += *x;
-                    }
-                    cand = self.work.with_points(pts).ok();
-                }
-                let (u, h) = (self.chk_u[j], self.chk_h);
-                cand.as_ref()
-                    .is_none_or(|c| project_near(c, self.chk_q[j], u, h, u, 0.0) > level)
-            })
-            .collect()
+                cand = self.work.with_points(pts).ok();
+            }
+            let far = cand.as_ref().is_none_or(|c| {
+                let start = self.first_newton_step(j, rows, delta, &mut cache);
+                project_near(c, self.chk_q[j], self.chk_u[j], self.chk_h, start, level) > level
+            });
+            if far {
+                out.push(j);
+            }
+        }
+        self.chk_d = cache;
+        self.pad = pad;
+        out
     }
 
     /// Deviation of the fit with fairness weight `mu` (∞ if the solve failed); the solution stays in `self.sol`.
