@@ -44,6 +44,15 @@ fn benches(c: &mut Criterion) {
     c.bench_function("curve100_s1000/full (setup + fair)", |b| {
         b.iter(|| FairingSetup::new(black_box(&cv), o).unwrap().fair().unwrap())
     });
+    // the polish run long enough to reach the iterative baseline's E on this curve (test
+    // more_polish_iterations_reach_the_iterative_energy_on_the_bench_curve): the "equal E" comparison
+    c.bench_function("curve100_s1000/full at the baseline's E (24 polish iterations)", |b| {
+        b.iter(|| {
+            let mut s = FairingSetup::new(black_box(&cv), o).unwrap();
+            s.set_polish_iterations(24);
+            s.fair().unwrap()
+        })
+    });
     c.bench_function("curve100_s1000/setup only", |b| {
         b.iter(|| FairingSetup::new(black_box(&cv), o).unwrap())
     });
