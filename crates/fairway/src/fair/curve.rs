@@ -232,6 +232,9 @@ pub struct FairingSetup {
     pad: Vec<DVec3>,
     seam: Seam,
     polish_iters: usize,
+    /// The check sample of the last band violation: the next scan starts there (a violated band is
+    /// usually violated at the same place again, and a check stops at the first violation it finds).
+    scan_from: usize,
 }
 
 /// Smallest fairness weight μ tried (see the module docs, step 6).
@@ -453,6 +456,7 @@ impl FairingSetup {
             pad: Vec::new(),
             seam: Seam::Open,
             polish_iters: POLISH_ITERS,
+            scan_from: 0,
         };
         s.seam = if !super::closed::is_closed_curve(&s.input) {
             Seam::Open
@@ -1246,7 +1250,10 @@ impl FairingSetup {
         pad.resize(self.nf + 2 * off, DVec3::ZERO);
         pad[off..off + self.nf].copy_from_slice(d);
         let mut cache = std::mem::take(&mut self.chk_d);
-        let worst = self.deviation_padded(&pad, d, sharpen, &mut cache);
+        let (worst, broken_at) = self.deviation_padded(&pad, d, sharpen, &mut cache);
+        if let Some(j) = broken_at {
+            self.scan_from = j;
+        }
         self.chk_d = cache;
         self.pad = pad;
         worst
@@ -1293,7 +1300,13 @@ impl FairingSetup {
         if df > 0.0 { u - f / df } else { u }
     }
 
-    fn deviation_padded(&self, pad: &[DVec3], d: &[DVec3], sharpen: f64, cache: &mut Vec<Option<ChkDeriv>>) -> f64 {
+    fn deviation_padded(
+        &self,
+        pad: &[DVec3],
+        d: &[DVec3],
+        sharpen: f64,
+        cache: &mut Vec<Option<ChkDeriv>>,
+    ) -> (f64, Option<usize>) {
         // the common degrees with the row count known at compile time (an unrolled inner loop)
         match self.work.degree() {
             2 => self.scan::<3>(pad, d, sharpen, cache),
@@ -1306,14 +1319,24 @@ impl FairingSetup {
 
     /// The band check's scan over the check samples; `N` = p + 1, or 0 for "read it from the curve".
     /// Samples below the band are compared by squared length (the square root only of the maximum:
-    /// the same value, since the root is monotone and correctly rounded).
-    fn scan<const N: usize>(&self, pad: &[DVec3], d: &[DVec3], sharpen: f64, cache: &mut Vec<Option<ChkDeriv>>) -> f64 {
+    /// the same value, since the root is monotone and correctly rounded). The scan starts at
+    /// `self.scan_from` and wraps around: the maximum is the same in any order, and a broken band
+    /// returns the first violation found (callers only compare it with `sharpen`) and where.
+    fn scan<const N: usize>(
+        &self,
+        pad: &[DVec3],
+        d: &[DVec3],
+        sharpen: f64,
+        cache: &mut Vec<Option<ChkDeriv>>,
+    ) -> (f64, Option<usize>) {
         let np1 = if N > 0 { N } else { self.work.degree() + 1 };
         let off = np1;
         let sharpen2 = sharpen * sharpen;
         let (mut worst2, mut worst_sharp) = (0.0f64, 0.0f64);
         let mut cand: Option<BSplineCurve> = None;
-        for j in 0..self.chk_u.len() {
+        let n = self.chk_u.len();
+        let from = if self.scan_from < n { self.scan_from } else { 0 };
+        for j in (from..n).chain(0..from) {
             let base = (self.chk_first[j] + off as isize) as usize;
             let w = &self.chk_b[j * np1..(j + 1) * np1];
             let rows = &pad[base..base + np1];
@@ -1345,14 +1368,14 @@ impl FairingSetup {
                 }
                 if !(dist <= sharpen) {
                     // the band is broken: callers only compare with `sharpen`, so stop here
-                    return dist;
+                    return (dist, Some(j));
                 }
                 worst_sharp = worst_sharp.max(dist);
             } else {
                 worst2 = worst2.max(len2);
             }
         }
-        worst2.sqrt().max(worst_sharp)
+        (worst2.sqrt().max(worst_sharp), None)
     }
 }
 
