@@ -34,6 +34,9 @@ pub struct ArcLengthTable {
     // exact Taylor form of c' per knot span (empty: evaluate through the basis), and the span of each piece
     polys: Vec<SpanPoly>,
     piece_span: Vec<u32>,
+    // with the Taylor form: the quintic Hermite guess's coefficients of each piece (see `invert_in`),
+    // computed once (NaN: a zero end speed, the guess is linear)
+    herm: Vec<[f64; 4]>,
 }
 
 /// `c'(m + h) = a + b h + c h²` on one knot span (exact for a non-rational curve of degree ≤ 3).
@@ -121,6 +124,7 @@ impl ArcLengthTable {
             budget: 0,
             polys: Vec::new(),
             piece_span: Vec::new(),
+            herm: Vec::new(),
         };
         let fast = curve.weights().is_none() && curve.degree() <= 3;
         // Rounding floor: c'(u) = Σ N'_i(u) P_i sums terms of size up to p/Δ·|P|max, so its
@@ -166,7 +170,31 @@ impl ArcLengthTable {
                 t.refine(curve, sp, m, w[1], r, 0);
             }
         }
+        if !t.polys.is_empty() {
+            t.herm = (0..t.u.len() - 1).map(|j| t.hermite_coefficients(j)).collect();
+        }
         t
+    }
+
+    /// The quintic Hermite guess of u(s) on piece `j` (normalized t = (s − s_a)/Δs ↦ (u − u_a)/Δu):
+    /// end slopes m = Δs/(v Δu) and second derivatives a = −Δs²/Δu · v'/v³ (du/ds = 1/v,
+    /// d²u/ds² = −v'/v³), from the span's Taylor form; NaN where an end speed is zero.
+    fn hermite_coefficients(&self, j: usize) -> [f64; 4] {
+        let (ua, ub) = (self.u[j], self.u[j + 1]);
+        let ds = self.s[j + 1] - self.s[j];
+        let du = ub - ua;
+        let q = &self.polys[self.span_of(j)];
+        let ((va, sla), (vb, slb)) = (q.speed_and_slope(ua), q.speed_and_slope(ub));
+        if va > 0.0 && vb > 0.0 {
+            [
+                ds / va / du,
+                ds / vb / du,
+                -ds * ds / du * sla / (va * va * va),
+                -ds * ds / du * slb / (vb * vb * vb),
+            ]
+        } else {
+            [f64::NAN; 4]
+        }
     }
 
     /// Speed at `u` in span `sp` (the Taylor form when the table has one).
@@ -272,15 +300,9 @@ impl ArcLengthTable {
         let du = ub - ua;
         let (t2, t3) = (t * t, t * t * t);
         let sp = self.span_of(j);
-        let h = match self.polys.get(sp) {
-            Some(q) => {
-                let ((va, sla), (vb, slb)) = (q.speed_and_slope(ua), q.speed_and_slope(ub));
-                if va > 0.0 && vb > 0.0 {
-                    let (m0, m1) = (ds / va / du, ds / vb / du);
-                    let (a0, a1) = (
-                        -ds * ds / du * sla / (va * va * va),
-                        -ds * ds / du * slb / (vb * vb * vb),
-                    );
+        let h = match self.herm.get(j) {
+            Some(&[m0, m1, a0, a1]) => {
+                if !m0.is_nan() {
                     let (t4, t5) = (t3 * t, t3 * t2);
                     (t - 6.0 * t3 + 8.0 * t4 - 3.0 * t5) * m0
                         + 0.5 * (t2 - 3.0 * t3 + 3.0 * t4 - t5) * a0
