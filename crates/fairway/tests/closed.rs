@@ -580,7 +580,7 @@ fn periodic_degree(q: &[DVec3], p: usize) -> BSplineCurve {
     let m = n + p; // control points of the clamped form
     let mut pts: Vec<DVec3> = (0..m)
         .map(|j| {
-            let l = if j + p <= n + p - 1 { j + p } else { n + p - 1 };
+            let l = (j + p).min(n + p - 1);
             blossom(l as isize - p as isize, &k[j + 1..=j + p])
         })
         .collect();
