@@ -840,11 +840,7 @@ impl FairingSetup {
                 (mu, alpha, dev)
             }
         };
-        let mut pts = self.work.points().to_vec();
-        for (j, d) in self.best.iter().enumerate() {
-            pts[self.i0 + j] += *d;
-        }
-        let curve = self.work.with_points(pts)?;
+        let curve = self.updated_curve(&self.best)?;
         let energy = self.energy_of_update(&self.best);
         Ok(FairingResult {
             curve,
@@ -1049,6 +1045,15 @@ impl FairingSetup {
         }
     }
 
+    /// The working curve with the free control points moved by the update `d`.
+    fn updated_curve(&self, d: &[DVec3]) -> Result<BSplineCurve> {
+        let mut pts = self.work.points().to_vec();
+        for (k, x) in d.iter().enumerate() {
+            pts[self.i0 + k] += *x;
+        }
+        self.work.with_points(pts)
+    }
+
     /// Check samples whose distance to the curve `c_orig + Σ N_i d_i` exceeds `level`: those whose
     /// parametric displacement is above it, confirmed by a Newton projection (started one Newton step
     /// from u_j with the cached derivative rows, stopped as soon as a point within `level` is found:
@@ -1073,11 +1078,7 @@ impl FairingSetup {
                 continue;
             }
             if cand.is_none() {
-                let mut pts = self.work.points().to_vec();
-                for (k, x) in d.iter().enumerate() {
-                    pts[self.i0 + k] += *x;
-                }
-                cand = self.work.with_points(pts).ok();
+                cand = self.updated_curve(d).ok();
             }
             let far = cand.as_ref().is_none_or(|c| {
                 let start = self.first_newton_step(j, rows, delta, &mut cache);
@@ -1349,11 +1350,7 @@ impl FairingSetup {
             if !(len2 <= sharpen2) {
                 let mut dist = len2.sqrt();
                 if cand.is_none() {
-                    let mut pts = self.work.points().to_vec();
-                    for (k, x) in d.iter().enumerate() {
-                        pts[self.i0 + k] += *x;
-                    }
-                    cand = self.work.with_points(pts).ok();
+                    cand = self.updated_curve(d).ok();
                 }
                 if let Some(c) = &cand {
                     let start = self.first_newton_step(j, rows, delta, cache);
