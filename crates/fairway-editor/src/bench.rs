@@ -126,7 +126,14 @@ impl App {
                 .start_region
                 .get_or_insert(self.doc.settings.region.unwrap_or_default());
             let (a, e) = self.curve().domain();
-            let u2 = (u2 + 0.05 * (e - a) * (i as f64 * 0.3).sin()).clamp(u1 + 1e-3 * (e - a), e);
+            let h = 1e-3 * (e - a);
+            let moved = u2 + 0.05 * (e - a) * (i as f64 * 0.3).sin();
+            // a region across the seam (u1 > u2) keeps its end in [a, u1)
+            let u2 = if u1 > u2 {
+                moved.min(u1 - h).max(a + h)
+            } else {
+                moved.max(u1 + h).min(e)
+            };
             self.apply(Command::SetRegion(Some((u1, u2))));
         } else if let Some(p) = self.preview().cloned() {
             // drag the middle target point: quintic falloff over 10% of the samples

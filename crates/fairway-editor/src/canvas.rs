@@ -1,11 +1,13 @@
 //! The 2D canvas: curve, control polygon, curvature comb, markers, region
 //! and tolerance band; pan (right/middle drag or drag off the curve), zoom
-//! (wheel), fit; region selection by dragging along the curve.
+//! (wheel), fit; region selection by dragging along the curve (on a closed
+//! curve through the seam too: [`crate::region`]).
 
 use eframe::egui;
 use egui::{Color32, Pos2, Rect, Sense, Shape, Stroke, Vec2};
 use fairway::DVec2;
 
+use crate::region::RegionDrag;
 use crate::{App, CombScaling, Command, Sampled};
 
 /// Pick radius around the curve and handles, in points.
@@ -38,13 +40,10 @@ pub enum CanvasDrag {
     None,
     /// Move the view.
     Pan,
-    /// Select a region from the anchor parameter to the pointer.
-    Select {
-        /// Parameter where the drag started.
-        anchor: f64,
-    },
+    /// Select a region from where the drag started to the pointer.
+    Select(RegionDrag),
     /// Move one end of the region (0 = start, 1 = end).
-    Handle(usize),
+    Handle(usize, RegionDrag),
 }
 
 /// Camera and interaction state of the canvas.
@@ -203,14 +202,13 @@ impl App {
                         .min_by(|a, b| a.1.total_cmp(&b.1))
                         .map(|(k, _)| k)
                 });
-                if let Some(k) = handle {
-                    self.canvas.drag = CanvasDrag::Handle(k);
+                let (dom, closed) = (self.view.domain, self.view.closed);
+                if let (Some(k), Some(r)) = (handle, self.region()) {
+                    self.canvas.drag = CanvasDrag::Handle(k, RegionDrag::handle(r, k, dom, closed));
                 } else {
                     let (i, d) = self.nearest_sample(q);
                     if d < PICK {
-                        self.canvas.drag = CanvasDrag::Select {
-                            anchor: self.view.sampled.u[i],
-                        };
+                        self.canvas.drag = CanvasDrag::Select(RegionDrag::select(self.view.sampled.u[i], dom, closed));
                     }
                 }
             }
@@ -221,18 +219,19 @@ impl App {
                     let d = resp.drag_delta();
                     self.canvas.center -= DVec2::new(d.x as f64, -d.y as f64) / self.canvas.ppu;
                 }
-                CanvasDrag::Select { anchor } => {
+                CanvasDrag::Select(mut d) | CanvasDrag::Handle(_, mut d) => {
+                    // the nearest sample's parameter; on a closed curve the drag follows it through the
+                    // seam (the sample jumps from one end of the domain to the other)
                     if let Some(q) = resp.interact_pointer_pos() {
                         let u = self.view.sampled.u[self.nearest_sample(q).0];
-                        if u != anchor {
-                            self.push(Command::SetRegion(Some((anchor, u))));
+                        let r = d.move_to(u);
+                        match &mut self.canvas.drag {
+                            CanvasDrag::Select(x) | CanvasDrag::Handle(_, x) => *x = d,
+                            _ => {}
                         }
-                    }
-                }
-                CanvasDrag::Handle(k) => {
-                    if let (Some(q), Some((u1, u2))) = (resp.interact_pointer_pos(), self.region()) {
-                        let u = self.view.sampled.u[self.nearest_sample(q).0];
-                        self.push(Command::SetRegion(Some(if k == 0 { (u, u2) } else { (u1, u) })));
+                        if r.0 != r.1 {
+                            self.push(Command::SetRegion(Some(r)));
+                        }
                     }
                 }
                 CanvasDrag::None => {}
@@ -248,17 +247,14 @@ impl App {
         let s = &self.view.sampled;
         let scr = |p: DVec2| cs.to_screen(p);
         let region = self.region();
-        let (i1, i2) = region
-            .map(|(a, b)| (s.index_at_u(a).floor() as usize, s.index_at_u(b).ceil() as usize))
-            .unwrap_or((0, 0));
+        // the region's samples in order along it (through the seam for a region across it)
+        let in_region = region.map(|r| s.region_indices(r)).unwrap_or_default();
 
         // tolerance band: offsets of the original inside the region
-        if region.is_some() && i2 > i1 {
+        if in_region.len() > 1 {
             let m = self.tolerance();
             for side in [-1.0, 1.0] {
-                let pts: Vec<Pos2> = (i1..=i2.min(s.len() - 1))
-                    .map(|i| scr(s.p[i] + s.n[i] * m * side))
-                    .collect();
+                let pts: Vec<Pos2> = in_region.iter().map(|&i| scr(s.p[i] + s.n[i] * m * side)).collect();
                 painter.add(Shape::line(pts, Stroke::new(1.0, colors::BAND)));
             }
         }
@@ -307,9 +303,9 @@ impl App {
             let c = if dim { Color32::from_gray(110) } else { colors::CURVE };
             painter.add(Shape::line(pts.clone(), Stroke::new(if dim { 1.5 } else { 2.0 }, c)));
         }
-        if region.is_some() && i2 > i1 {
+        if in_region.len() > 1 {
             painter.add(Shape::line(
-                pts[i1..=i2.min(s.len() - 1)].to_vec(),
+                in_region.iter().map(|&i| pts[i]).collect(),
                 Stroke::new(3.0, colors::REGION.gamma_multiply(0.8)),
             ));
         }

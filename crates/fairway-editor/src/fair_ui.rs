@@ -9,6 +9,7 @@ use fairway::fair::{EndCondition, Integrator, Seam, TargetMethod};
 
 use crate::canvas::colors;
 use crate::fairing::{Preview, default_strength};
+use crate::region;
 use crate::{App, Command};
 
 /// What a drag on the κ plot does to the target.
@@ -71,6 +72,27 @@ impl App {
         self.view.sampled.s_at_u(p.params[k])
     }
 
+    /// Arc length of the region (both parts for a region across the seam); 0 without a region.
+    pub fn region_s_length(&self) -> f64 {
+        let Some(r) = self.region() else { return 0.0 };
+        let o = &self.view.sampled;
+        region::parts(r, self.view.domain)
+            .iter()
+            .map(|&(a, b)| o.s_at_u(b) - o.s_at_u(a))
+            .sum()
+    }
+
+    /// Arc-length distance between `s1` and `s2` along the curve: around the loop (the shorter way)
+    /// when the region runs across the seam, so a target edit reaches through it.
+    fn s_distance(&self, s1: f64, s2: f64) -> f64 {
+        let d = (s1 - s2).abs();
+        if self.region().is_some_and(region::wraps) {
+            d.min(self.view.sampled.length - d)
+        } else {
+            d
+        }
+    }
+
     /// The fairing section of the side panel.
     pub fn fairing_ui(&mut self, ui: &mut egui::Ui) {
         ui.heading("Fairing");
@@ -109,6 +131,14 @@ impl App {
                     ui.weak(format!("re-fair {:.2} ms", p.fair_ms));
                 }
                 match &p.result.seam {
+                    Seam::Faired if self.fairing.across_seam() => {
+                        ui.weak("closed curve: region faired through the seam (C2 there)")
+                            .on_hover_text(
+                                "The region runs across the seam: the core fairs it on the curve re-seamed in the \
+                             middle of the untouched rest and maps the result back onto the original knots. On \
+                             the κ plot its target runs from the right edge on through the left one.",
+                            );
+                    }
                     Seam::Faired => {
                         ui.weak("closed curve: faired across the seam (C2)");
                     }
@@ -411,14 +441,12 @@ impl App {
                 TargetTool::Drag => {
                     let dk = self.plot.k(q.y) - d.k_start;
                     let s0 = self.target_s(&p, d.k0);
-                    let (u1, u2) = self.region().unwrap_or((0.0, 0.0));
-                    let radius =
-                        (self.falloff * (self.view.sampled.s_at_u(u2) - self.view.sampled.s_at_u(u1))).max(1e-12);
+                    let radius = (self.falloff * self.region_s_length()).max(1e-12);
                     for k in 0..d.start.len() {
                         if p.pinned[k] {
                             continue;
                         }
-                        let r = (self.target_s(&p, k) - s0).abs() / radius;
+                        let r = self.s_distance(self.target_s(&p, k), s0) / radius;
                         if r < 1.0 {
                             t.set(k, d.start[k] + dk * fairway::fair::target::quintic(1.0 - r));
                         }
@@ -463,32 +491,50 @@ impl App {
         let pl = &self.plot;
         // faired κ over the region's samples
         let fs = &p.sampled;
-        let (u1, u2) = self.region().unwrap_or((0.0, 0.0));
-        // the reach of a target drag (falloff radius) around the pointer
+        let reg = self.region().unwrap_or((0.0, 0.0));
+        let wraps = region::wraps(reg);
+        // the reach of a target drag (falloff radius) around the pointer (around the loop, through
+        // the plot's edges, for a region across the seam)
         if self.tool == TargetTool::Drag
             && let Some(hs) = self.hover_s
         {
-            let o = &self.view.sampled;
-            let r = self.falloff * (o.s_at_u(u2) - o.s_at_u(u1));
+            let r = self.falloff * self.region_s_length();
             let y = pl.rect.unwrap_or(Rect::NOTHING).y_range();
-            let (x1, x2) = (pl.x(hs - r, len), pl.x(hs + r, len));
-            if x2 > x1 {
-                painter.rect_filled(
-                    Rect::from_x_y_ranges(x1..=x2, y),
-                    0.0,
-                    colors::TARGET.gamma_multiply(0.08),
+            let shifts: &[f64] = if wraps { &[-len, 0.0, len] } else { &[0.0] };
+            for &sh in shifts {
+                let (x1, x2) = (
+                    pl.x((hs - r + sh).clamp(0.0, len), len),
+                    pl.x((hs + r + sh).clamp(0.0, len), len),
                 );
+                if x2 > x1 {
+                    painter.rect_filled(
+                        Rect::from_x_y_ranges(x1..=x2, y),
+                        0.0,
+                        colors::TARGET.gamma_multiply(0.08),
+                    );
+                }
             }
         }
-        let (i1, i2) = (fs.index_at_u(u1).floor() as usize, fs.index_at_u(u2).ceil() as usize);
-        let pts: Vec<Pos2> = (i1..=i2.min(fs.len() - 1))
-            .map(|i| Pos2::new(pl.x(self.view.sampled.s_at_u(fs.u[i]), len), pl.y(fs.kappa[i])))
-            .collect();
-        painter.add(Shape::line(pts, Stroke::new(1.8, colors::FAIRED)));
+        // faired κ over the region (in two parts across the seam)
+        for (u1, u2) in region::parts(reg, self.view.domain) {
+            let (i1, i2) = (fs.index_at_u(u1).floor() as usize, fs.index_at_u(u2).ceil() as usize);
+            let pts: Vec<Pos2> = (i1..=i2.min(fs.len() - 1))
+                .map(|i| Pos2::new(pl.x(self.view.sampled.s_at_u(fs.u[i]), len), pl.y(fs.kappa[i])))
+                .collect();
+            painter.add(Shape::line(pts, Stroke::new(1.8, colors::FAIRED)));
+        }
         let tpts: Vec<Pos2> = (0..p.target.len())
             .map(|k| Pos2::new(pl.x(self.target_s(p, k), len), pl.y(p.target[k])))
             .collect();
-        painter.add(Shape::line(tpts.clone(), Stroke::new(1.8, colors::TARGET)));
+        // one polyline per run of increasing parameters (the target of a region across the seam jumps
+        // from the plot's right edge to its left one)
+        let mut start = 0;
+        for k in 1..=tpts.len() {
+            if k == tpts.len() || p.params[k] < p.params[k - 1] {
+                painter.add(Shape::line(tpts[start..k].to_vec(), Stroke::new(1.8, colors::TARGET)));
+                start = k;
+            }
+        }
         for (k, q) in tpts.iter().enumerate() {
             if p.pinned[k] {
                 painter.rect_filled(Rect::from_center_size(*q, egui::vec2(6.0, 6.0)), 0.0, colors::TARGET);
@@ -557,15 +603,11 @@ impl App {
     fn draw_mini(&self, painter: egui::Painter, rect: Rect, p: &Preview) {
         painter.rect_filled(rect, 0.0, Color32::from_gray(24));
         let s = &p.sampled;
-        let (u1, u2) = self.region().unwrap_or((0.0, 1.0));
-        let (i1, i2) = (
-            s.index_at_u(u1).floor() as usize,
-            (s.index_at_u(u2).ceil() as usize).min(s.len() - 1),
-        );
+        let idx = s.region_indices(self.region().unwrap_or(self.view.domain));
         let mut tips = vec![];
         self.comb_tips(s, &s.kappa, &mut tips);
         let (mut a, mut b) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-        for i in i1..=i2 {
+        for &i in &idx {
             for q in [s.p[i], tips[i]] {
                 a = a.min(q);
                 b = b.max(q);
@@ -578,16 +620,16 @@ impl App {
             let d = (q - c) * k;
             Pos2::new(rect.center().x + d.x as f32, rect.center().y - d.y as f32)
         };
-        for i in (i1..=i2).step_by(((i2 - i1) / 80).max(1)) {
+        for &i in idx.iter().step_by((idx.len() / 80).max(1)) {
             let col = if s.kappa[i] >= 0.0 { colors::POS } else { colors::NEG };
             painter.line_segment([scr(s.p[i]), scr(tips[i])], Stroke::new(1.0, col.gamma_multiply(0.5)));
         }
         painter.add(Shape::line(
-            (i1..=i2).map(|i| scr(tips[i])).collect(),
+            idx.iter().map(|&i| scr(tips[i])).collect(),
             Stroke::new(1.0, colors::POS),
         ));
         painter.add(Shape::line(
-            (i1..=i2).map(|i| scr(s.p[i])).collect(),
+            idx.iter().map(|&i| scr(s.p[i])).collect(),
             Stroke::new(2.0, colors::FAIRED),
         ));
     }
@@ -605,8 +647,8 @@ fn fmt_num(v: f64) -> String {
 
 /// Curvature extrema and inflections of a sampled curve inside the region.
 fn region_counts(s: &crate::Sampled, region: Option<(f64, f64)>) -> (usize, usize) {
-    let (a, b) = region.unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
-    let ex = s.extrema.iter().filter(|&&i| s.u[i] >= a && s.u[i] <= b).count();
-    let inf = s.inflections.iter().filter(|&&u| u >= a && u <= b).count();
+    let r = region.unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+    let ex = s.extrema.iter().filter(|&&i| region::contains(r, s.u[i])).count();
+    let inf = s.inflections.iter().filter(|&&u| region::contains(r, u)).count();
     (ex, inf)
 }

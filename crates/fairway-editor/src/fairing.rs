@@ -2,10 +2,20 @@
 //! current curve and region, and re-runs it when the tolerance, the target
 //! or the options change. No fairing maths here — it all lives in
 //! `fairway::fair`.
+//!
+//! A region across the seam of a closed curve (`u1 > u2`, [`crate::region`])
+//! is set up with the core's `setup_across_seam_with_ends` (the curve re-seamed
+//! in the middle of the untouched rest, where the region is an ordinary
+//! stretch) and every fair's result is mapped back onto the original knot
+//! vector with [`AcrossSeam::back`]; the setup is kept and re-faired cheaply
+//! like any other. Its sample parameters are the re-seamed curve's: past the
+//! old seam `b` they are the original's `u − L`, and [`Preview::params`] holds
+//! them so mapped.
 
 use std::time::Instant;
 
 use fairway::BSplineCurve;
+use fairway::fair::closed::{AcrossSeam, setup_across_seam_with_ends};
 use fairway::fair::{
     EndCondition, FairingOptions, FairingResult, FairingSetup, Integrator, Target, TargetMethod, fair_closed,
 };
@@ -65,7 +75,9 @@ pub struct Preview {
     pub result: FairingResult,
     /// The faired curve sampled for drawing.
     pub sampled: Sampled,
-    /// Sample parameters of the target (the setup's p_k).
+    /// Sample parameters of the target (the setup's p_k) on the original curve. For a region across
+    /// the seam they run from `u1` up to `b`, then from `a` up to `u2` (the re-seamed setup's `u > b`
+    /// mapped to `u − L`: the same points).
     pub params: Vec<f64>,
     /// Target values g_k.
     pub target: Vec<f64>,
@@ -85,6 +97,8 @@ pub struct Preview {
 #[derive(Debug, Default)]
 pub struct Fairing {
     setup: Option<FairingSetup>,
+    /// For a region across the seam: the rotation that maps the setup's results back.
+    across: Option<AcrossSeam>,
     setup_key: Option<SetupKey>,
     run_key: Option<RunKey>,
     /// The preview, or the core's error message.
@@ -140,9 +154,16 @@ impl Fairing {
         })
     }
 
-    /// The prepared setup (for target edits: clone its target).
+    /// The prepared setup (for target edits: clone its target). For a region across the seam it is
+    /// the re-seamed curve's setup ([`Fairing::across_seam`]).
     pub fn setup(&self) -> Option<&FairingSetup> {
         self.setup.as_ref()
+    }
+
+    /// The setup fairs a region across the seam of a closed curve (on the re-seamed curve; results
+    /// are mapped back onto the original).
+    pub fn across_seam(&self) -> bool {
+        self.across.is_some()
     }
 
     /// Bring the preview up to date; does nothing when nothing changed.
@@ -188,14 +209,26 @@ impl Fairing {
                 ..FairingOptions::default()
             };
             let t0 = Instant::now();
+            // u1 > u2: the region runs across the seam (the core says so clearly if the curve is open
+            // or its seam cannot be re-seamed)
             let res = self
-                .guarded("fairing setup", || FairingSetup::new_with_ends(curve, fo, opts.ends))
+                .guarded("fairing setup", || {
+                    if region.0 > region.1 {
+                        setup_across_seam_with_ends(curve, fo, opts.ends).map(|(s, a)| (s, Some(a)))
+                    } else {
+                        FairingSetup::new_with_ends(curve, fo, opts.ends).map(|s| (s, None))
+                    }
+                })
                 .and_then(|r| r.map_err(|e| e.to_string()));
             self.setup_ms = t0.elapsed().as_secs_f64() * 1e3;
             match res {
-                Ok(s) => self.setup = Some(s),
+                Ok((s, a)) => {
+                    self.setup = Some(s);
+                    self.across = a;
+                }
                 Err(e) => {
                     self.setup = None;
+                    self.across = None;
                     self.preview = Some(Err(e));
                     return true;
                 }
@@ -214,10 +247,11 @@ impl Fairing {
             let Some(mut setup) = self.setup.take() else {
                 return true;
             };
+            let across = self.across.clone();
             let res = self.guarded("fairing", || {
                 let mismatch = !prepare(&mut setup, &rk);
-                let seam = across_the_seam(&setup, &rk, !polish);
-                run(&mut setup, tolerance, !polish, seam).map(|p| (p, mismatch))
+                let seam = across.is_none() && across_the_seam(&setup, &rk, !polish);
+                run(&mut setup, tolerance, !polish, seam, across.as_ref()).map(|p| (p, mismatch))
             });
             match res {
                 Ok(Ok((p, mismatch))) => {
@@ -236,10 +270,11 @@ impl Fairing {
         }
         if want_trio && self.trio_key.as_ref() != Some(&rk) {
             if let Some(mut s) = self.setup.clone() {
+                let across = self.across.clone();
                 let trio = [tolerance / 3.0, tolerance, tolerance * 3.0].map(|m| {
                     (
                         m,
-                        self.guarded("fairing", || run(&mut s, m, !polish, false))
+                        self.guarded("fairing", || run(&mut s, m, !polish, false, across.as_ref()))
                             .and_then(|r| r),
                     )
                 });
@@ -270,10 +305,14 @@ impl Fairing {
         self.measures_key = self.run_key.clone();
         self.measures = None;
         self.dev_at = None;
-        let (Some(setup), Some(Ok(p))) = (self.setup.as_ref(), self.preview.as_ref()) else {
+        // the curve being faired: the original, also for a region across the seam (not the re-seamed one)
+        let orig = match &self.across {
+            Some(a) => Some(a.original()),
+            None => self.setup.as_ref().map(|s| s.original()),
+        };
+        let (Some(orig), Some(Ok(p))) = (orig, self.preview.as_ref()) else {
             return;
         };
-        let orig = setup.original();
         let before = match &self.before {
             Some((k, m)) if Some(k) == self.setup_key.as_ref() => m.clone(),
             _ => measure(orig, orig),
@@ -320,8 +359,15 @@ fn prepare(setup: &mut FairingSetup, rk: &RunKey) -> bool {
     }
 }
 
-/// Fair with the setup (or, with `seam`, the whole closed curve across its seam: [`across_the_seam`]).
-fn run(setup: &mut FairingSetup, tolerance: f64, draft: bool, seam: bool) -> Result<Preview, String> {
+/// Fair with the setup (or, with `seam`, the whole closed curve across its seam: [`across_the_seam`]);
+/// with `across` (a region across the seam) the result is mapped back onto the original.
+fn run(
+    setup: &mut FairingSetup,
+    tolerance: f64,
+    draft: bool,
+    seam: bool,
+    across: Option<&AcrossSeam>,
+) -> Result<Preview, String> {
     let t0 = Instant::now();
     setup.set_tolerance(tolerance).map_err(|e| e.to_string())?;
     let result = if seam {
@@ -330,13 +376,29 @@ fn run(setup: &mut FairingSetup, tolerance: f64, draft: bool, seam: bool) -> Res
         setup.fair()
     }
     .map_err(|e| e.to_string())?;
+    let result = match across {
+        Some(a) => a.back(result).map_err(|e| e.to_string())?,
+        None => result,
+    };
     let fair_ms = t0.elapsed().as_secs_f64() * 1e3;
     let spans = result.curve.knots().breakpoints().len().saturating_sub(1).max(1);
     let sampled = Sampled::new(&result.curve, (spans * 24).clamp(400, 4000));
     let t = setup.target();
+    // the re-seamed setup's parameters past the old seam b, back on the original (u − L)
+    let params = match across {
+        Some(a) => {
+            let (a0, b) = a.original().domain();
+            setup
+                .params()
+                .iter()
+                .map(|&u| if u > b { u - (b - a0) } else { u })
+                .collect()
+        }
+        None => setup.params().to_vec(),
+    };
     Ok(Preview {
         sampled,
-        params: setup.params().to_vec(),
+        params,
         target: t.values().to_vec(),
         original: t.original().to_vec(),
         pinned: t.pinned().to_vec(),

@@ -14,6 +14,7 @@ pub mod fairing;
 pub mod history;
 pub mod interchange;
 pub mod plot;
+pub mod region;
 pub mod sampled;
 pub mod suggest;
 pub mod surface_ui;
@@ -81,7 +82,8 @@ impl Default for Prefs {
 /// A user action, applied after the panels have been drawn.
 #[derive(Debug, Clone)]
 pub enum Command {
-    /// Set (or clear) the fairing region `[u1, u2]`.
+    /// Set (or clear) the fairing region `[u1, u2]`; on a closed curve `u1 > u2` is the region
+    /// across the seam (see [`region`]), on an open curve the ends are put in order.
     SetRegion(Option<(f64, f64)>),
     /// Set the tolerance band width.
     SetTolerance(f64),
@@ -134,6 +136,11 @@ pub struct CurveView {
     pub control: Vec<DVec2>,
     /// Diagonal of the bounding box (model units).
     pub diag: f64,
+    /// The curve is closed (first point = last point): its parameter is circular and a region may
+    /// run across the seam ([`region`]).
+    pub closed: bool,
+    /// The curve's parameter domain `(a, b)`.
+    pub domain: (f64, f64),
 }
 
 impl CurveView {
@@ -143,7 +150,13 @@ impl CurveView {
         let control: Vec<DVec2> = curve.points().iter().map(|p| p.truncate()).collect();
         let (a, b) = sampled.bbox;
         let diag = (b - a).length().max(1e-12);
-        Self { sampled, control, diag }
+        Self {
+            sampled,
+            control,
+            diag,
+            closed: fairway::fair::closed::is_closed_curve(curve),
+            domain: curve.domain(),
+        }
     }
 }
 
@@ -339,7 +352,7 @@ impl App {
         self.doc.settings.tolerance.unwrap_or(self.view.diag * 1e-3)
     }
 
-    /// The region `[u1, u2]`, if one is selected.
+    /// The region `[u1, u2]`, if one is selected (`u1 > u2`: across the seam of a closed curve).
     pub fn region(&self) -> Option<(f64, f64)> {
         self.doc.settings.region
     }
@@ -509,7 +522,8 @@ impl App {
     pub fn apply(&mut self, c: Command) {
         match c {
             Command::SetRegion(r) => {
-                let r = r.map(|(a, b)| (a.min(b), a.max(b)));
+                let (dom, closed) = (self.view.domain, self.view.closed);
+                let r = r.map(|r| region::canonical(r, dom, closed));
                 if self.doc.settings.region != r {
                     self.history.record(&self.doc, Gesture::Region);
                     self.doc.settings.region = r;
@@ -890,13 +904,22 @@ impl App {
         });
         self.suggest_ui(ui);
         if let Some((mut u1, mut u2)) = self.region() {
+            // on a closed curve either end may pass the other: u₁ > u₂ runs across the seam
+            let closed = self.view.closed;
+            let (range1, range2) = if closed { (a..=b, a..=b) } else { (a..=u2, u1..=b) };
+            let text = region::describe((u1, u2));
+            ui.label(text).on_hover_text(if closed {
+                "Closed curve: the parameter is circular; u₁ > u₂ is the stretch from u₁ through the seam to u₂"
+            } else {
+                "The region's parameter range"
+            });
             let (r1, r2) = ui
                 .horizontal(|ui| {
                     let l1 = ui.label("u₁");
                     let r1 = ui
                         .add(
                             egui::DragValue::new(&mut u1)
-                                .range(a..=u2)
+                                .range(range1)
                                 .speed((b - a) * 1e-3)
                                 .max_decimals(6),
                         )
@@ -906,7 +929,7 @@ impl App {
                     let r2 = ui
                         .add(
                             egui::DragValue::new(&mut u2)
-                                .range(u1..=b)
+                                .range(range2)
                                 .speed((b - a) * 1e-3)
                                 .max_decimals(6),
                         )
@@ -919,7 +942,11 @@ impl App {
                 self.push(Command::SetRegion(Some((u1, u2))));
             }
         } else {
-            ui.weak("No region: drag along the curve or across the κ plot.");
+            ui.weak(if self.view.closed {
+                "No region: drag along the curve (past the seam to go across it) or across the κ plot."
+            } else {
+                "No region: drag along the curve or across the κ plot."
+            });
         }
         ui.separator();
         ui.heading("Tolerance");

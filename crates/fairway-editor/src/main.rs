@@ -8,7 +8,7 @@ use eframe::egui;
 
 const USAGE: &str = "usage: fairway-editor [FILE.ron|FILE.json] [--region U1 U2] [--tolerance M]
        fairway-editor --bench-frames N [--demo-points P] [--region U1 U2]
-  --region U1 U2     preselect the region [U1, U2] (curve parameter)
+  --region U1 U2     preselect the region [U1, U2] (curve parameter; U1 > U2 on a closed curve: across the seam)
   --tolerance M      preselect the tolerance (model units)
   --bench-frames N   N frames: sweep the tolerance, drag a target point, drag the region end; print CPU times, quit
   --demo-points P    use the built-in noisy demo curve with P control points
@@ -108,7 +108,8 @@ fn main() -> eframe::Result {
                 app.prefs = prefs;
             }
             if let Some(r) = region {
-                app.doc.settings.region = Some((r[0], r[1]));
+                let v = &app.view;
+                app.doc.settings.region = Some(fairway_editor::region::canonical((r[0], r[1]), v.domain, v.closed));
             }
             if let Some(t) = &tolerance {
                 app.doc.settings.tolerance = Some(t[0]);

@@ -1,11 +1,15 @@
 //! The curvature plot κ(s) over arc length: original curvature, region
 //! shading, shared hover cursor; drag across it to select a region, drag a
-//! region edge to adjust it.
+//! region edge to adjust it. On a closed curve a drag that leaves the plot at
+//! one edge goes on from the other (the parameter is circular): the region
+//! runs across the seam and is shaded in two parts, at the end and at the
+//! start of the plot ([`crate::region`]).
 
 use eframe::egui;
 use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Shape, Stroke};
 
 use crate::canvas::colors;
+use crate::region::{self, RegionDrag};
 use crate::{App, Command};
 
 /// What a drag on the plot does.
@@ -14,13 +18,10 @@ pub enum PlotDrag {
     /// Nothing.
     #[default]
     None,
-    /// Select a region from the anchor arc length.
-    Select {
-        /// Arc length where the drag started.
-        anchor: f64,
-    },
+    /// Select a region from where the drag started to the pointer.
+    Select(RegionDrag),
     /// Move one region end (0 = start, 1 = end).
-    Handle(usize),
+    Handle(usize, RegionDrag),
 }
 
 /// Interaction state of the κ plot.
@@ -47,6 +48,13 @@ impl PlotState {
         (((x - r.left()) / r.width().max(1.0)) as f64).clamp(0.0, 1.0) * length
     }
 
+    /// Screen x → arc length, not clamped: beyond the plot's edges it goes on below 0 or above
+    /// `length` (at most one length beyond).
+    pub fn s_unclamped(&self, x: f32, length: f64) -> f64 {
+        let r = self.rect.unwrap_or(Rect::NOTHING);
+        (((x - r.left()) / r.width().max(1.0)) as f64).clamp(-1.0, 2.0) * length
+    }
+
     /// κ → screen y.
     pub fn y(&self, k: f64) -> f32 {
         let r = self.rect.unwrap_or(Rect::NOTHING);
@@ -67,7 +75,11 @@ impl App {
     pub fn plot_ui(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
             ui.strong("Curvature κ(s)");
-            ui.weak("— drag across the plot to select a region, drag its edges to adjust");
+            ui.weak(if self.view.closed {
+                "— drag across the plot to select a region (past an edge: on through the seam), drag its edges to adjust"
+            } else {
+                "— drag across the plot to select a region, drag its edges to adjust"
+            });
         });
         let (outer, resp) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
         resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "Curvature plot"));
@@ -97,17 +109,34 @@ impl App {
                 v.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), k| (a.min(k), b.max(k)))
             };
             out.push(r(&mut p.target.iter().copied()));
-            let (u1, u2) = self.region().unwrap_or((0.0, 0.0));
+            let reg = self.region().unwrap_or((0.0, 0.0));
             out.push(r(&mut p
                 .sampled
                 .u
                 .iter()
                 .zip(&p.sampled.kappa)
-                .filter(|(u, _)| **u >= u1 && **u <= u2)
+                .filter(|(u, _)| region::contains(reg, **u))
                 .map(|(_, k)| *k)));
         }
         out.retain(|(a, b)| a.is_finite() && b.is_finite());
         out
+    }
+
+    /// The curve parameter under screen x on the plot. On a closed curve beyond the plot's edges the
+    /// parameter goes on through the seam (above `b` past the right edge, below `a` past the left
+    /// one); on an open curve it is clamped to the domain.
+    pub fn plot_u(&self, x: f32) -> f64 {
+        let s = &self.view.sampled;
+        let len = s.length;
+        let (a, b) = self.view.domain;
+        let t = self.plot.s_unclamped(x, len);
+        if !self.view.closed || (0.0..=len).contains(&t) {
+            s.u_at_s(t.clamp(0.0, len))
+        } else if t > len {
+            s.u_at_s(t - len) + (b - a)
+        } else {
+            s.u_at_s(t + len) - (b - a)
+        }
     }
 
     fn plot_input(&mut self, ui: &egui::Ui, resp: &egui::Response) {
@@ -130,31 +159,22 @@ impl App {
                     .min_by(|a, b| a.1.total_cmp(&b.1))
                     .map(|(k, _)| k)
             });
-            self.plot.drag = match handle {
-                Some(k) => PlotDrag::Handle(k),
-                None => PlotDrag::Select {
-                    anchor: self.plot.s(q.x, len),
-                },
+            let (dom, closed) = (self.view.domain, self.view.closed);
+            self.plot.drag = match (handle, self.region()) {
+                (Some(k), Some(r)) => PlotDrag::Handle(k, RegionDrag::handle(r, k, dom, closed)),
+                _ => PlotDrag::Select(RegionDrag::select(self.plot_u(q.x), dom, closed)),
             };
         }
         if resp.dragged_by(egui::PointerButton::Primary)
             && let Some(q) = resp.interact_pointer_pos()
+            && let PlotDrag::Select(mut d) | PlotDrag::Handle(_, mut d) = self.plot.drag
         {
-            let s = self.plot.s(q.x, len);
-            let u = self.view.sampled.u_at_s(s);
-            match self.plot.drag {
-                PlotDrag::Select { anchor } => {
-                    let ua = self.view.sampled.u_at_s(anchor);
-                    if ua != u {
-                        self.push(Command::SetRegion(Some((ua, u))));
-                    }
-                }
-                PlotDrag::Handle(k) => {
-                    if let Some((u1, u2)) = self.region() {
-                        self.push(Command::SetRegion(Some(if k == 0 { (u, u2) } else { (u1, u) })));
-                    }
-                }
-                PlotDrag::None => {}
+            let r = d.move_to(self.plot_u(q.x));
+            if let PlotDrag::Select(x) | PlotDrag::Handle(_, x) = &mut self.plot.drag {
+                *x = d;
+            }
+            if r.0 != r.1 {
+                self.push(Command::SetRegion(Some(r)));
             }
         }
         if resp.drag_stopped() {
@@ -205,14 +225,26 @@ impl App {
                 axis,
             );
         }
-        // region shading
+        // region shading (in two parts, end and start of the plot, for a region across the seam)
         if let Some((u1, u2)) = self.region() {
+            for (v1, v2) in region::parts((u1, u2), self.view.domain) {
+                let (x1, x2) = (p.x(s.s_at_u(v1), len), p.x(s.s_at_u(v2), len));
+                painter.rect_filled(
+                    Rect::from_x_y_ranges(x1..=x2, rect.y_range()),
+                    0.0,
+                    colors::REGION.gamma_multiply(0.15),
+                );
+            }
+            if region::wraps((u1, u2)) {
+                painter.text(
+                    Pos2::new(rect.right() - 4.0, rect.top() + 2.0),
+                    Align2::RIGHT_TOP,
+                    "region across the seam: continues at the left edge",
+                    font.clone(),
+                    colors::REGION,
+                );
+            }
             let (x1, x2) = (p.x(s.s_at_u(u1), len), p.x(s.s_at_u(u2), len));
-            painter.rect_filled(
-                Rect::from_x_y_ranges(x1..=x2, rect.y_range()),
-                0.0,
-                colors::REGION.gamma_multiply(0.15),
-            );
             for x in [x1, x2] {
                 painter.line_segment(
                     [Pos2::new(x, rect.top()), Pos2::new(x, rect.bottom())],

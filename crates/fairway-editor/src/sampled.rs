@@ -119,6 +119,24 @@ impl Sampled {
         lerp_at(&self.kappa, self.index_at_s(s))
     }
 
+    /// Indices of the samples covering the region `r` in order along it: from the sample at or before
+    /// `u1` to the one at or after `u2`; for a region across the seam of a closed curve (`u1 > u2`,
+    /// [`crate::region`]) the samples from `u1` to the end, then from the start to `u2` (the first
+    /// and last samples are the same point there, so the polyline is continuous).
+    pub fn region_indices(&self, r: (f64, f64)) -> Vec<usize> {
+        let n = self.len();
+        if n == 0 {
+            return vec![];
+        }
+        let i1 = self.index_at_u(r.0).floor() as usize;
+        let i2 = (self.index_at_u(r.1).ceil() as usize).min(n - 1);
+        if crate::region::wraps(r) {
+            (i1..n).chain(0..=i2).collect()
+        } else {
+            (i1..=i2.max(i1)).collect()
+        }
+    }
+
     /// Point at parameter `u` (linear between samples).
     pub fn point_at_u(&self, u: f64) -> DVec2 {
         let i = self.index_at_u(u);
@@ -184,6 +202,16 @@ mod tests {
         assert_eq!(frac_index(&xs, 0.5), 0.5);
         assert_eq!(frac_index(&xs, 2.0), 1.5);
         assert_eq!(frac_index(&xs, 9.0), 2.0);
+    }
+
+    #[test]
+    fn region_indices_run_through_the_seam() {
+        let s = Sampled {
+            u: (0..=10).map(|i| i as f64 / 10.0).collect(),
+            ..Default::default()
+        };
+        assert_eq!(s.region_indices((0.2, 0.45)), vec![2, 3, 4, 5]);
+        assert_eq!(s.region_indices((0.8, 0.15)), vec![8, 9, 10, 0, 1, 2]);
     }
 
     #[test]

@@ -654,5 +654,46 @@ fn closed_quartic_and_quintic_keep_their_seam_and_say_so() {
         let (e0, e1) = (kappa_err(&c), kappa_err(f));
         println!("closed degree {p}: {:?}, κ RMS error {e0:.4} -> {e1:.4}", r.seam);
         assert!(e1 < 0.95 * e0, "p = {p}: {e0} -> {e1}");
+/// A region across the seam with separate end conditions (the editor's start / end): the start joins
+/// with G1 (position and tangent direction, its curvature free), the end with G2, and the result
+/// differs from the G2/G2 fair; the result has the original's knots plus those the G1 end inserts
+/// (rotating back used to fail on them); outside the region nothing moves.
+#[test]
+fn region_across_the_seam_takes_separate_end_conditions() {
+    use fairway::fair::closed::{setup_across_seam, setup_across_seam_with_ends};
+    let c = periodic_ellipse(60, 1e-3, 4);
+    let (u1, u2) = (0.8, 0.25);
+    let o = FairingOptions {
+        region: Some((u1, u2)),
+        ..opts(3e-3)
+    };
+    let fair = |(mut s, back): (FairingSetup, closed::AcrossSeam)| back.back(s.fair().unwrap()).unwrap().curve;
+    let g1g2 = fair(setup_across_seam_with_ends(&c, o, [EndCondition::G1, EndCondition::G2]).unwrap());
+    let g2g2 = fair(setup_across_seam(&c, o).unwrap());
+    assert_eq!(o.ends, EndCondition::G2);
+    // G1 at u1 inserts u1 up to multiplicity p − 1 (the result keeps it, as for an open curve)
+    assert_eq!(g1g2.knots().multiplicity(u1), 2);
+    assert_eq!(g1g2.n_points(), c.n_points() + 2 - c.knots().multiplicity(u1));
+    assert_eq!(g2g2.knots(), c.knots());
+    let diff = (0..=100)
+        .map(|k| u1 + (1.0 - u1 + u2) * k as f64 / 100.0)
+        .map(|u| if u > 1.0 { u - 1.0 } else { u })
+        .map(|u| g1g2.point(u).distance(g2g2.point(u)))
+        .fold(0.0, f64::max);
+    assert!(diff > 1e-9, "the start's end condition was ignored");
+    let (a, f) = (c.derivs(u1), g1g2.derivs(u1));
+    assert!(
+        a.p.distance(f.p) <= 1e-12 && a.d1.angle_between(f.d1) <= 1e-9,
+        "G1 at u1"
+    );
+    let (a, f) = (c.derivs(u2), g1g2.derivs(u2));
+    let (ka, kf) = (a.curvature_vector(), f.curvature_vector());
+    assert!(
+        a.p.distance(f.p) <= 1e-12 && ka.distance(kf) <= 1e-9 * ka.length(),
+        "G2 at u2"
+    );
+    for k in 0..=100 {
+        let u = u2 + (u1 - u2) * k as f64 / 100.0;
+        assert!(g1g2.point(u).distance(c.point(u)) <= 1e-12, "moved at u = {u}");
     }
 }

@@ -267,14 +267,25 @@ pub fn periodic_cubic(q: &[DVec3], dim: usize) -> Result<BSplineCurve> {
 #[derive(Debug, Clone)]
 pub struct AcrossSeam {
     original: BSplineCurve,
+    /// The original with the knots a G1 / G0 region end inserts (the setup inserts them into the
+    /// re-seamed curve at `u1` and `u2 + L`): the knot vector the result is rotated back onto.
+    form: BSplineCurve,
     tol: f64,
 }
 
 impl AcrossSeam {
+    /// The original closed curve (non-rational), on whose domain and knot vector [`AcrossSeam::back`]
+    /// puts the result; the setup's curve is its rotation (the same points, parameters shifted by
+    /// the domain length `L` past the old seam: the setup's `u > b` is the original's `u − L`).
+    pub fn original(&self) -> &BSplineCurve {
+        &self.original
+    }
+
     /// The result of the re-seamed setup's fair, rotated back onto the original curve's domain and knot
-    /// vector (exact: the control points next to the re-seaming point do not move).
+    /// vector (exact: the control points next to the re-seaming point do not move); with a G1 / G0
+    /// region end, plus the knots it inserted at `u1` / `u2`, as [`FairingResult::curve`] says.
     pub fn back(&self, r: FairingResult) -> Result<FairingResult> {
-        let curve = unrotate(&r.curve, &self.original, self.tol)?;
+        let curve = unrotate(&r.curve, &self.form, self.tol)?;
         Ok(FairingResult {
             curve,
             seam: Seam::Faired,
@@ -290,6 +301,16 @@ impl AcrossSeam {
 /// its samples), then map the result back with [`AcrossSeam::back`]. Errors: an open curve, a region
 /// end outside the domain, a seam that is not parametrically C2 (the re-seaming needs it).
 pub fn setup_across_seam(curve: &BSplineCurve, opts: FairingOptions) -> Result<(FairingSetup, AcrossSeam)> {
+    setup_across_seam_with_ends(curve, opts, [opts.ends; 2])
+}
+
+/// [`setup_across_seam`] with separate end conditions at the region's start `u1` and end `u2`
+/// (`opts.ends` is ignored), as [`FairingSetup::new_with_ends`] takes them.
+pub fn setup_across_seam_with_ends(
+    curve: &BSplineCurve,
+    opts: FairingOptions,
+    ends: [EndCondition; 2],
+) -> Result<(FairingSetup, AcrossSeam)> {
     let input = curve.to_polynomial()?;
     let Some((u1, u2)) = opts.region.filter(|(u1, u2)| u1 > u2) else {
         return Err(Error::InvalidInput(
@@ -328,7 +349,7 @@ pub fn setup_across_seam(curve: &BSplineCurve, opts: FairingOptions) -> Result<(
             region: Some((u1, u2 + (b - a))),
             ..opts
         },
-        [opts.ends; 2],
+        ends,
     )
     .map_err(|e| {
         Error::InvalidInput(format!(
@@ -337,7 +358,27 @@ pub fn setup_across_seam(curve: &BSplineCurve, opts: FairingOptions) -> Result<(
             u2 + (b - a)
         ))
     })?;
-    Ok((setup, AcrossSeam { original: input, tol }))
+    // a G1 / G0 end inserted knots at u1 / u2 + L of the re-seamed curve: the same at u1 / u2 of the
+    // original, the form the result is rotated back onto
+    let work = setup.working_curve();
+    let mut form = input.clone();
+    for (u, ur) in [(u1, u1), (u2, u2 + (b - a))] {
+        let extra = work
+            .knots()
+            .multiplicity(ur)
+            .saturating_sub(rot.knots().multiplicity(ur));
+        if extra > 0 {
+            form = form.insert_knot(u, extra)?;
+        }
+    }
+    Ok((
+        setup,
+        AcrossSeam {
+            original: input,
+            form,
+            tol,
+        },
+    ))
 }
 
 /// Why a seam cannot be re-seamed: corner, curvature jump or parametric speed jump.
