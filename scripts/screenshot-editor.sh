@@ -1,6 +1,7 @@
 #!/bin/sh
 # Screenshot of the editor under Xvfb with mesa's software renderer (llvmpipe):
 #   scripts/screenshot-editor.sh [editor args...]     -> docs/screenshot-editor.png
+# (e.g. `--region U1 U2 --tolerance M`; on a closed curve U1 > U2 selects the region across the seam)
 # BIN picks the binary (default target/release/fairway-editor, built if missing),
 # WAIT the seconds to wait before the shot, OUT the output file, W and H the
 # window size (default 1500x1150: the side panel's measures fit without scrolling).

@@ -161,9 +161,12 @@ impl App {
         let painter = ui.painter_at(rect);
         painter.rect_filled(rect, 0.0, Color32::from_gray(24));
         self.draw_canvas(&painter);
-        resp.on_hover_text_at_pointer(
-            "Drag along the curve: select a region · drag a region end: adjust · wheel: zoom · right-drag: pan",
-        );
+        resp.on_hover_text_at_pointer(if self.view.closed {
+            "Drag along the curve: select a region (on through the seam point: a region across the seam) · drag a \
+             region end: adjust · wheel: zoom · right-drag: pan"
+        } else {
+            "Drag along the curve: select a region · drag a region end: adjust · wheel: zoom · right-drag: pan"
+        });
     }
 
     fn canvas_input(&mut self, ui: &egui::Ui, resp: &egui::Response) {

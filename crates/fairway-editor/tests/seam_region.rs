@@ -224,3 +224,40 @@ fn a_seam_that_cannot_be_re_seamed_is_an_error_message() {
     }
     assert!(f.internal_error.is_none());
 }
+
+/// The κ plot's target of a region across the seam runs from the plot's right edge on through its left
+/// one: a target point dragged up just after the seam (left edge) pulls its neighbours just before the
+/// seam (right edge) along, and the re-fair uses the edited target.
+#[test]
+fn target_drag_next_to_the_seam_reaches_through_it() {
+    let mut app = closed_app();
+    app.apply(Command::SetRegion(Some((0.85, 0.15))));
+    let mut h = harness(app);
+    let p = h.state().preview().expect("preview").clone();
+    let k0 = p.params.windows(2).position(|w| w[1] < w[0]).expect("the seam") + 1;
+    let (x, y) = {
+        let app = h.state();
+        let len = app.view.sampled.length;
+        (app.plot.x(app.target_s(&p, k0), len), app.plot.y(p.target[k0]))
+    };
+    assert!(
+        x - h.state().plot.rect.unwrap().left() < 5.0,
+        "the sample after the seam is at the left edge"
+    );
+    drag(
+        &mut h,
+        &[Pos2::new(x, y), Pos2::new(x, y - 10.0), Pos2::new(x, y - 25.0)],
+    );
+    let t = h.state().doc.settings.target.clone().expect("hand-edited target");
+    assert_eq!(t.len(), p.target.len());
+    assert!(t[k0] > p.target[k0], "the grabbed point did not move up");
+    assert!(
+        t[k0 - 2] > p.target[k0 - 2],
+        "the falloff did not reach through the seam"
+    );
+    let far = k0 + (t.len() - k0) / 2;
+    assert_eq!(t[far], p.target[far], "a point far away moved");
+    let p2 = h.state().preview().expect("re-faired").clone();
+    assert_eq!(p2.target, t);
+    assert!(h.state().fairing.across_seam());
+}
