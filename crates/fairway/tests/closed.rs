@@ -654,6 +654,9 @@ fn closed_quartic_and_quintic_keep_their_seam_and_say_so() {
         let (e0, e1) = (kappa_err(&c), kappa_err(f));
         println!("closed degree {p}: {:?}, κ RMS error {e0:.4} -> {e1:.4}", r.seam);
         assert!(e1 < 0.95 * e0, "p = {p}: {e0} -> {e1}");
+    }
+}
+
 /// A region across the seam with separate end conditions (the editor's start / end): the start joins
 /// with G1 (position and tangent direction, its curvature free), the end with G2, and the result
 /// differs from the G2/G2 fair; the result has the original's knots plus those the G1 end inserts
