@@ -33,6 +33,10 @@ pub struct PlotState {
     pub rect: Option<Rect>,
     /// κ range shown (bottom, top).
     pub y_range: (f64, f64),
+    /// During a region drag: the pointer's parameter ([`App::plot_u`]) plus this is the moving end's
+    /// unwrapped parameter (a multiple of the domain length: `L` when the grabbed end is the `u2` of a
+    /// region across the seam, else 0).
+    pub drag_offset: f64,
 }
 
 impl PlotState {
@@ -160,16 +164,22 @@ impl App {
                     .map(|(k, _)| k)
             });
             let (dom, closed) = (self.view.domain, self.view.closed);
+            let u = self.plot_u(q.x);
             self.plot.drag = match (handle, self.region()) {
                 (Some(k), Some(r)) => PlotDrag::Handle(k, RegionDrag::handle(r, k, dom, closed)),
-                _ => PlotDrag::Select(RegionDrag::select(self.plot_u(q.x), dom, closed)),
+                _ => PlotDrag::Select(RegionDrag::select(u, dom, closed)),
+            };
+            // the plot's x is absolute: the moving end follows it, shifted by whole periods as grabbed
+            self.plot.drag_offset = match self.plot.drag {
+                PlotDrag::Handle(_, d) if closed => ((d.moving - u) / (dom.1 - dom.0)).round() * (dom.1 - dom.0),
+                _ => 0.0,
             };
         }
         if resp.dragged_by(egui::PointerButton::Primary)
             && let Some(q) = resp.interact_pointer_pos()
             && let PlotDrag::Select(mut d) | PlotDrag::Handle(_, mut d) = self.plot.drag
         {
-            let r = d.move_to(self.plot_u(q.x));
+            let r = d.set_moving(self.plot_u(q.x) + self.plot.drag_offset);
             if let PlotDrag::Select(x) | PlotDrag::Handle(_, x) = &mut self.plot.drag {
                 *x = d;
             }

@@ -167,6 +167,22 @@ impl RegionDrag {
         self.region()
     }
 
+    /// Put the pointer's end at the unwrapped parameter `m` as it is (for a gesture whose position is
+    /// absolute, like the κ plot's: no guess from the last position, so a fast move cannot flip it
+    /// through the seam), at most one period from the fixed end on a closed curve, in the domain on an
+    /// open one. Returns the region now selected.
+    pub fn set_moving(&mut self, m: f64) -> (f64, f64) {
+        if m.is_finite() {
+            let (a, b) = self.dom;
+            self.moving = if self.closed {
+                m.clamp(self.fixed - (b - a), self.fixed + (b - a))
+            } else {
+                m.clamp(a, b)
+            };
+        }
+        self.region()
+    }
+
     /// The region between the two ends ([`from_unwrapped`]); the fixed end keeps its exact value
     /// (folding an unwrapped `u2 + L` back into the domain rounds).
     pub fn region(&self) -> (f64, f64) {
@@ -277,6 +293,20 @@ mod tests {
         let mut d = RegionDrag::select(0.8, DOM, false);
         d.move_to(0.99);
         assert_eq!(d.move_to(0.1), (0.1, 0.8));
+    }
+
+    #[test]
+    fn an_absolute_position_is_taken_as_it_is() {
+        // a fast jump across most of the domain stays on this side of the seam
+        let mut d = RegionDrag::select(0.1, DOM, true);
+        assert_eq!(d.set_moving(0.9), (0.1, 0.9));
+        // beyond the domain: through the seam
+        let r = d.set_moving(1.05);
+        assert!(wraps(r) && (r.1 - 0.05).abs() < 1e-12, "{r:?}");
+        // at most a period from the fixed end
+        assert_eq!(d.set_moving(5.0), (0.0, 1.0));
+        let mut d = RegionDrag::select(0.1, DOM, false);
+        assert_eq!(d.set_moving(1.05), (0.1, 1.0));
     }
 
     #[test]

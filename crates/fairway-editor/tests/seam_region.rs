@@ -261,3 +261,33 @@ fn target_drag_next_to_the_seam_reaches_through_it() {
     assert_eq!(p2.target, t);
     assert!(h.state().fairing.across_seam());
 }
+
+/// The κ plot's edge of a region across the seam: the end u2 (left part of the plot) dragged out past
+/// the plot's left edge goes on from the right end, through the seam: the region becomes the ordinary
+/// [u1, u] (u1 unchanged).
+#[test]
+fn a_plot_edge_dragged_out_of_the_plot_goes_on_through_the_seam() {
+    let mut app = closed_app();
+    app.apply(Command::SetRegion(Some((0.7, 0.15))));
+    let mut h = harness(app);
+    let (r, x2) = {
+        let app = h.state();
+        let len = app.view.sampled.length;
+        (app.plot.rect.unwrap(), app.plot.x(app.view.sampled.s_at_u(0.15), len))
+    };
+    // (near the top: away from the target curve, which a press would grab instead)
+    let y = r.top() + 4.0;
+    let path: Vec<Pos2> = [0.0, -20.0, -40.0, -(x2 - r.left()) - 30.0, -(x2 - r.left()) - 60.0]
+        .iter()
+        .map(|&dx| Pos2::new(x2 + dx, y))
+        .collect();
+    drag(&mut h, &path);
+    let app = h.state();
+    let (u1, u2) = app.region().unwrap();
+    assert_eq!(u1, 0.7, "the other end stays");
+    assert!(u2 > u1 && u2 < 1.0, "{u2}");
+    // 60 points past the left edge: that far before the right edge, on the plot as it is now
+    let r2 = app.plot.rect.unwrap();
+    let x = app.plot.x(app.view.sampled.s_at_u(u2), app.view.sampled.length);
+    assert!((x - (r2.right() - 60.0)).abs() < 0.02 * r2.width(), "{x} vs {}", r2.right() - 60.0);
+}
