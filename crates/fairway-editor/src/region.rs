@@ -118,6 +118,10 @@ pub struct RegionDrag {
     pub dom: (f64, f64),
     /// The curve is closed (the parameter is circular).
     pub closed: bool,
+    /// An end of the whole closed curve was grabbed: both ends sit on the seam point, so the first
+    /// move decides which one moves (outwards past the fixed end means the other one: the region
+    /// shrinks from that side instead of staying the whole curve).
+    pub whole: bool,
 }
 
 impl RegionDrag {
@@ -129,6 +133,7 @@ impl RegionDrag {
             moving: u,
             dom,
             closed,
+            whole: false,
         }
     }
 
@@ -144,6 +149,7 @@ impl RegionDrag {
             moving,
             dom,
             closed,
+            whole: closed && !wraps(r) && r.0 <= dom.0 && r.1 >= dom.1,
         }
     }
 
@@ -157,9 +163,7 @@ impl RegionDrag {
             let l = b - a;
             if l > 0.0 && u.is_finite() {
                 let k = ((self.moving - u) / l).round();
-                let m = u + k * l;
-                // at most one period away from the fixed end (a whole loop is the whole curve)
-                self.moving = m.clamp(self.fixed - l, self.fixed + l);
+                self.place(u + k * l);
             }
         } else if u.is_finite() {
             self.moving = u.clamp(a, b);
@@ -174,13 +178,30 @@ impl RegionDrag {
     pub fn set_moving(&mut self, m: f64) -> (f64, f64) {
         if m.is_finite() {
             let (a, b) = self.dom;
-            self.moving = if self.closed {
-                m.clamp(self.fixed - (b - a), self.fixed + (b - a))
+            if self.closed {
+                self.place(m);
             } else {
-                m.clamp(a, b)
-            };
+                self.moving = m.clamp(a, b);
+            }
         }
         self.region()
+    }
+
+    /// Closed curve: the moving end to the unwrapped `m`, at most one period from the fixed end (a
+    /// whole loop is the whole curve); see [`RegionDrag::whole`] for the first move off the whole curve.
+    fn place(&mut self, mut m: f64) {
+        let l = self.dom.1 - self.dom.0;
+        if self.whole && m != self.moving {
+            self.whole = false;
+            if (m - self.fixed).abs() > l {
+                // outwards: the grabbed point is the fixed end's copy one period away; that end moves
+                let shift = if self.moving < self.fixed { l } else { -l };
+                self.fixed = self.moving;
+                self.fixed_u = self.moving;
+                m += shift;
+            }
+        }
+        self.moving = m.clamp(self.fixed - l, self.fixed + l);
     }
 
     /// The region between the two ends ([`from_unwrapped`]); the fixed end keeps its exact value
@@ -332,5 +353,27 @@ mod tests {
             d.move_to(u);
         }
         assert_eq!(d.region(), (0.0, 1.0));
+        // and back: it shrinks again from the end that moved
+        let r = d.move_to(0.8);
+        assert!((r.0 - 0.85).abs() < 1e-12 && (r.1 - 0.8).abs() < 1e-12, "{r:?}");
+    }
+
+    #[test]
+    fn the_whole_closed_curve_shrinks_from_the_side_its_seam_point_is_dragged_to() {
+        // both handles sit on the seam point; the canvas grabs handle 0 (u1 = a)
+        for k in [0, 1] {
+            // forwards: the start moves
+            let mut d = RegionDrag::handle(DOM, k, DOM, true);
+            d.move_to(0.02);
+            assert_eq!(d.move_to(0.1), (0.1, 1.0), "handle {k}");
+            // backwards: the end moves
+            let mut d = RegionDrag::handle(DOM, k, DOM, true);
+            d.move_to(0.98);
+            let r = d.move_to(0.9);
+            assert!(r.0 == 0.0 && (r.1 - 0.9).abs() < 1e-12, "handle {k}: {r:?}");
+        }
+        // an open curve's whole domain: handles are ordinary
+        let mut d = RegionDrag::handle(DOM, 0, DOM, false);
+        assert_eq!(d.move_to(0.1), (0.1, 1.0));
     }
 }

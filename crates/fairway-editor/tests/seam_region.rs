@@ -289,5 +289,27 @@ fn a_plot_edge_dragged_out_of_the_plot_goes_on_through_the_seam() {
     // 60 points past the left edge: that far before the right edge, on the plot as it is now
     let r2 = app.plot.rect.unwrap();
     let x = app.plot.x(app.view.sampled.s_at_u(u2), app.view.sampled.length);
-    assert!((x - (r2.right() - 60.0)).abs() < 0.02 * r2.width(), "{x} vs {}", r2.right() - 60.0);
+    assert!(
+        (x - (r2.right() - 60.0)).abs() < 0.02 * r2.width(),
+        "{x} vs {}",
+        r2.right() - 60.0
+    );
+}
+
+/// The whole closed curve selected: both handles sit on the seam point; dragging it backwards along the
+/// curve shrinks the region from its end, forwards from its start.
+#[test]
+fn the_whole_closed_curve_shrinks_from_the_side_the_seam_point_is_dragged_to() {
+    let mut h = harness(closed_app());
+    h.get_by_role_and_label(Role::Button, "Whole curve").click();
+    h.run();
+    assert_eq!(h.state().region(), Some((0.0, 1.0)));
+    drag_along(&mut h, &[0.0, 0.99, 0.97, 0.95, 0.93, 0.9]);
+    let (u1, u2) = h.state().region().unwrap();
+    assert!(u1 == 0.0 && (u2 - 0.9).abs() < 0.01, "{u1} {u2}");
+    h.get_by_role_and_label(Role::Button, "Whole curve").click();
+    h.run();
+    drag_along(&mut h, &[0.0, 0.01, 0.03, 0.05, 0.07, 0.1]);
+    let (u1, u2) = h.state().region().unwrap();
+    assert!((u1 - 0.1).abs() < 0.01 && u2 == 1.0, "{u1} {u2}");
 }
