@@ -11,7 +11,7 @@
 use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use fairway::fair::{FairingOptions, FairingSetup, IterativeOptions, fair_iterative};
+use fairway::fair::{FairingOptions, FairingSetup, FitMode, IterativeOptions, fair_iterative};
 use fairway::{BSplineCurve, DVec2, KnotVector};
 
 /// A cubic through a sine wave with deterministic noise of ~1 % of the amplitude.
@@ -73,6 +73,19 @@ fn benches(c: &mut Criterion) {
             setup.target_mut().set(k, g * 1.01);
             black_box(setup.fair().unwrap())
         })
+    });
+    // the paper's method alone (one integration, one fit, no band search or polish; the band is only
+    // measured), re-run on its setup: what the default's hard tolerance and E polish add to
+    let mut paper = FairingSetup::new(
+        &cv,
+        FairingOptions {
+            mode: FitMode::Paper,
+            ..o
+        },
+    )
+    .unwrap();
+    c.bench_function("curve100_s1000/re-fair, paper mode (FitMode::Paper)", |b| {
+        b.iter(|| black_box(paper.fair().unwrap()))
     });
     let mut group = c.benchmark_group("scaling (10 samples per control point, full fair)");
     group.sample_size(10);
