@@ -1251,7 +1251,14 @@ impl FairingSetup {
         pad.resize(self.nf + 2 * off, DVec3::ZERO);
         pad[off..off + self.nf].copy_from_slice(d);
         let mut cache = std::mem::take(&mut self.chk_d);
-        let (worst, broken_at) = self.deviation_padded(&pad, d, sharpen, &mut cache);
+        // the common degrees with the row count known at compile time (an unrolled inner loop)
+        let (worst, broken_at) = match self.work.degree() {
+            2 => self.scan::<3>(&pad, d, sharpen, &mut cache),
+            3 => self.scan::<4>(&pad, d, sharpen, &mut cache),
+            4 => self.scan::<5>(&pad, d, sharpen, &mut cache),
+            5 => self.scan::<6>(&pad, d, sharpen, &mut cache),
+            _ => self.scan::<0>(&pad, d, sharpen, &mut cache),
+        };
         if let Some(j) = broken_at {
             self.scan_from = j;
         }
@@ -1299,23 +1306,6 @@ impl FairingSetup {
         }
         let (f, df) = (d1.dot(delta), d2.dot(delta) + d1.length_squared());
         if df > 0.0 { u - f / df } else { u }
-    }
-
-    fn deviation_padded(
-        &self,
-        pad: &[DVec3],
-        d: &[DVec3],
-        sharpen: f64,
-        cache: &mut Vec<Option<ChkDeriv>>,
-    ) -> (f64, Option<usize>) {
-        // the common degrees with the row count known at compile time (an unrolled inner loop)
-        match self.work.degree() {
-            2 => self.scan::<3>(pad, d, sharpen, cache),
-            3 => self.scan::<4>(pad, d, sharpen, cache),
-            4 => self.scan::<5>(pad, d, sharpen, cache),
-            5 => self.scan::<6>(pad, d, sharpen, cache),
-            _ => self.scan::<0>(pad, d, sharpen, cache),
-        }
     }
 
     /// The band check's scan over the check samples; `N` = p + 1, or 0 for "read it from the curve".
