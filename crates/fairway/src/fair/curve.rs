@@ -615,6 +615,14 @@ impl FairingSetup {
                 s.target.release_end(last);
             }
         }
+        // a G0 curve end (tangent and curvature free): the end knot span's curvature is filled in from
+        // the interior before smoothing (Target::extrapolate_end)
+        let per_span = (ns / spans).max(1);
+        for (last, e, at) in [(false, ends[0], at_start), (true, ends[1], at_end)] {
+            if e == EndCondition::G0 && at {
+                s.target.extrapolate_end(last, per_span);
+            }
+        }
         let strength = opts.strength.unwrap_or(match opts.target {
             TargetMethod::Fit => 20,
             _ => default_passes(ns),
