@@ -8,7 +8,10 @@
 //! meets its untouched neighbours with the same curvature (G2). An end whose
 //! curvature is not kept (a G1 or G0 end) is released ([`Target::release_end`]):
 //! smoothing then treats it as a free end (no flux across it: the mirrored
-//! stencil), so a noisy end curvature is smoothed like the interior.
+//! stencil), so a noisy end curvature is smoothed like the interior. At a G0
+//! curve end (tangent free as well) the end knot span is first filled from the
+//! interior ([`Target::extrapolate_end`]): the no-flux flow conserves the mean,
+//! so it would keep the end span's noise excess instead of removing it.
 //!
 //! Smoothing methods ([`TargetMethod`]):
 //! * `Average` — the paper's repeated neighbour averaging
