@@ -688,7 +688,7 @@ impl FairingSetup {
     }
 
     /// Cap the E polish at `n` Gauss–Newton iterations (default [`POLISH_ITERS`]; it stops earlier when
-    /// a step gains < 0.02 % of E). More iterations lower E further inside the band, at 0.2–0.5 ms
+    /// a step gains < 0.02 % of E). More iterations lower E further inside the band, at 0.15–0.3 ms
     /// each for 100 control points (the later ones cost more: more samples sit at the band edge), e.g.
     /// to reach the iterative baseline's E on a curve where the default does not; 0 skips the polish.
     pub fn set_polish_iterations(&mut self, n: usize) {
