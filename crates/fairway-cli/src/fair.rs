@@ -112,7 +112,7 @@ pub struct Report {
     pub energy: f64,
     /// Free control points [first, last) of the working curve (of the first pass for a closed curve).
     pub free_points: [usize; 2],
-    /// The seam of a closed curve: "open", "untouched", "faired" or "held: <reason>".
+    /// The seam of a closed curve: "open", "untouched", "faired" or "held: …" (with the reason).
     pub seam: String,
     /// Measures of the result against the input.
     pub measures: Measures,

@@ -23,8 +23,8 @@ pub const VERTEX_FLOATS: usize = 10;
 
 static NEXT_SCENE_ID: AtomicU64 = AtomicU64::new(1);
 
-/// Geometry ready for the GPU, in coordinates relative to [`Scene::origin`]
-/// (f32 keeps its precision near the origin).
+/// Geometry ready for the GPU, in coordinates relative to the origin its builder was given (e.g.
+/// the `origin` of `scene::surface_scene`; f32 keeps its precision near the origin).
 #[derive(Debug, Default)]
 pub struct Scene {
     id: u64,
