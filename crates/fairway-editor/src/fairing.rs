@@ -386,14 +386,7 @@ fn run(
     let t = setup.target();
     // the re-seamed setup's parameters past the old seam b, back on the original (u − L)
     let params = match across {
-        Some(a) => {
-            let (a0, b) = a.original().domain();
-            setup
-                .params()
-                .iter()
-                .map(|&u| if u > b { u - (b - a0) } else { u })
-                .collect()
-        }
+        Some(a) => setup.params().iter().map(|&u| a.to_original(u)).collect(),
         None => setup.params().to_vec(),
     };
     Ok(Preview {

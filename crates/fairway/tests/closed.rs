@@ -700,3 +700,25 @@ fn region_across_the_seam_takes_separate_end_conditions() {
         assert!(g1g2.point(u).distance(c.point(u)) <= 1e-12, "moved at u = {u}");
     }
 }
+
+/// `AcrossSeam::to_original` maps the re-seamed setup's sample parameters onto the original: the same
+/// points, and the parameters past the old seam come back into the original's domain.
+#[test]
+fn across_seam_parameters_map_onto_the_original() {
+    let c = periodic_ellipse(30, 1e-3, 2);
+    let o = FairingOptions {
+        region: Some((0.8, 0.25)),
+        ..opts(3e-3)
+    };
+    let (setup, across) = fairway::fair::closed::setup_across_seam(&c, o).unwrap();
+    let (a, b) = c.domain();
+    let mut past_seam = 0;
+    for &u in setup.params() {
+        let v = across.to_original(u);
+        assert!((a..=b).contains(&v), "{u} -> {v}");
+        past_seam += usize::from(u > b);
+        let d = setup.working_curve().point(u).distance(c.point(v));
+        assert!(d < 1e-12, "{u} -> {v}: {d}");
+    }
+    assert!(past_seam > 0, "the region reaches past the old seam");
+}

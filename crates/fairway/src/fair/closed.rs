@@ -281,6 +281,13 @@ impl AcrossSeam {
         &self.original
     }
 
+    /// A parameter of the setup's (re-seamed) curve as the original's: past the old seam `b` it is
+    /// `u − L`, before it unchanged (the same point on both curves).
+    pub fn to_original(&self, u: f64) -> f64 {
+        let (a, b) = self.original.domain();
+        if u > b { u - (b - a) } else { u }
+    }
+
     /// The result of the re-seamed setup's fair, rotated back onto the original curve's domain and knot
     /// vector (exact: the control points next to the re-seaming point do not move); with a G1 / G0
     /// region end, plus the knots it inserted at `u1` / `u2`, as [`FairingResult::curve`] says.
