@@ -447,20 +447,27 @@ impl BSplineCurve {
 
     /// Insert `u` `times` times (Boehm, The NURBS Book A5.1). The curve is unchanged.
     pub fn insert_knot(&self, u: f64, times: usize) -> Result<Self> {
-        let (a, b) = self.domain();
-        if !(u > a && u < b) {
-            return Err(Error::OutOfDomain {
-                what: "knot to insert".into(),
-                value: u,
-                start: a,
-                end: b,
-            });
-        }
+        self.check_interior(u, "knot to insert")?;
         let mut c = self.clone();
         for _ in 0..times {
             c = c.insert_once(u)?;
         }
         Ok(c)
+    }
+
+    /// `u` strictly inside the domain, else [`Error::OutOfDomain`] naming `what`.
+    fn check_interior(&self, u: f64, what: &str) -> Result<()> {
+        let (a, b) = self.domain();
+        if u > a && u < b {
+            Ok(())
+        } else {
+            Err(Error::OutOfDomain {
+                what: what.into(),
+                value: u,
+                start: a,
+                end: b,
+            })
+        }
     }
 
     fn insert_once(&self, u: f64) -> Result<Self> {
@@ -496,15 +503,7 @@ impl BSplineCurve {
     /// or [`Error::KnotNotRemovable`] when a removal would move the curve by more than `tol` (a kink
     /// or a derivative jump at `u`); the curve is then left as it was.
     pub fn remove_knot(&self, u: f64, times: usize, tol: f64) -> Result<Self> {
-        let (a, b) = self.domain();
-        if !(u > a && u < b) {
-            return Err(Error::OutOfDomain {
-                what: "knot to remove".into(),
-                value: u,
-                start: a,
-                end: b,
-            });
-        }
+        self.check_interior(u, "knot to remove")?;
         if !(tol.is_finite() && tol >= 0.0) {
             return Err(Error::InvalidInput(format!(
                 "knot removal tolerance must be finite and ≥ 0, got {tol}"

@@ -393,24 +393,14 @@ fn region_across_the_seam_is_one_faired_stretch() {
     let c = periodic_ellipse(60, 1e-3, 4);
     let m = 3e-3;
     let (u1, u2) = (0.8, 0.25);
-    let r = fair_closed(
-        &c,
-        FairingOptions {
-            region: Some((u1, u2)),
-            ..opts(m)
-        },
-    )
-    .unwrap();
+    let o = FairingOptions {
+        region: Some((u1, u2)),
+        ..opts(m)
+    };
+    let r = fair_closed(&c, o).unwrap();
     assert_eq!(r.seam, Seam::Faired);
     // fair_curve takes the same path
-    let rc = fair_curve(
-        &c,
-        FairingOptions {
-            region: Some((u1, u2)),
-            ..opts(m)
-        },
-    )
-    .unwrap();
+    let rc = fair_curve(&c, o).unwrap();
     assert_eq!(rc.curve, r.curve);
     let f = &r.curve;
     assert_eq!(f.knots(), c.knots());
