@@ -244,14 +244,17 @@ impl App {
     /// An editor showing `doc`, loaded from `path`.
     pub fn with_document(doc: Document, path: Option<PathBuf>) -> Self {
         let curve = doc_curve(&doc).cloned().unwrap_or_else(demo_curve);
-        let doc = if doc_curve(&doc).is_some() {
+        let saved = if doc_curve(&doc).is_some() {
             doc
         } else {
             Document::new(Geometry::Curve(curve.clone()))
         };
+        // settings that do not fit the curve are dropped and said; the document then shows as changed
+        let mut doc = saved.clone();
+        let error = settings_notes(doc.sanitize_settings());
         Self {
             view: CurveView::new(&curve),
-            saved: Some(doc.clone()),
+            saved: Some(saved),
             doc,
             path: path.clone(),
             history: History::default(),
@@ -261,7 +264,7 @@ impl App {
             plot: Default::default(),
             hover_s: None,
             next_hover_s: None,
-            error: None,
+            error,
             status: String::new(),
             path_input: path.map(|p| p.display().to_string()).unwrap_or_default(),
             confirm: None,
@@ -382,12 +385,13 @@ impl App {
     /// Replace the open document by `doc` (a curve goes to the curve editor,
     /// a surface to the surface workspace); `saved` is its state on disk
     /// (`None`: never saved, so it shows as unsaved).
-    pub fn set_document(&mut self, doc: Document, path: Option<PathBuf>, saved: Option<Document>) {
+    pub fn set_document(&mut self, mut doc: Document, path: Option<PathBuf>, saved: Option<Document>) {
         // absolute, so an autosave's source still names the file after a restart elsewhere
         let path = path.map(|p| std::path::absolute(&p).unwrap_or(p));
         if doc_curve(&doc).is_none() {
             match surface_ui::SurfaceEditor::new(doc, path) {
                 Ok(mut s) => {
+                    // (SurfaceEditor::new has checked the settings and says what it dropped)
                     s.set_saved(saved);
                     s.set_shading(self.curve3d.surface_shading);
                     self.surface = Some(Box::new(s));
@@ -399,6 +403,7 @@ impl App {
             return;
         }
         self.surface = None;
+        let notes = doc.sanitize_settings();
         let curve = doc_curve(&doc).unwrap().clone();
         self.view = CurveView::new(&curve);
         self.curve_rev += 1;
@@ -408,7 +413,7 @@ impl App {
         self.path = path;
         self.history.clear();
         self.canvas.needs_fit = true;
-        self.error = None;
+        self.error = settings_notes(notes);
     }
 
     /// Show an error where the user looks: the surface workspace's status
@@ -1061,6 +1066,12 @@ impl eframe::App for App {
     fn on_exit(&mut self) {
         self.clear_autosave();
     }
+}
+
+/// The message for saved settings that [`Document::sanitize_settings`] had to drop or change (`None`:
+/// everything fitted).
+pub(crate) fn settings_notes(notes: Vec<String>) -> Option<String> {
+    (!notes.is_empty()).then(|| format!("Some saved settings did not fit: {}", notes.join("; ")))
 }
 
 fn doc_curve(doc: &Document) -> Option<&BSplineCurve> {

@@ -167,8 +167,12 @@ impl SurfaceEditor {
         let mesh = SurfaceMesh::tessellate(s, shading.density, shading.density)?;
         let mut view = View3d::default();
         view.set_bbox(bbox_of(&mesh), true);
+        // settings that do not fit the surface are dropped and said; the document then shows as changed
+        let saved = doc.clone();
+        let mut doc = doc;
+        let error = crate::settings_notes(doc.sanitize_settings());
         Ok(Self {
-            saved: Some(doc.clone()),
+            saved: Some(saved),
             path_input: path.as_ref().map(|p| p.display().to_string()).unwrap_or_default(),
             path,
             doc,
@@ -182,7 +186,7 @@ impl SurfaceEditor {
             preview_error: None,
             compare: SurfCompare::default(),
             measures_before: None,
-            error: None,
+            error,
             status: String::new(),
             open_curve: None,
             commands: vec![],

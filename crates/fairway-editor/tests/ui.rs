@@ -226,3 +226,79 @@ fn flatten_tool_makes_a_stretch_of_the_target_constant() {
     h.run();
     assert!(h.state().doc.settings.target.is_none());
 }
+
+/// A document whose saved settings do not fit its curve (a hand-edited or corrupted file): it opens
+/// with its geometry, the bad settings are dropped with a message in the status bar, the document
+/// shows as changed, and the editor settles (a NaN in the saved target used to re-fair every frame).
+#[test]
+fn saved_settings_that_do_not_fit_open_with_a_message() {
+    let dir = std::env::temp_dir().join(format!("fairway-editor-settings-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let base = fairway::io::load(&sample_path()).unwrap();
+    let (d0, d1) = base.geometry.as_curve().unwrap().domain();
+    let at = |t: f64| d0 + t * (d1 - d0);
+    /// A saved file: its region and target, the region the editor should keep, a word of the message.
+    struct Case {
+        name: &'static str,
+        region: Option<(f64, f64)>,
+        target: Option<Vec<f64>>,
+        want: Option<(f64, f64)>,
+        needle: &'static str,
+    }
+    let case = |name, region, target, want, needle| Case {
+        name,
+        region,
+        target,
+        want,
+        needle,
+    };
+    let cases = [
+        case("nan", Some((f64::NAN, at(0.5))), None, None, "not finite"),
+        case("outside", Some((at(0.2), d1 + 1.0)), None, None, "outside the domain"),
+        case(
+            "backwards",
+            Some((at(0.8), at(0.2))),
+            None,
+            Some((at(0.2), at(0.8))),
+            "backwards",
+        ),
+        case(
+            "target",
+            Some((at(0.2), at(0.6))),
+            Some(vec![f64::NAN; 5]),
+            Some((at(0.2), at(0.6))),
+            "non-finite",
+        ),
+    ];
+    for Case {
+        name,
+        region,
+        target,
+        want,
+        needle,
+    } in cases
+    {
+        let mut doc = base.clone();
+        doc.settings.region = region;
+        doc.settings.target = target;
+        let path = dir.join(format!("{name}.ron"));
+        std::fs::write(&path, doc.to_ron().unwrap()).unwrap();
+        let mut h = harness(App::default());
+        h.state_mut().open_now(&path);
+        // `run` fails if the editor keeps asking for frames
+        h.run();
+        h.run();
+        let app = h.state();
+        assert_eq!(app.doc.geometry, base.geometry, "{name}: the geometry is kept");
+        assert_eq!(app.doc.settings.region, want, "{name}");
+        assert_eq!(app.doc.settings.target, None, "{name}");
+        let msg = app.error.clone().unwrap_or_default();
+        assert!(msg.contains("did not fit") && msg.contains(needle), "{name}: {msg:?}");
+        assert!(app.is_dirty(), "{name}: the changed settings show as unsaved");
+        // the region that is left is used: the fairing preview ran on it
+        if want.is_some() {
+            assert!(matches!(app.fairing.preview, Some(Ok(_))), "{name}");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -420,3 +420,92 @@ fn malformed_ron_documents_give_specific_errors() {
         assert!(variant(&e), "{what}: {e:?}");
     }
 }
+
+/// Settings that cannot apply to the document's geometry are dropped (or reordered) with a message
+/// that names them; the geometry and the settings that fit stay as they were.
+#[test]
+fn settings_that_do_not_fit_the_geometry_are_dropped_with_a_message() {
+    let open = Geometry::Curve(wiggly_2d());
+    let (d0, d1) = wiggly_2d().domain();
+    let mid = |t: f64| d0 + t * (d1 - d0);
+    let with = |g: &Geometry, f: &dyn Fn(&mut DocumentSettings)| {
+        let mut d = Document::new(g.clone());
+        d.settings.tolerance = Some(0.01);
+        f(&mut d.settings);
+        // through the file, as the editor gets it
+        let mut back = Document::from_ron(&d.to_ron().unwrap()).unwrap();
+        let notes = back.sanitize_settings();
+        assert_eq!(bits(&back.geometry), bits(g), "the geometry is kept");
+        assert_eq!(back.settings.tolerance, Some(0.01), "the settings that fit are kept");
+        (back.settings, notes)
+    };
+    // fitting settings: no message, nothing changes
+    let (s, notes) = with(&open, &|s| {
+        s.region = Some((mid(0.2), mid(0.6)));
+        s.target = Some(vec![0.5; 7]);
+        s.pinned = vec![2];
+    });
+    assert!(notes.is_empty(), "{notes:?}");
+    assert_eq!(s.region, Some((mid(0.2), mid(0.6))));
+    assert_eq!((s.target.as_ref().map(Vec::len), s.pinned), (Some(7), vec![2]));
+    // dropped regions, each with a message naming the problem
+    for (r, needle) in [
+        ((f64::NAN, mid(0.5)), "not finite"),
+        ((mid(0.3), f64::INFINITY), "not finite"),
+        ((mid(0.4), mid(0.4)), "empty"),
+        ((mid(0.2), d1 + 1.0), "outside the domain"),
+        ((d0 - 1.0, mid(0.5)), "outside the domain"),
+    ] {
+        let (s, notes) = with(&open, &|s| s.region = Some(r));
+        assert_eq!(s.region, None, "{r:?}");
+        assert_eq!(notes.len(), 1, "{notes:?}");
+        assert!(
+            notes[0].contains(needle) && notes[0].contains("region"),
+            "{r:?}: {notes:?}"
+        );
+    }
+    // backwards on an open curve: reordered, and said
+    let (s, notes) = with(&open, &|s| s.region = Some((mid(0.8), mid(0.2))));
+    assert_eq!(s.region, Some((mid(0.2), mid(0.8))));
+    assert!(notes.len() == 1 && notes[0].contains("backwards"), "{notes:?}");
+    // backwards on a closed curve: a region across the seam, kept as it is
+    let closed = Geometry::Curve(circle(1.0));
+    let (c0, c1) = circle(1.0).domain();
+    let r = (c0 + 0.8 * (c1 - c0), c0 + 0.2 * (c1 - c0));
+    let (s, notes) = with(&closed, &|s| s.region = Some(r));
+    assert!(notes.is_empty(), "{notes:?}");
+    assert_eq!(s.region, Some(r));
+    // a target with a NaN goes with its pins
+    let (s, notes) = with(&open, &|s| {
+        s.target = Some(vec![0.1, f64::NAN, 0.3]);
+        s.pinned = vec![0, 2];
+    });
+    assert_eq!((s.target, s.pinned), (None, vec![]));
+    assert!(notes.len() == 1 && notes[0].contains("sample 1"), "{notes:?}");
+    // regions of the other kind
+    let (s, notes) = with(&open, &|s| s.region_uv = Some(((0.1, 0.2), (0.3, 0.4))));
+    assert!(
+        s.region_uv.is_none() && notes.len() == 1 && notes[0].contains("surface region"),
+        "{notes:?}"
+    );
+    let surf = Geometry::Surface(wavy_bicubic());
+    let ((u0, u1), (v0, v1)) = wavy_bicubic().domain();
+    let (su, sv) = (|t: f64| u0 + t * (u1 - u0), |t: f64| v0 + t * (v1 - v0));
+    let (s, notes) = with(&surf, &|s| s.region = Some((su(0.1), su(0.2))));
+    assert!(
+        s.region.is_none() && notes.len() == 1 && notes[0].contains("curve region"),
+        "{notes:?}"
+    );
+    // surface regions: backwards ends reordered, bad ones dropped
+    let (s, notes) = with(&surf, &|s| s.region_uv = Some(((su(0.7), su(0.2)), (sv(0.1), sv(0.5)))));
+    assert_eq!(s.region_uv, Some(((su(0.2), su(0.7)), (sv(0.1), sv(0.5)))));
+    assert!(notes.len() == 1 && notes[0].contains("backwards"), "{notes:?}");
+    let (s, notes) = with(&surf, &|s| {
+        s.region_uv = Some(((su(0.2), su(0.7)), (sv(0.1), v1 + 5.0)))
+    });
+    assert_eq!(s.region_uv, None);
+    assert!(
+        notes.len() == 1 && notes[0].contains("in v") && notes[0].contains("outside"),
+        "{notes:?}"
+    );
+}

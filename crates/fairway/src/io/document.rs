@@ -108,4 +108,99 @@ impl Document {
         s.push('\n');
         Ok(s)
     }
+
+    /// Make the saved settings fit the geometry, and say what had to change: one message per
+    /// setting dropped or reordered, empty when everything fits. A hand-edited or corrupted file
+    /// keeps its geometry (nothing is lost); only the settings that cannot apply go:
+    /// - a curve region with a non-finite end, equal ends or an end outside the curve's domain is
+    ///   dropped; `u1 > u2` is kept on a closed curve (a region across the seam) and reordered on an
+    ///   open one;
+    /// - a surface region likewise per direction (ends reordered when given backwards);
+    /// - a region of the other kind (a curve region on a surface, or the reverse) is dropped;
+    /// - a target with a non-finite value is dropped, with its pins.
+    pub fn sanitize_settings(&mut self) -> Vec<String> {
+        let mut notes = Vec::new();
+        let st = &mut self.settings;
+        // ends outside the domain by more than rounding are errors (1e-12 of the domain length)
+        let fits = |r: (f64, f64), d: (f64, f64), what: &str| -> std::result::Result<(), String> {
+            let eps = 1e-12 * (d.1 - d.0);
+            if !(r.0.is_finite() && r.1.is_finite()) {
+                Err(format!("the saved {what} ({}, {}) is not finite", r.0, r.1))
+            } else if r.0 == r.1 {
+                Err(format!("the saved {what} ({}, {}) is empty", r.0, r.1))
+            } else if [r.0, r.1].iter().any(|&u| u < d.0 - eps || u > d.1 + eps) {
+                Err(format!(
+                    "the saved {what} ({}, {}) is outside the domain [{}, {}]",
+                    r.0, r.1, d.0, d.1
+                ))
+            } else {
+                Ok(())
+            }
+        };
+        let clamp = |r: (f64, f64), d: (f64, f64)| (r.0.clamp(d.0, d.1), r.1.clamp(d.0, d.1));
+        match &self.geometry {
+            Geometry::Curve(c) => {
+                if let Some(r) = st.region {
+                    let d = c.domain();
+                    match fits(r, d, "region") {
+                        Err(e) => {
+                            notes.push(format!("{e}: ignored"));
+                            st.region = None;
+                        }
+                        Ok(()) => {
+                            let r = clamp(r, d);
+                            st.region = Some(if r.0 > r.1 && !crate::fair::closed::is_closed_curve(c) {
+                                notes.push(format!(
+                                    "the saved region ({}, {}) runs backwards on an open curve: read as ({}, {})",
+                                    r.0, r.1, r.1, r.0
+                                ));
+                                (r.1, r.0)
+                            } else {
+                                r
+                            });
+                        }
+                    }
+                }
+                if st.region_uv.take().is_some() {
+                    notes.push("the saved surface region does not apply to a curve: ignored".into());
+                }
+            }
+            Geometry::Surface(s) => {
+                if let Some((ru, rv)) = st.region_uv {
+                    let (du, dv) = s.domain();
+                    let order = |r: (f64, f64)| if r.0 > r.1 { (r.1, r.0) } else { r };
+                    match fits(ru, du, "surface region in u").and(fits(rv, dv, "surface region in v")) {
+                        Err(e) => {
+                            notes.push(format!("{e}: ignored"));
+                            st.region_uv = None;
+                        }
+                        Ok(()) => {
+                            let (u, v) = (order(clamp(ru, du)), order(clamp(rv, dv)));
+                            if (u, v) != (ru, rv) && (ru.0 > ru.1 || rv.0 > rv.1) {
+                                notes.push(format!(
+                                    "the saved surface region had its ends backwards: read as u ({}, {}), v ({}, {})",
+                                    u.0, u.1, v.0, v.1
+                                ));
+                            }
+                            st.region_uv = Some((u, v));
+                        }
+                    }
+                }
+                if st.region.take().is_some() {
+                    notes.push("the saved curve region does not apply to a surface: ignored".into());
+                }
+            }
+        }
+        if let Some(t) = &st.target
+            && let Some(k) = t.iter().position(|g| !g.is_finite())
+        {
+            notes.push(format!(
+                "the saved target curvature has a non-finite value ({}) at sample {k}: the target and its pins are ignored",
+                t[k]
+            ));
+            st.target = None;
+            st.pinned.clear();
+        }
+        notes
+    }
 }
