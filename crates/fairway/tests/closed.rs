@@ -579,71 +579,91 @@ fn periodic_degree(q: &[DVec3], p: usize) -> BSplineCurve {
     BSplineCurve::try_new(p, k, pts, None, 2).unwrap()
 }
 
-/// Quartic and quintic closed curves: one pass with the seam held, and said so (fairing across the
-/// seam is implemented for degree ≤ 3: pass 1's held seam is only C2 there, the original's C^{p−1}).
-/// The pass still fairs the rest (curvature error against the noise-free construction reduced), holds
-/// the band, keeps the knots, stays closed, and leaves the seam's control points as they were. The
-/// cubic of the same construction is faired across its seam (a check of the construction itself).
+/// Closed curves of degree 3, 4 and 5 (a noisy closed ellipse built periodic of each degree, four
+/// seeds) are faired across their seam: pass 1 holds p control points at each end, so its seam stays
+/// C^{p−1} like the original's. Each result holds the band, keeps the knots, stays closed and
+/// C^{p−1} across the seam. Summed over the seeds, its curvature error against the noise-free
+/// construction is below the input's and below that of one pass with the seam held (what quartics
+/// and quintics got before), and next to the seam below the held pass's and within 1.5× the error
+/// over the whole loop (no seam artifact; the held seam's neighbourhood even came out worse than the
+/// input there, 0.0622 vs 0.0437 on one quartic seed).
 #[test]
-fn closed_quartic_and_quintic_keep_their_seam_and_say_so() {
+fn closed_quartic_and_quintic_are_faired_across_their_seam() {
     for p in [3usize, 4, 5] {
-        let n = 40;
-        let mut rng = Rng::new(30 + p as u64);
-        let clean: Vec<DVec3> = (0..n)
-            .map(|i| {
-                let th = std::f64::consts::TAU * i as f64 / n as f64;
-                DVec3::new(2.0 * th.cos(), th.sin(), 0.0)
-            })
-            .collect();
-        let q: Vec<DVec3> = clean
-            .iter()
-            .map(|x| *x + DVec3::new(rng.gauss(), rng.gauss(), 0.0) * 1e-3)
-            .collect();
-        let truth = periodic_degree(&clean, p);
-        let c = periodic_degree(&q, p);
-        // the construction is periodic: c' and c'' agree at the seam
-        let (a0, a1) = (c.derivs(0.0), c.derivs(1.0));
-        assert!(
-            a0.d1.distance(a1.d1) <= 1e-9 * a0.d1.length(),
-            "p = {p}: c' at the seam"
-        );
-        assert!(
-            a0.d2.distance(a1.d2) <= 1e-9 * a0.d2.length(),
-            "p = {p}: c'' at the seam"
-        );
-        let m = 3e-3;
-        let r = fair_closed(&c, opts(m)).unwrap();
-        let f = &r.curve;
-        assert_eq!(f.degree(), p);
-        assert_eq!(f.knots().values(), c.knots().values());
-        assert!(f.is_closed(1e-12));
-        assert!(dev_max(&c, f) <= m, "p = {p}");
-        if p == 3 {
-            assert_eq!(r.seam, Seam::Faired);
-        } else {
-            match &r.seam {
-                Seam::Held(why) => assert!(why.contains("degree ≤ 3"), "{why}"),
-                s => panic!("p = {p}: {s:?}"),
-            }
-            for i in [0, 1, 2] {
-                assert_eq!(f.points()[i], c.points()[i], "p = {p}: seam control point {i}");
+        // Σ over the seeds of the κ RMS error: input, faired across the seam, held seam; each over the
+        // whole loop and over the tenth of the domain on each side of the seam
+        let (mut all, mut seam) = ([0.0; 3], [0.0; 3]);
+        for seed in 0..4u64 {
+            let n = 40;
+            let mut rng = Rng::new(30 + p as u64 + 100 * seed);
+            let clean: Vec<DVec3> = (0..n)
+                .map(|i| {
+                    let th = std::f64::consts::TAU * i as f64 / n as f64;
+                    DVec3::new(2.0 * th.cos(), th.sin(), 0.0)
+                })
+                .collect();
+            let q: Vec<DVec3> = clean
+                .iter()
+                .map(|x| *x + DVec3::new(rng.gauss(), rng.gauss(), 0.0) * 1e-3)
+                .collect();
+            let truth = periodic_degree(&clean, p);
+            let c = periodic_degree(&q, p);
+            // the construction is periodic: c' and c'' agree at the seam
+            let (a0, a1) = (c.derivs(0.0), c.derivs(1.0));
+            assert!(
+                a0.d1.distance(a1.d1) <= 1e-9 * a0.d1.length(),
+                "p = {p}: c' at the seam"
+            );
+            assert!(
+                a0.d2.distance(a1.d2) <= 1e-9 * a0.d2.length(),
+                "p = {p}: c'' at the seam"
+            );
+            let m = 3e-3;
+            let r = fair_closed(&c, opts(m)).unwrap();
+            let f = &r.curve;
+            assert_eq!(r.seam, Seam::Faired, "p = {p}, seed {seed}");
+            assert_eq!(f.degree(), p);
+            assert_eq!(f.knots().values(), c.knots().values());
+            assert!(f.is_closed(1e-12));
+            assert!(dev_max(&c, f) <= m, "p = {p}, seed {seed}");
+            // C^{p−1} across the seam: rotated to put the seam inside (a knot of multiplicity p), the
+            // seam knot is removable down to multiplicity 1 (knot removal to 1e-9 of the size)
+            let (lo, hi) = f.control_bounds();
+            let (_, mult) = reseam(f, 0.5, 1e-9 * (hi - lo).length()).unwrap();
+            assert_eq!(mult, 1, "p = {p}, seed {seed}: the seam is not C^(p-1)");
+            let held = FairingSetup::new(&c, opts(m)).unwrap().fair().unwrap();
+            assert!(matches!(held.seam, Seam::Held(_)));
+            // curvature error against the noise-free construction, at the closest point of it
+            let proj = fairway::CurveProjector::new(&truth, 8);
+            let kappa_err = |x: &BSplineCurve, near_seam: bool| {
+                let us: Vec<f64> = (0..400)
+                    .map(|i| (i as f64 + 0.5) / 400.0)
+                    .filter(|&u| !near_seam || !(0.1..=0.9).contains(&u))
+                    .collect();
+                let s: f64 = us
+                    .iter()
+                    .map(|&u| {
+                        let cp = proj.project(x.point(u));
+                        (x.curvature(u) - truth.curvature(cp.param)).powi(2)
+                    })
+                    .sum();
+                (s / us.len() as f64).sqrt()
+            };
+            for (k, x) in [&c, f, &held.curve].into_iter().enumerate() {
+                all[k] += kappa_err(x, false);
+                seam[k] += kappa_err(x, true);
             }
         }
-        // curvature error against the noise-free construction, at the closest point of it
-        let proj = fairway::CurveProjector::new(&truth, 8);
-        let kappa_err = |x: &BSplineCurve| {
-            let s: f64 = (0..400)
-                .map(|i| {
-                    let u = (i as f64 + 0.5) / 400.0;
-                    let cp = proj.project(x.point(u));
-                    (x.curvature(u) - truth.curvature(cp.param)).powi(2)
-                })
-                .sum();
-            (s / 400.0).sqrt()
-        };
-        let (e0, e1) = (kappa_err(&c), kappa_err(f));
-        println!("closed degree {p}: {:?}, κ RMS error {e0:.4} -> {e1:.4}", r.seam);
-        assert!(e1 < 0.95 * e0, "p = {p}: {e0} -> {e1}");
+        println!(
+            "closed degree {p}, Σ of 4 seeds: κ RMS error {:.4} -> {:.4} (held seam {:.4}); next to the seam {:.4} -> {:.4} (held {:.4})",
+            all[0], all[1], all[2], seam[0], seam[1], seam[2]
+        );
+        assert!(all[1] < 0.9 * all[0], "p = {p}: {all:?}");
+        assert!(all[1] < all[2], "p = {p}: {all:?}");
+        // next to the seam: better than with the seam held, and no seam artifact — within 1.5× the
+        // error over the whole loop (the held seam: 1.5–1.8×)
+        assert!(seam[1] < 0.9 * seam[2], "p = {p}: {seam:?}");
+        assert!(seam[1] <= 1.5 * all[1], "p = {p}: {seam:?} vs {all:?}");
     }
 }
 

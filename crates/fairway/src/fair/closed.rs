@@ -8,7 +8,9 @@
 //! for a whole closed curve) removes it by **exact re-seaming** and two passes:
 //!
 //! 1. **Pass 1** fairs the curve as it is, seam held (G2 ends whatever the options say: a closed
-//!    curve has no ends).
+//!    curve has no ends), holding the first and last p control points — three for a cubic or a
+//!    quadratic, as G2 ends do; p for a quartic or quintic, so that its seam stays C^{p−1} like the
+//!    original's and re-seams to the same knots (holding three left it C2 only).
 //! 2. **Re-seaming.** The original is split at `u_m`, the interior knot nearest the arc-length
 //!    midpoint (the midpoint itself if no knot lies within 5 % of the length of it; knot insertion to multiplicity p, [`BSplineCurve::insert_knot`], exact), and the
 //!    pieces are joined the other way round, `[u_m, b]` then `[a, u_m]` shifted by `L = b − a`
@@ -32,7 +34,8 @@
 //!    `[b, u_m + L]` (shifted by `−L`) then `[u_m, b]`; `u_m` — whose neighbouring control points
 //!    are pass 1's (φ = 0 is forced on the p + 1 points at each end of the rotated form) — is removed back to its original multiplicity, and the knot values are
 //!    set to the original's (they agree to rounding): the result has the original knot vector, is
-//!    exactly closed (both ends are the single split point) and C2 across the seam ([`unrotate`]).
+//!    exactly closed (both ends are the single split point) and C^{p−1} across the seam, as the
+//!    original ([`unrotate`]).
 //! 6. **Verification.** The max deviation from the original is measured on the 2000 arc-length
 //!    samples of the original that [`crate::measure`] uses, each projected on the result by
 //!    safeguarded Newton within one mean knot span of its own parameter (the result keeps the
@@ -55,10 +58,8 @@
 //! the original, blended: 1.03× over six seeds (the held seam: 1.62×).
 //!
 //! **Fallback.** If the seam is not smooth enough for the removal (a corner, a curvature jump, or
-//! a G2 seam whose parametric speed jumps), if pass 2 fails, if the band cannot be held, or if the
-//! curve's degree is above 3 (pass 1's held seam is only C2 there, the original's C^{p−1}: they
-//! re-seam to different knots), the pass-1 result is returned with [`Seam::Held`] and the reason —
-//! never silently.
+//! a G2 seam whose parametric speed jumps), if pass 2 fails, or if the band cannot be held, the
+//! pass-1 result is returned with [`Seam::Held`] and the reason — never silently.
 //!
 //! **Regions.** A user region `[u1, u2]` with `u1 < u2` is one pass, as for an open curve: if it
 //! reaches the seam (`u1 = a` or `u2 = b`), the seam acts as a G2 region end — the faired stretch
@@ -100,7 +101,7 @@ pub enum Seam {
     /// keeps the original's shape there. The text says why.
     Held(String),
     /// A closed curve faired across the seam by re-seaming (module docs): every control point
-    /// moved as needed, C2 across the seam (C1 for a quadratic).
+    /// moved as needed, C^{p−1} across the seam like the original (C2 for a cubic, C1 for a quadratic).
     Faired,
 }
 
@@ -459,24 +460,17 @@ pub fn fair_closed(curve: &BSplineCurve, opts: FairingOptions) -> Result<Fairing
         ends: EndCondition::G2,
         ..opts
     };
-    let mut s1 = FairingSetup::new(&input, o1)?;
+    // Pass 1 holds p control points at each end (three for a cubic or a quadratic, as G2 ends do):
+    // the seam of a degree-p closed curve is C^{p−1}, and only a pass that keeps its first and last p
+    // points keeps it so; pass 1 then re-seams to the same knots as the original (step 4). Holding
+    // only three (G2) left a quartic's or quintic's seam C2 and the two forms could not be blended.
+    let p = input.degree();
+    let mut s1 = FairingSetup::new_holding(&input, o1, p)?;
     let r1 = s1.fair()?;
     let held = |reason: String| FairingResult {
         seam: Seam::Held(reason),
         ..r1.clone()
     };
-    // Degree ≥ 4: pass 1 holds three control points at each end (G2), so its seam is only C2 while
-    // the original's is C^{p−1}; the two re-seam to different knots and cannot be blended. Re-seaming
-    // both to C2 only was tried: the blend then came out worse next to the seam than the held pass
-    // (quintic closed ellipse, κ error 0.036 / 0.056 in the two windows at the seam vs 0.023 / 0.033
-    // held), so these curves keep the seam held, and say so.
-    let p = input.degree();
-    if p > 3 {
-        return Ok(held(format!(
-            "fairing across the seam is implemented for degree ≤ 3; this degree-{p} curve keeps its seam \
-             (G2, unchanged there)"
-        )));
-    }
     let tol = removal_tolerance(&input);
     // rotation point: the interior knot nearest the arc-length midpoint
     // (to 1e-12: the same table gives the measure's DEV_SAMPLES arc-length samples for the verification)
@@ -513,7 +507,6 @@ pub fn fair_closed(curve: &BSplineCurve, opts: FairingOptions) -> Result<Fairing
     };
     // verification against the original: the measure's samples and closest points
     let l = b - input.domain().0;
-    let p = input.degree();
     let us = table.equal_arc_params(&input, DEV_SAMPLES);
     let qs: Vec<DVec3> = us.iter().map(|&u| input.point(u)).collect();
     // closest points by Newton near the sample's own parameter (the result keeps the parametrization;

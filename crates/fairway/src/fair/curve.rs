@@ -260,13 +260,13 @@ fn validate_tolerance(m: f64) -> Result<()> {
 impl FairingSetup {
     /// Prepare the fairing of `curve` with `opts` (validates everything).
     pub fn new(curve: &BSplineCurve, opts: FairingOptions) -> Result<Self> {
-        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, [opts.ends; 2])
+        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, [opts.ends; 2], 0)
     }
 
     /// As [`Self::new`], with its own end condition at each region end:
     /// `ends[0]` at `u1`, `ends[1]` at `u2` (`opts.ends` is ignored).
     pub fn new_with_ends(curve: &BSplineCurve, opts: FairingOptions, ends: [EndCondition; 2]) -> Result<Self> {
-        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, ends)
+        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, ends, 0)
     }
 
     /// [`Self::new`] with `check_samples` arc-length samples for the band
@@ -277,7 +277,13 @@ impl FairingSetup {
     /// surface engine uses this for its isocurves: it verifies the band itself
     /// on the surface, and the full setup would dominate its cost.
     pub fn with_check_samples(curve: &BSplineCurve, opts: FairingOptions, check_samples: usize) -> Result<Self> {
-        Self::build(curve, opts, check_samples, 1e-6, [opts.ends; 2])
+        Self::build(curve, opts, check_samples, 1e-6, [opts.ends; 2], 0)
+    }
+
+    /// [`Self::new`] holding `hold` control points at each curve end (at least what the end condition
+    /// holds): a closed curve of degree p ≥ 4 keeps its C^{p−1} seam with `hold = p`.
+    pub(crate) fn new_holding(curve: &BSplineCurve, opts: FairingOptions, hold: usize) -> Result<Self> {
+        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, [opts.ends; 2], hold)
     }
 
     fn build(
@@ -286,6 +292,7 @@ impl FairingSetup {
         check_samples: usize,
         arc_accuracy: f64,
         ends: [EndCondition; 2],
+        hold: usize,
     ) -> Result<Self> {
         let check_samples = if check_samples == 0 { 0 } else { check_samples.max(2) };
         validate_tolerance(opts.tolerance)?;
@@ -344,6 +351,7 @@ impl FairingSetup {
                 EndCondition::G1 => 2,
                 EndCondition::G0 => 1,
             }
+            .max(hold)
             .min(n)
         };
         let (keep_start, keep_end) = (keep(ends[0]), keep(ends[1]));
