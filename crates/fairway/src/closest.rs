@@ -76,12 +76,95 @@ impl<'a> CurveProjector<'a> {
             if i == usize::MAX {
                 continue;
             }
-            let a = self.params[i.saturating_sub(1)];
-            let b = self.params[(i + 2).min(n - 1)];
-            let r = self.refine(q, a, b, 0.5 * (self.params[i] + self.params[i + 1]));
+            let (j0, j1) = (i.saturating_sub(1), (i + 2).min(n - 1));
+            let (a, b) = (self.params[j0], self.params[j1]);
+            let mut r = if self.smooth_window(j0, j1) {
+                self.refine(q, a, b, 0.5 * (self.params[i] + self.params[i + 1]))
+            } else {
+                self.refine_nonsmooth(q, a, b)
+            };
+            // The curve is within `chord + gap` of q (the segment's distance, plus how far the curve strays
+            // from the segment, estimated at the middle parameter); a refinement above that landed on another, worse
+            // local minimum (a feature the polyline does not resolve, a stationary stretch): search the
+            // window without assumptions
+            let chord = seg_dist2(self.pts[i], self.pts[i + 1], q).sqrt();
+            let mid = self.curve.point(0.5 * (self.params[i] + self.params[i + 1]));
+            let gap = seg_dist2(self.pts[i], self.pts[i + 1], mid).sqrt();
+            if r.distance > chord + 2.0 * gap + 1e-12 * self.pts[i].distance(self.pts[i + 1]) {
+                let s = self.refine_nonsmooth(q, a, b);
+                if s.distance < r.distance {
+                    r = s;
+                }
+            }
             if r.distance < best.distance {
                 best = r;
             }
+        }
+        best
+    }
+
+    /// Whether the polyline turns gently over points `j0..=j1` (no zero-length segment, no turn above
+    /// ~25°): then the distance has one minimum there at most and `f = c'·(c − q)` is continuous, so
+    /// the bracketed Newton of [`Self::refine`] finds it. A corner (a C0 knot), a cusp or a stretch
+    /// traversed back and forth fails this test and goes to [`Self::refine_nonsmooth`].
+    fn smooth_window(&self, j0: usize, j1: usize) -> bool {
+        let seg = |j: usize| self.pts[j + 1] - self.pts[j];
+        (j0..j1).all(|j| seg(j).length_squared() > 0.0)
+            && (j0..j1.saturating_sub(1)).all(|j| {
+                let (u, v) = (seg(j), seg(j + 1));
+                u.dot(v) > 0.9 * (u.length() * v.length())
+            })
+    }
+
+    /// Minimise |c(t) − q| over `[a, b]` without assuming smoothness. The window is split at the knots
+    /// inside it (the curve is a polynomial between knots, so `f = c'·(c − q)` is continuous there,
+    /// while at a C0 knot it jumps); on each piece `f` is sampled on a grid of [`NONSMOOTH_GRID`]
+    /// intervals (the piece's right end from the left), every sign change − → + is refined by the
+    /// bracketed Newton of [`Self::bracketed`], and the grid points and piece ends are candidates too.
+    /// Every candidate is a point of the curve, so the result bounds the true distance from above.
+    fn refine_nonsmooth(&self, q: DVec3, a: f64, b: f64) -> ClosestPoint {
+        const G: usize = NONSMOOTH_GRID;
+        let mut best = self.at(a, q);
+        let end = self.at(b, q);
+        if end.distance < best.distance {
+            best = end;
+        }
+        let kv = self.curve.knots().values();
+        let inner = kv.iter().copied().filter(|&k| k > a && k < b);
+        let mut x = a;
+        for y in inner.chain(std::iter::once(b)) {
+            if y <= x {
+                continue;
+            }
+            let mut prev: Option<(f64, f64)> = None;
+            for k in 0..=G {
+                // the right end from the left: a point just inside the piece
+                let t = if k == G {
+                    y - (y - x) * 1e-9
+                } else {
+                    x + (y - x) * k as f64 / G as f64
+                };
+                let (ft, _, pt) = self.f(t, q);
+                let dt = pt.distance(q);
+                if dt < best.distance {
+                    best = ClosestPoint {
+                        param: t,
+                        point: pt,
+                        distance: dt,
+                    };
+                }
+                if let Some((tp, fp)) = prev
+                    && fp < 0.0
+                    && ft > 0.0
+                {
+                    let r = self.bracketed(q, tp, t, 0.5 * (tp + t));
+                    if r.distance < best.distance {
+                        best = r;
+                    }
+                }
+                prev = Some((t, ft));
+            }
+            x = y;
         }
         best
     }
@@ -132,6 +215,13 @@ impl<'a> CurveProjector<'a> {
             let g = self.at(t0, q);
             return if g.distance < best.distance { g } else { best };
         }
+        let g = self.bracketed(q, a, b, t0);
+        if g.distance < best.distance { g } else { best }
+    }
+
+    /// Safeguarded Newton on `f = c'·(c − q)` in `[a, b]`, `f(a) < 0 < f(b)`, started at `t0`
+    /// (bisection whenever Newton leaves the bracket).
+    fn bracketed(&self, q: DVec3, a: f64, b: f64, t0: f64) -> ClosestPoint {
         let (mut lo, mut hi) = (a, b);
         let mut t = t0.clamp(a, b);
         for _ in 0..100 {
@@ -154,10 +244,12 @@ impl<'a> CurveProjector<'a> {
                 break;
             }
         }
-        let g = self.at(t, q);
-        if g.distance < best.distance { g } else { best }
+        self.at(t, q)
     }
 }
+
+/// Grid intervals of [`CurveProjector::refine_nonsmooth`].
+const NONSMOOTH_GRID: usize = 8;
 
 #[inline]
 fn seg_dist2(a: DVec3, b: DVec3, q: DVec3) -> f64 {

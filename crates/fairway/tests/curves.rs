@@ -437,3 +437,80 @@ proptest! {
         }
     }
 }
+
+/// Brute-force distance from `q` to `c`: `n` uniform parameters, then a ternary search between the
+/// best one's neighbours (a point of the curve: an upper bound that is tight when `n` resolves it).
+fn brute_distance(c: &BSplineCurve, q: DVec3, n: usize) -> f64 {
+    let (a, b) = c.domain();
+    let at = |k: usize| a + (b - a) * k as f64 / n as f64;
+    let k = (0..=n)
+        .min_by(|&i, &j| c.point(at(i)).distance(q).total_cmp(&c.point(at(j)).distance(q)))
+        .unwrap();
+    let (mut lo, mut hi) = (at(k.saturating_sub(1)), at((k + 1).min(n)));
+    for _ in 0..80 {
+        let (m1, m2) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
+        if c.point(m1).distance(q) < c.point(m2).distance(q) {
+            hi = m2;
+        } else {
+            lo = m1;
+        }
+    }
+    c.point(0.5 * (lo + hi)).distance(q).min(c.point(at(k)).distance(q))
+}
+
+/// Regression (probe campaign, issue 4): the projector behind `measure`'s `dev_max` refined each
+/// candidate with a Newton bracket over three polyline segments, which at a C0 corner (a knot of
+/// multiplicity p, where `c'·(c − q)` jumps) converged onto the corner or another local minimum, and
+/// at a stationary stretch (coincident control points: `c' = 0`, no bracket) returned the segment
+/// midpoint: `fairway measure` reported up to 100× the true distance (e.g. 5.0e-2 for 4.4e-4).
+#[test]
+fn closest_point_at_corners_and_stationary_stretches_matches_brute_force() {
+    // a cubic with a C0 corner at u = 0.5 whose legs have very different speeds
+    let k: Vec<f64> = [0.0; 4]
+        .into_iter()
+        .chain((1..8).map(|i| i as f64 / 8.0))
+        .chain([1.0; 4])
+        .collect();
+    let pts: Vec<DVec3> = (0..11)
+        .map(|i| DVec3::new(i as f64 * 0.3, 0.2 * ((i * 5) % 3) as f64, 0.0))
+        .collect();
+    let smooth = BSplineCurve::try_new(3, k, pts, None, 2).unwrap();
+    let kinked = smooth.insert_knot(0.5, 2).unwrap();
+    let mut pts = kinked.points().to_vec();
+    let corner = kinked.knots().values().partition_point(|&x| x <= 0.5) - 1 - 3;
+    pts[corner] += DVec3::new(1.5, -0.8, 0.0);
+    pts[corner + 1] = pts[corner] + (pts[corner + 1] - pts[corner]) * 0.05;
+    let kinked = kinked.with_points(pts).unwrap();
+    // a quadratic line with three coincident control points (a span of zero speed) and a reversal
+    let lk: Vec<f64> = [0.0; 3]
+        .into_iter()
+        .chain((1..9).map(|i| i as f64 / 9.0))
+        .chain([1.0; 3])
+        .collect();
+    let mut lp: Vec<DVec3> = (0..11)
+        .map(|i| DVec3::new(i as f64 * 0.1, 0.05 * i as f64, 0.0))
+        .collect();
+    lp[3] = lp[2];
+    lp[4] = lp[2];
+    lp[7] = lp[5];
+    let line = BSplineCurve::try_new(2, lk, lp, None, 2).unwrap();
+    for c in [&kinked, &line] {
+        let proj = CurveProjector::new(c, 16);
+        let mut worst: f64 = 0.0;
+        for i in 0..=150 {
+            let u = i as f64 / 150.0;
+            let d = c.derivs(u);
+            let n = DVec3::new(-d.d1.y, d.d1.x, 0.0).normalize_or_zero();
+            for off in [0.0, 3e-4, -3e-4, 2e-2] {
+                let q = d.p + n * off;
+                let got = proj.project(q).distance;
+                let want = brute_distance(c, q, 2000);
+                worst = worst.max(got - want);
+            }
+        }
+        assert!(
+            worst <= 1e-12,
+            "the projector is {worst:e} above the brute-force distance"
+        );
+    }
+}
