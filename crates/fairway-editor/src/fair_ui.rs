@@ -132,7 +132,7 @@ impl App {
                 }
                 match &p.result.seam {
                     Seam::Faired if self.fairing.across_seam() => {
-                        ui.weak("closed curve: region faired through the seam (C2 there)")
+                        ui.weak("closed curve: region faired through the seam (as smooth there as the original)")
                             .on_hover_text(
                                 "The region runs across the seam: the core fairs it on the curve re-seamed in the \
                              middle of the untouched rest and maps the result back onto the original knots. On \
@@ -140,7 +140,11 @@ impl App {
                             );
                     }
                     Seam::Faired => {
-                        ui.weak("closed curve: faired across the seam (C2)");
+                        ui.weak("closed curve: faired across the seam (as smooth there as the original)")
+                            .on_hover_text(
+                                "Two passes, the second on the curve re-seamed exactly opposite the seam, blended \
+                                 and mapped back onto the original knots: C^(p-1) across the seam (C2 for a cubic)",
+                            );
                     }
                     Seam::Held(why) => {
                         ui.weak("closed curve: seam held (G2, unchanged there)")
