@@ -415,3 +415,60 @@ fn fair_closed_curve_across_the_seam() {
     }
     assert!(fairway::measure::measure(&c, &f).dev_max <= 0.005);
 }
+
+/// `--polish-iterations` caps the E polish: the same trajectory run longer, so the paper's E never
+/// rises with more iterations (and drops from none to the default on a noisy profile); every result
+/// keeps the band; a negative count is a usage error.
+#[test]
+fn polish_iterations_trade_time_for_a_lower_energy() {
+    let dir = temp_dir("polish");
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/car_roof.json");
+    let m = 0.005;
+    let energy = |n: &str| {
+        let (out, rep) = (dir.join(format!("out{n}.json")), dir.join(format!("rep{n}.json")));
+        ok(&fairway(&[
+            "fair",
+            s(&input),
+            "--tolerance",
+            &m.to_string(),
+            "--polish-iterations",
+            n,
+            "-o",
+            s(&out),
+            "--report",
+            s(&rep),
+        ]));
+        let dev = fairway::measure::measure(&curve(&input), &curve(&out)).dev_max;
+        assert!(dev <= m, "{n} iterations: dev_max {dev}");
+        json_file(&rep)["energy"].as_f64().unwrap()
+    };
+    let (e0, e8, e24) = (energy("0"), energy("8"), energy("24"));
+    assert!(
+        e8 < e0 && e24 <= e8,
+        "E with 0 / 8 / 24 polish iterations: {e0} / {e8} / {e24}"
+    );
+    // the default is 8 iterations
+    let (out, rep) = (dir.join("default.json"), dir.join("default_rep.json"));
+    ok(&fairway(&[
+        "fair",
+        s(&input),
+        "--tolerance",
+        &m.to_string(),
+        "-o",
+        s(&out),
+        "--report",
+        s(&rep),
+    ]));
+    assert_eq!(json_file(&rep)["energy"].as_f64().unwrap(), e8);
+    let bad = fairway(&[
+        "fair",
+        s(&input),
+        "--tolerance",
+        "0.005",
+        "--polish-iterations",
+        "-1",
+        "-o",
+        s(&out),
+    ]);
+    assert!(!bad.status.success());
+}
