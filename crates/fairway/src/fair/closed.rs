@@ -351,13 +351,17 @@ pub fn setup_across_seam_with_ends(
             ))
         })?
         .0;
-    let setup = FairingSetup::new_with_ends(
+    // the band is verified on the original's arc-length samples (measure's): on the rotated curve, which
+    // starts at `at`, they sit at −s(at) modulo their spacing
+    let phase = -ArcLengthTable::new(&input, 1e-12).length_at(&input, at);
+    let setup = FairingSetup::new_with_ends_phase(
         &rot,
         FairingOptions {
             region: Some((u1, u2 + (b - a))),
             ..opts
         },
         ends,
+        phase,
     )
     .map_err(|e| {
         Error::InvalidInput(format!(

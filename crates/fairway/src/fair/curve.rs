@@ -265,13 +265,27 @@ fn validate_tolerance(m: f64) -> Result<()> {
 impl FairingSetup {
     /// Prepare the fairing of `curve` with `opts` (validates everything).
     pub fn new(curve: &BSplineCurve, opts: FairingOptions) -> Result<Self> {
-        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, [opts.ends; 2], 0)
+        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, [opts.ends; 2], 0, 0.0)
     }
 
     /// As [`Self::new`], with its own end condition at each region end:
     /// `ends[0]` at `u1`, `ends[1]` at `u2` (`opts.ends` is ignored).
     pub fn new_with_ends(curve: &BSplineCurve, opts: FairingOptions, ends: [EndCondition; 2]) -> Result<Self> {
-        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, ends, 0)
+        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, ends, 0, 0.0)
+    }
+
+    /// [`Self::new_with_ends`] with the [`CHECK_SAMPLES`] check samples shifted by `phase` (arc length,
+    /// taken modulo their spacing) along the curve: the samples at `phase + k·L/(CHECK_SAMPLES − 1)`. The
+    /// setup of a region across the seam ([`super::closed::setup_across_seam`]) works on the curve
+    /// rotated to start elsewhere; with the rotation's phase its band is verified on the original's own
+    /// arc-length samples, the ones `measure` projects.
+    pub(crate) fn new_with_ends_phase(
+        curve: &BSplineCurve,
+        opts: FairingOptions,
+        ends: [EndCondition; 2],
+        phase: f64,
+    ) -> Result<Self> {
+        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, ends, 0, phase)
     }
 
     /// [`Self::new`] with `check_samples` arc-length samples for the band
@@ -282,13 +296,13 @@ impl FairingSetup {
     /// surface engine uses this for its isocurves: it verifies the band itself
     /// on the surface, and the full setup would dominate its cost.
     pub fn with_check_samples(curve: &BSplineCurve, opts: FairingOptions, check_samples: usize) -> Result<Self> {
-        Self::build(curve, opts, check_samples, 1e-6, [opts.ends; 2], 0)
+        Self::build(curve, opts, check_samples, 1e-6, [opts.ends; 2], 0, 0.0)
     }
 
     /// [`Self::new`] holding `hold` control points at each curve end (at least what the end condition
     /// holds): a closed curve of degree p ≥ 4 keeps its C^{p−1} seam with `hold = p`.
     pub(crate) fn new_holding(curve: &BSplineCurve, opts: FairingOptions, hold: usize) -> Result<Self> {
-        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, [opts.ends; 2], hold)
+        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, [opts.ends; 2], hold, 0.0)
     }
 
     fn build(
@@ -298,6 +312,7 @@ impl FairingSetup {
         arc_accuracy: f64,
         ends: [EndCondition; 2],
         hold: usize,
+        check_phase: f64,
     ) -> Result<Self> {
         let check_samples = if check_samples == 0 { 0 } else { check_samples.max(2) };
         validate_tolerance(opts.tolerance)?;
@@ -598,10 +613,24 @@ impl FairingSetup {
             s.chk_h = (d1 - d0) / check_samples as f64 * 4.0;
             let total = table.length();
             let step = total / (check_samples - 1) as f64;
-            let k0 = ((s_a / step).floor() as usize).saturating_sub(1);
-            let k1 = ((s_b / step).ceil() as usize + 1).min(check_samples - 1);
+            // samples at phase + k·step (phase 0: k·step, the ends included)
+            let phase = if check_phase.is_finite() {
+                check_phase.rem_euclid(step)
+            } else {
+                0.0
+            };
+            let k0 = (((s_a - phase) / step).floor().max(0.0) as usize).saturating_sub(1);
+            let last = if phase > 0.0 {
+                ((total - phase) / step).floor().max(0.0) as usize
+            } else {
+                check_samples - 1
+            };
+            let k1 = (((s_b - phase) / step).ceil().max(0.0) as usize + 1)
+                .min(last)
+                .max(k0 + 1);
             let mut v = Vec::with_capacity(k1 + 1 - k0);
-            table.equal_arc_params_between(&work, k0 as f64 * step, k1 as f64 * step, k1 + 1 - k0, &mut v);
+            let (s0, s1) = (phase + k0 as f64 * step, (phase + k1 as f64 * step).min(total));
+            table.equal_arc_params_between(&work, s0, s1, k1 + 1 - k0, &mut v);
             v
         };
         for u in all {
