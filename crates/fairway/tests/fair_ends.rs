@@ -80,3 +80,69 @@ fn same_ends_match_new() {
         .unwrap();
     assert_eq!(a.curve, b.curve);
 }
+
+/// Curvature vector of `c` at `u` from the left (`left`) or the right: the derivatives of the span
+/// that ends / starts at `u` (the left limit through the reversed curve, whose d1 and d2 are those of
+/// c with d1 negated: the curvature vector is the same).
+fn kappa_side(c: &BSplineCurve, u: f64, left: bool) -> fairway::DVec3 {
+    let (a, b) = c.domain();
+    if left {
+        c.reversed().derivs(a + b - u).curvature_vector()
+    } else {
+        c.derivs(u).curvature_vector()
+    }
+}
+
+/// Regression (probe campaign, issue 4): a quadratic is only C1 at its knots, so at a G2 region end
+/// the curvature on the faired side depended on the first free control point, which moved freely: a
+/// quadratic with a straight stretch ending at the join (κ = 0 on both sides, G2) got κ = 0.19 on the
+/// faired side (a 50 % jump). The first / last free point now moves along the join's tangent only,
+/// which keeps the faired side's curvature at each join equal to the original's there: G2 where the
+/// original is G2, and in general no curvature jump the original did not have.
+#[test]
+fn quadratic_keeps_the_curvature_at_its_g2_joins() {
+    let n = 24;
+    let inner = n - 3;
+    let mut knots = vec![0.0; 3];
+    knots.extend((1..=inner).map(|k| k as f64 / (inner + 1) as f64));
+    knots.extend([1.0; 3]);
+    // noisy arc, with a straight stretch over control points 4..=11 (κ ≡ 0 on the spans they alone define)
+    let mut pts: Vec<DVec2> = (0..n)
+        .map(|i| {
+            let t = i as f64 / (n - 1) as f64;
+            DVec2::new(2.0 * t, 0.4 * (3.0 * t).sin() + if i % 2 == 0 { 0.004 } else { -0.004 })
+        })
+        .collect();
+    for i in 4..=11 {
+        let t = (i - 4) as f64 / 7.0;
+        pts[i] = pts[4].lerp(pts[11], t);
+    }
+    let c = BSplineCurve::new_2d(2, knots.clone(), &pts).unwrap();
+    // span [t_j, t_(j+1)] is defined by P_(j−2..=j): straight up to t_12, and the region starts at t_11,
+    // where the original is G2 (κ = 0 on both sides); it ends in the arc
+    let (u1, u2) = (knots[11], 0.8);
+    assert!(kappa_side(&c, u1, true).length() < 1e-12 && kappa_side(&c, u1, false).length() < 1e-12);
+    let opts = FairingOptions {
+        region: Some((u1, u2)),
+        tolerance: 0.01,
+        ..Default::default()
+    };
+    let mut s = FairingSetup::new_with_ends(&c, opts, [EndCondition::G2; 2]).unwrap();
+    let f = s.fair().unwrap().curve;
+    assert!(
+        f.points().iter().zip(c.points()).any(|(a, b)| a.distance(*b) > 1e-4),
+        "the region was faired"
+    );
+    let (a, b) = s.moving_range();
+    for (u, inside_left) in [(a, false), (b, true)] {
+        // the faired side keeps the original's curvature at the join…
+        let (kf, kc) = (kappa_side(&f, u, inside_left), kappa_side(&c, u, inside_left));
+        assert!(kf.distance(kc) <= 1e-9 * kc.length().max(1.0), "at {u}: {kf} vs {kc}");
+        // …and the untouched side is the original
+        assert!(kappa_side(&f, u, !inside_left).distance(kappa_side(&c, u, !inside_left)) <= 1e-12);
+    }
+    // at the straight join that is G2: κ = 0 on both sides
+    assert!(a <= u1 + 1e-15 && kappa_side(&f, a, false).length() < 1e-9);
+    let dev = deviations(&c, &f, 2000).into_iter().fold(0.0, f64::max);
+    assert!(dev <= 0.01, "{dev}");
+}

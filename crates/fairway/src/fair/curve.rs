@@ -12,7 +12,10 @@
 //!    exactly the points whose change leaves the curve outside the region
 //!    unchanged, and since the knot vector is kept, the faired stretch meets
 //!    its neighbours with the curve's own continuity at `u1`, `u2` (C2 for a
-//!    cubic with simple knots, hence **G2**). End options:
+//!    cubic with simple knots, hence **G2**). A quadratic is only C1 at its
+//!    knots: at a G2 join its first / last free point moves along the join's
+//!    tangent only, which keeps the faired side's curvature there equal to the
+//!    original's (G2 wherever the original is G2). End options:
 //!    * `G1` / `G0` at an interior region end: the end is first inserted as a
 //!      knot up to multiplicity `p − 1` / `p` (Boehm, the curve is unchanged),
 //!      which frees one / two more control points and leaves C1 / C0 at the
@@ -240,6 +243,9 @@ pub struct FairingSetup {
     /// The check sample of the last band violation: the next scan starts there (a violated band is
     /// usually violated at the same place again, and a check stops at the first violation it finds).
     scan_from: usize,
+    /// Quadratic with a G2 join at the start / end of the moving stretch: the unit tangent there, along
+    /// which alone the first / last free point may move ([`Self::keep_end_curvature`]).
+    quad_g2: [Option<DVec3>; 2],
 }
 
 /// Smallest fairness weight μ tried (see the module docs, step 6).
@@ -484,6 +490,7 @@ impl FairingSetup {
             pad: Vec::new(),
             seam: Seam::Open,
             scan_from: 0,
+            quad_g2: [None; 2],
         };
         s.seam = if !super::closed::is_closed_curve(&s.input) {
             Seam::Open
@@ -573,6 +580,16 @@ impl FairingSetup {
             s.speed.push(v);
             s.dspeed.push(d.d1.dot(d.d2) / v);
             kappa.push(kap);
+        }
+        // A quadratic is only C1 at its knots: at a join with the untouched curve the right-hand c'' (hence
+        // κ) depends on the first free point. Moving it along the tangent only keeps the join's curvature,
+        // the original's, on the faired side too (G2 where the original is G2 there).
+        if p == 2 {
+            for (e, (interior, e_cond)) in [(!at_start, ends[0]), (!at_end, ends[1])].into_iter().enumerate() {
+                if interior && e_cond == EndCondition::G2 {
+                    s.quad_g2[e] = Some(s.tangents[if e == 0 { 0 } else { ns - 1 }]);
+                }
+            }
         }
         // normal matrices
         for k in 0..ns {
@@ -985,7 +1002,7 @@ impl FairingSetup {
                 }
                 let mut step = b;
                 m.solve_in_place(&mut step);
-                let full: Vec<DVec3> = (0..self.nf)
+                let mut full: Vec<DVec3> = (0..self.nf)
                     .map(|j| {
                         let mut d = DVec3::ZERO;
                         for c in 0..dim {
@@ -994,6 +1011,7 @@ impl FairingSetup {
                         d
                     })
                     .collect();
+                self.keep_end_curvature(&mut full);
                 // backtracking on the step length: the longest of 1, 1/2, … that lowers E inside the band
                 let mut found = None;
                 let mut alpha = 1.0;
@@ -1284,7 +1302,22 @@ impl FairingSetup {
             ))
         })?;
         self.m.solve_in_place(&mut self.sol);
+        let mut sol = std::mem::take(&mut self.sol);
+        self.keep_end_curvature(&mut sol);
+        self.sol = sol;
         Ok(())
+    }
+
+    /// Quadratic G2 joins (`quad_g2`): the first / last free point's update reduced to its component
+    /// along the join's tangent T. A quadratic's c'' on the span at the join is affine in that point
+    /// alone (the others are held), so c''⊥, and with c' held the curvature vector, stays the original's.
+    fn keep_end_curvature(&self, d: &mut [DVec3]) {
+        for (e, t) in self.quad_g2.iter().enumerate() {
+            if let (Some(t), Some(last)) = (t, d.len().checked_sub(1)) {
+                let i = if e == 0 { 0 } else { last };
+                d[i] = *t * d[i].dot(*t);
+            }
+        }
     }
 
     /// Upper bound of the max over the check samples of the distance from the
