@@ -8,7 +8,7 @@ use fairway::DVec2;
 use fairway::fair::{EndCondition, Integrator, Seam, TargetMethod};
 
 use crate::canvas::colors;
-use crate::fairing::{Preview, default_strength};
+use crate::fairing::{MAX_POLISH, Preview, default_strength};
 use crate::region;
 use crate::{App, Command};
 
@@ -277,6 +277,12 @@ impl App {
                         .on_hover_text(tip);
                 }
             });
+            ui.add(egui::Slider::new(&mut self.prefs.fair.polish_iterations, 0..=MAX_POLISH).text("E polish"))
+                .on_hover_text(
+                    "Gauss–Newton iterations of the E polish after the band search (full fair; a draft \
+                     skips it): more lower the paper's E further inside the band at about 0.2 ms each for \
+                     100 control points; a lower E is not always fewer curvature extrema",
+                );
         });
         ui.add_space(4.0);
         ui.strong("Compare");

@@ -25,6 +25,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::Sampled;
 
+/// The largest E polish iteration count the editor offers (and accepts from stored settings).
+pub const MAX_POLISH: usize = 64;
+
 /// Fairing options chosen in the editor (persisted with the settings).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
@@ -37,6 +40,8 @@ pub struct FairOptions {
     pub strength: Option<usize>,
     /// Integration scheme.
     pub integrator: Integrator,
+    /// Gauss–Newton iterations of the core's E polish in a full fair (drafts skip the polish).
+    pub polish_iterations: usize,
 }
 
 impl Default for FairOptions {
@@ -47,6 +52,7 @@ impl Default for FairOptions {
             method: d.target,
             strength: None,
             integrator: d.integrator,
+            polish_iterations: d.polish_iterations,
         }
     }
 }
@@ -334,6 +340,7 @@ impl Fairing {
 /// hand-edited target does not fit the samples (then it is ignored).
 fn prepare(setup: &mut FairingSetup, rk: &RunKey) -> bool {
     setup.set_integrator(rk.opts.integrator);
+    setup.set_polish_iterations(rk.opts.polish_iterations);
     let t: &mut Target = setup.target_mut();
     t.reset();
     let n = t.len();

@@ -333,6 +333,7 @@ impl App {
         };
         // the slider's range is 0..=4n; a huge stored strength would stall the Average method
         prefs.fair.strength = prefs.fair.strength.map(|n| n.min(100_000));
+        prefs.fair.polish_iterations = prefs.fair.polish_iterations.min(fairing::MAX_POLISH);
         let recent = std::mem::take(&mut self.prefs.recent);
         self.prefs = prefs;
         for r in recent.into_iter().rev() {

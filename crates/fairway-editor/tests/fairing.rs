@@ -124,3 +124,32 @@ fn closed_curve_is_faired_across_the_seam() {
     );
     h.get_by_label_contains("seam held");
 }
+
+/// The "E polish" slider (Fairing ▸ Advanced) sets the core's polish cap for the full fair: the same
+/// trajectory run longer, so the paper's E of the preview never rises with more iterations and drops
+/// from none to the default; the band holds each time.
+#[test]
+fn e_polish_slider_caps_the_polish_of_the_full_fair() {
+    let mut h = harness(App::default());
+    h.get_by_role_and_label(Role::Button, "Whole curve").click();
+    h.run();
+    let m = h.state().view.diag * 2e-3;
+    h.get_by_role_and_label(Role::Slider, "Tolerance")
+        .set_value_accesskit(m);
+    h.run();
+    h.get_by_label("Advanced").click();
+    h.run();
+    let mut energy = |n: usize| {
+        h.get_by_role_and_label(Role::Slider, "E polish")
+            .set_value_accesskit(n as f64);
+        h.run();
+        assert_eq!(h.state().prefs.fair.polish_iterations, n);
+        let m = h.state().doc.settings.tolerance.expect("tolerance");
+        let p = h.state().preview().expect("a faired preview").clone();
+        assert!(!p.draft);
+        assert!(p.result.max_deviation <= m * (1.0 + 1e-9));
+        p.result.energy
+    };
+    let (e0, e8, e24) = (energy(0), energy(8), energy(24));
+    assert!(e8 < e0 && e24 <= e8, "E with 0 / 8 / 24 polish iterations: {e0} / {e8} / {e24}");
+}
