@@ -151,5 +151,8 @@ fn e_polish_slider_caps_the_polish_of_the_full_fair() {
         p.result.energy
     };
     let (e0, e8, e24) = (energy(0), energy(8), energy(24));
-    assert!(e8 < e0 && e24 <= e8, "E with 0 / 8 / 24 polish iterations: {e0} / {e8} / {e24}");
+    assert!(
+        e8 < e0 && e24 <= e8,
+        "E with 0 / 8 / 24 polish iterations: {e0} / {e8} / {e24}"
+    );
 }
