@@ -73,7 +73,7 @@
 
 use glam::DVec3;
 
-use super::curve::{EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, project_near};
+use super::curve::{EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, band_accept, project_near};
 use super::target::quintic;
 use crate::arclength::ArcLengthTable;
 use crate::curve::BSplineCurve;
@@ -565,6 +565,7 @@ pub fn fair_closed(curve: &BSplineCurve, opts: FairingOptions) -> Result<Fairing
     let n = rot1.n_points();
     let mut w = vec![1.0; n];
     let mut accepted = None;
+    let accept = band_accept(m, &input);
     for _ in 0..TAPER_ROUNDS {
         let Ok(cand) = build(&w) else {
             return Ok(held(
@@ -573,13 +574,13 @@ pub fn fair_closed(curve: &BSplineCurve, opts: FairingOptions) -> Result<Fairing
         };
         let devs = devs_of(&cand);
         let dmax = devs.iter().fold(0.0f64, |x, &y| x.max(y));
-        if dmax <= m {
+        if dmax <= accept {
             accepted = Some((cand, dmax));
             break;
         }
         // halve the update around every sample out of the band, tapered over TAPER points on each side
         let mut phi = vec![0.0f64; n];
-        for (j, _) in devs.iter().enumerate().filter(|(_, d)| **d > m) {
+        for (j, _) in devs.iter().enumerate().filter(|(_, d)| **d > accept) {
             let ur = if us[j] >= at { us[j] } else { us[j] + l };
             let span = rot1.knots().find_span(ur);
             for i in span - p..=span {

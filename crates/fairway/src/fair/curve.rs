@@ -259,6 +259,17 @@ pub const POLISH_ITERS: usize = 8;
 /// Step factor of the warm-started search around the previous μ.
 pub const MU_WARM_STEP: f64 = 16.0;
 
+/// The deviation the band check accepts for tolerance `m` on `curve`: `m (1 − 1e-9)`, less 16 units of
+/// rounding of the coordinates (`16 ε max|P|`). Distances between points of that magnitude are only known
+/// to a few ulps, and `measure` computes them by another path: far from the origin (coordinates 1e7,
+/// ulp 4e-9) a result verified against m itself measured up to 2e-5·m above it (probe campaign). Below
+/// that rounding (m ≲ 1e-14 max|P|) nothing moves (α = 0: the original).
+pub(crate) fn band_accept(m: f64, curve: &BSplineCurve) -> f64 {
+    let (lo, hi) = curve.control_bounds();
+    let scale = lo.abs().max(hi.abs()).max_element();
+    m * (1.0 - 1e-9) - 16.0 * f64::EPSILON * scale
+}
+
 fn validate_tolerance(m: f64) -> Result<()> {
     if !(m.is_finite() && m > 0.0) {
         return Err(Error::InvalidInput(format!(
@@ -896,7 +907,7 @@ impl FairingSetup {
                 (0.0, 1.0, dev)
             }
             FitMode::Fairway => {
-                let accept = m * (1.0 - 1e-9);
+                let accept = band_accept(m, &self.work);
                 let (mu, alpha, dev) = self.search_mu(accept, &mut solves)?;
                 let dev = if self.opts.polish {
                     self.polish(accept, dev, &mut solves)
