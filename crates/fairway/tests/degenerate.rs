@@ -168,6 +168,20 @@ fn error_table() -> Vec<(&'static str, String, &'static str)> {
             "region [0.5, 0.5001] is too small: no control point of this degree-3 curve has its support inside it (a region must span at least 4 knot spans)",
         ),
         (
+            "region at a curve end whose control points are all held there (a quadratic's first 3 spans)",
+            fair_err(
+                &BSplineCurve::new_2d(
+                    2,
+                    vec![0., 0., 0., 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875, 1., 1., 1.],
+                    &(0..10).map(|i| DVec2::new(i as f64, ((i * 7) % 3) as f64 * 0.3)).collect::<Vec<_>>(),
+                )
+                .unwrap(),
+                opts(0.01, Some((0.0, 0.375))),
+            ),
+            "region [0, 0.375] is too small: it reaches the curve's start, where the first 3 control points are held \
+             (G2 end), and its 3 control point(s) are among them (widen the region, or insert knots to refine the curve)",
+        ),
+        (
             "region not finite",
             fair_err(&w, opts(0.01, Some((f64::NAN, 0.4)))),
             "region [NaN, 0.4] is not finite",

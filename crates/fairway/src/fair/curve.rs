@@ -392,8 +392,9 @@ impl FairingSetup {
             .min(n)
         };
         let (keep_start, keep_end) = (keep(ends[0]), keep(ends[1]));
-        let mut free: Vec<usize> = (0..n)
-            .filter(|&i| kv[i] >= u1 - eps && kv[i + p + 1] <= u2 + eps)
+        let inside = (0..n).filter(|&i| kv[i] >= u1 - eps && kv[i + p + 1] <= u2 + eps);
+        let n_inside = inside.clone().count();
+        let mut free: Vec<usize> = inside
             .filter(|&i| !((at_start && i < keep_start) || (at_end && i >= n - keep_end)))
             .collect();
         free.sort_unstable();
@@ -403,6 +404,20 @@ impl FairingSetup {
                  so fairing needs at least {} (insert knots to refine the curve)",
                 ends[1],
                 keep_start + keep_end + 1
+            )));
+        }
+        if free.is_empty() && n_inside > 0 {
+            // the region has control points of its own, but all are held at the curve end it reaches
+            let (which, k, e) = if at_start {
+                ("start", keep_start, ends[0])
+            } else {
+                ("end", keep_end, ends[1])
+            };
+            let side = if at_start { "first" } else { "last" };
+            return Err(Error::InvalidInput(format!(
+                "region [{u1}, {u2}] is too small: it reaches the curve's {which}, where the {side} {k} control points \
+                 are held ({e:?} end), and its {n_inside} control point(s) are among them (widen the region, or \
+                 insert knots to refine the curve)"
             )));
         }
         if free.is_empty() {
