@@ -35,9 +35,9 @@ impl Rng {
 }
 
 /// What must hold after every action.
-fn check(h: &Harness<'static, App>, seed: u64, step: usize, what: &str) {
+fn check(h: &Harness<'static, App>, file: &str, seed: u64, step: usize, what: &str) {
     let app = h.state();
-    let at = format!("seed {seed}, action {step} ({what})");
+    let at = format!("{file}, seed {seed}, action {step} ({what})");
     for e in [
         app.error.as_deref(),
         app.surface.as_ref().and_then(|s| s.error.as_deref()),
@@ -47,7 +47,19 @@ fn check(h: &Harness<'static, App>, seed: u64, step: usize, what: &str) {
     {
         assert!(!e.contains("internal error"), "{at}: {e}");
     }
-    if app.surface.is_some() {
+    if let Some(s) = &app.surface {
+        if let Some(((u1, u2), (v1, v2))) = s.doc.settings.region_uv {
+            let ((a, b), (c, d)) = s.surface().domain();
+            let inside =
+                |x: f64, lo: f64, hi: f64| x.is_finite() && x >= lo - 1e-9 * (hi - lo) && x <= hi + 1e-9 * (hi - lo);
+            assert!(
+                inside(u1, a, b) && inside(u2, a, b) && inside(v1, c, d) && inside(v2, c, d),
+                "{at}: surface region ({u1}, {u2}) × ({v1}, {v2}) outside the domain"
+            );
+        }
+        if let Some(t) = s.doc.settings.tolerance {
+            assert!(t.is_finite() && t > 0.0, "{at}: tolerance {t}");
+        }
         return;
     }
     let c = app.curve();
@@ -66,15 +78,16 @@ fn check(h: &Harness<'static, App>, seed: u64, step: usize, what: &str) {
     }
 }
 
-fn monkey(seed: u64, actions: usize) {
+fn monkey(file: &str, seed: u64, actions: usize) {
     let dir = std::env::temp_dir().join(format!("fairway-monkey-{}-{seed}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("work.ron");
-    std::fs::copy(asset("car_roof.ron"), &path).unwrap();
-    let doc = fairway::io::load(&path).unwrap();
+    let path = dir.join(file);
+    std::fs::copy(asset(file), &path).unwrap();
+    let mut app = App::default();
+    app.open_now(&path);
     let mut h = Harness::builder()
         .with_size(SIZE)
-        .build_ui_state(|ui, app: &mut App| app.show(ui), App::with_document(doc, Some(path)));
+        .build_ui_state(|ui, app: &mut App| app.show(ui), app);
     h.run_steps(2);
     let mut rng = Rng(seed);
     let keys = [
@@ -167,25 +180,38 @@ fn monkey(seed: u64, actions: usize) {
             }
         };
         h.run_steps(3);
-        check(&h, seed, step, what);
+        check(&h, file, seed, step, what);
     }
     let app = h.state();
-    println!(
-        "seed {seed}: region {:?}, tolerance {:?}, preview {}, dirty {}, error {:?}, surface {}",
-        app.doc.settings.region,
-        app.doc.settings.tolerance,
-        app.preview().is_some(),
-        app.is_dirty(),
-        app.error,
-        app.surface.is_some()
-    );
+    match &app.surface {
+        Some(s) => println!(
+            "{file} seed {seed}: surface region {:?}, tolerance {:?}, dirty {}, error {:?}",
+            s.doc.settings.region_uv,
+            s.doc.settings.tolerance,
+            s.is_dirty(),
+            s.error
+        ),
+        None => println!(
+            "{file} seed {seed}: region {:?}, tolerance {:?}, preview {}, dirty {}, error {:?}",
+            app.doc.settings.region,
+            app.doc.settings.tolerance,
+            app.preview().is_some(),
+            app.is_dirty(),
+            app.error
+        ),
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn random_gestures_keep_the_editor_consistent() {
-    for seed in 1..=2 {
-        monkey(seed, 120);
+    for (file, seed) in [
+        ("car_roof.ron", 1),
+        ("car_roof.ron", 2),
+        ("closed_section.json", 3),
+        ("bumpy_surface.json", 4),
+    ] {
+        monkey(file, seed, 120);
     }
 }
 
@@ -197,6 +223,13 @@ fn random_gestures_long_run() {
         .and_then(|v| v.parse().ok())
         .unwrap_or(20);
     for seed in 100..100 + seeds {
-        monkey(seed, 400);
+        for file in [
+            "car_roof.ron",
+            "closed_section.json",
+            "spatial_curve.json",
+            "bumpy_surface.json",
+        ] {
+            monkey(file, seed, 400);
+        }
     }
 }
