@@ -78,8 +78,19 @@ impl<'a> CurveProjector<'a> {
             }
             let (j0, j1) = (i.saturating_sub(1), (i + 2).min(n - 1));
             let (a, b) = (self.params[j0], self.params[j1]);
-            let mut r = if self.smooth_window(j0, j1) {
-                self.refine(q, a, b, 0.5 * (self.params[i] + self.params[i + 1]))
+            // a smooth window with a bracket (f(a) < 0 < f(b), b's side from the left: a knot there may
+            // start a span of another speed or direction) holds one minimum; otherwise the window may still
+            // hold a minimum between a local maximum and its end, or a corner: no assumptions then
+            let smooth_bracket = self.smooth_window(j0, j1) && {
+                let (fa, _, _) = self.f(a, q);
+                let (fb, _, _) = self.f(b - (b - a) * 1e-9, q);
+                fa < 0.0 && fb > 0.0
+            };
+            let mut r = if smooth_bracket {
+                let g = self.bracketed(q, a, b, 0.5 * (self.params[i] + self.params[i + 1]));
+                [self.at(a, q), self.at(b, q)]
+                    .into_iter()
+                    .fold(g, |x, y| if y.distance < x.distance { y } else { x })
             } else {
                 self.refine_nonsmooth(q, a, b)
             };
