@@ -591,9 +591,26 @@ impl BSplineCurve {
     }
 
     /// The same curve traversed backwards, on the domain reflected as `a + b − u`.
+    ///
+    /// `a + b − k` rounds, and two distinct knots a few ulps apart (a G0 region end inserted next to an
+    /// existing knot) can round to one value, which would merge their multiplicities beyond the degree:
+    /// equal knots stay equal, and a distinct knot that would not come out above its predecessor is
+    /// moved up to the next representable value (an ulp-sized change of the parameter).
     pub fn reversed(&self) -> Self {
         let (a, b) = self.domain();
-        let knots: Vec<f64> = self.knots.values().iter().rev().map(|&k| a + b - k).collect();
+        let src = self.knots.values();
+        let mut knots: Vec<f64> = Vec::with_capacity(src.len());
+        for i in (0..src.len()).rev() {
+            let mut r = a + b - src[i];
+            if let Some(&prev) = knots.last() {
+                if src[i] == src[i + 1] {
+                    r = prev;
+                } else if r <= prev {
+                    r = prev.next_up();
+                }
+            }
+            knots.push(r);
+        }
         let mut points = self.points.clone();
         points.reverse();
         let weights = self.weights.clone().map(|mut w| {

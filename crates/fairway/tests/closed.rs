@@ -759,3 +759,27 @@ fn region_across_the_seam_holds_the_band_on_the_originals_samples() {
     }
     assert!(worst <= 1.0, "measured deviation {worst} × the tolerance");
 }
+
+/// A region across the seam whose G0 ends fall 1e-14 from knots: inserted at those knots (as for an
+/// open curve), so the result has no 1e-14 span and the rotation back finds the same knot vector.
+#[test]
+fn region_across_the_seam_with_g0_ends_next_to_knots() {
+    let c = periodic_ellipse(24, 2e-3, 1);
+    let kv = c.knots().values().to_vec();
+    let (k1, k2) = (kv[3 + 17], kv[3 + 7]);
+    let m = 3e-3;
+    let o = FairingOptions {
+        region: Some((k1 + 1e-14, k2 - 1e-14)),
+        ends: EndCondition::G0,
+        ..opts(m)
+    };
+    let r = fair_closed(&c, o).unwrap();
+    assert_eq!(r.seam, Seam::Faired);
+    let bp = r.curve.knots().breakpoints();
+    assert_eq!(bp.len(), c.knots().breakpoints().len(), "no new breakpoint");
+    assert_eq!(
+        (r.curve.knots().multiplicity(k1), r.curve.knots().multiplicity(k2)),
+        (3, 3)
+    );
+    assert!(dev_max(&c, &r.curve) <= m);
+}

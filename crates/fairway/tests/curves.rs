@@ -632,3 +632,30 @@ fn closest_point_without_a_bracket_in_a_smooth_window() {
         );
     }
 }
+
+/// Regression (probe campaign, issue 4): `reversed` panicked ("reversal keeps validity") on a valid
+/// curve whose knots x (multiplicity p) and the next one an ulp above it round to one value under
+/// a + b − k: the merged multiplicity p + 1 is not a valid knot vector. Faired curves have such knots
+/// when a G0 region end falls next to an existing knot. Equal knots now stay equal and distinct ones
+/// distinct; the reversed curve traces the same points backwards.
+#[test]
+fn reversal_keeps_knots_an_ulp_apart_distinct() {
+    let x = 0.3f64;
+    let y = x.next_up();
+    assert_eq!(1.0 - x, 1.0 - y, "the two knots collide under 1 − k");
+    let k = vec![0.0, 0.0, 0.0, 0.0, 0.1, x, x, x, y, 0.7, 1.0, 1.0, 1.0, 1.0];
+    let pts: Vec<DVec3> = (0..10)
+        .map(|i| DVec3::new(i as f64, ((i * 7) % 3) as f64, 0.0))
+        .collect();
+    let c = BSplineCurve::try_new(3, k, pts, None, 2).unwrap();
+    let r = c.reversed();
+    assert_eq!(r.knots().multiplicity(1.0 - x), 1);
+    assert_eq!(r.knots().multiplicity((1.0 - x).next_up()), 3);
+    // (away from the ulp-long span [x, y] itself, across which the curve jumps within one ulp of u)
+    for i in 0..50 {
+        let u = (i as f64 + 0.5) / 50.0;
+        assert!(c.point(u).distance(r.point(1.0 - u)) <= 1e-12, "u = {u}");
+    }
+    assert!(c.point(0.0).distance(r.point(1.0)) <= 1e-15 && c.point(1.0).distance(r.point(0.0)) <= 1e-15);
+    assert_eq!(r.reversed().points(), c.points());
+}

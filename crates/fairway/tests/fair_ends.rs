@@ -146,3 +146,40 @@ fn quadratic_keeps_the_curvature_at_its_g2_joins() {
     let dev = deviations(&c, &f, 2000).into_iter().fold(0.0, f64::max);
     assert!(dev <= 0.01, "{dev}");
 }
+
+/// Regression (probe campaign, issue 4): a G0 / G1 region end 1e-14 away from an existing knot was
+/// inserted as a knot of its own, leaving a span of length 1e-14 (derivatives ~1e14; its knots then
+/// collided under the reversal's rounding, which panicked). The end is now inserted at that knot (the
+/// free-point test already treated them as one, within 1e-12 of the domain): no new span, the same
+/// joins, the rest of the curve unchanged.
+#[test]
+fn g0_and_g1_ends_next_to_a_knot_are_inserted_at_that_knot() {
+    let c = wiggly();
+    let kv = c.knots().values().to_vec();
+    let (k1, k2) = (kv[12], kv[26]);
+    let opts = FairingOptions {
+        region: Some((k1 + 1e-14, k2 - 1e-14)),
+        tolerance: 0.002,
+        ..Default::default()
+    };
+    let mut s = FairingSetup::new_with_ends(&c, opts, [EndCondition::G0, EndCondition::G1]).unwrap();
+    let f = s.fair().unwrap().curve;
+    let bp = f.knots().breakpoints();
+    let shortest = bp.windows(2).map(|w| w[1] - w[0]).fold(f64::INFINITY, f64::min);
+    assert!(shortest > 1e-3, "a span of length {shortest:e}");
+    assert_eq!(bp.len(), c.knots().breakpoints().len(), "no new breakpoint");
+    assert_eq!((f.knots().multiplicity(k1), f.knots().multiplicity(k2)), (3, 2));
+    for i in 0..=400 {
+        let u = i as f64 / 400.0;
+        if !(k1..=k2).contains(&u) {
+            assert!((f.point(u) - c.point(u)).length() < 1e-12, "moved at u = {u}");
+        }
+    }
+    assert!(
+        f.points().iter().zip(c.points()).any(|(a, b)| a.distance(*b) > 1e-5),
+        "faired"
+    );
+    let dev = deviations(&c, &f, 2000).into_iter().fold(0.0, f64::max);
+    assert!(dev <= 0.002, "{dev}");
+    let _ = f.reversed();
+}

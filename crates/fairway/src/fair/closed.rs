@@ -73,7 +73,9 @@
 
 use glam::DVec3;
 
-use super::curve::{EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, band_accept, project_near};
+use super::curve::{
+    EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, band_accept, project_near, snap_to_knot,
+};
 use super::target::quintic;
 use crate::arclength::ArcLengthTable;
 use crate::curve::BSplineCurve;
@@ -375,12 +377,15 @@ pub fn setup_across_seam_with_ends(
     let work = setup.working_curve();
     let mut form = input.clone();
     for (u, ur) in [(u1, u1), (u2, u2 + (b - a))] {
+        // the setup inserts at an existing knot within its ε of the end (snap_to_knot): the same here
+        let (eo, er) = (1e-12 * (b - a), 1e-12 * (rot.domain().1 - rot.domain().0));
+        let ur = snap_to_knot(rot.knots().values(), ur, er);
         let extra = work
             .knots()
             .multiplicity(ur)
             .saturating_sub(rot.knots().multiplicity(ur));
         if extra > 0 {
-            form = form.insert_knot(u, extra)?;
+            form = form.insert_knot(snap_to_knot(input.knots().values(), u, eo), extra)?;
         }
     }
     Ok((

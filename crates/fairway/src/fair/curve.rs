@@ -270,6 +270,20 @@ pub(crate) fn band_accept(m: f64, curve: &BSplineCurve) -> f64 {
     m * (1.0 - 1e-9) - 16.0 * f64::EPSILON * scale
 }
 
+/// `u`, or the knot nearest to it if that is within `eps`: a G1 / G0 region end is inserted there rather
+/// than as a second knot `eps` away (the free-point test treats them as one; a span of length 1e-14
+/// would give the result derivatives of 1e14 and knots that collide under rounding).
+pub(crate) fn snap_to_knot(knots: &[f64], u: f64, eps: f64) -> f64 {
+    let i = knots.partition_point(|&k| k < u);
+    [i.checked_sub(1), Some(i)]
+        .into_iter()
+        .flatten()
+        .filter_map(|j| knots.get(j).copied())
+        .filter(|k| (k - u).abs() <= eps)
+        .min_by(|x, y| (x - u).abs().total_cmp(&(y - u).abs()))
+        .unwrap_or(u)
+}
+
 fn validate_tolerance(m: f64) -> Result<()> {
     if !(m.is_finite() && m > 0.0) {
         return Err(Error::InvalidInput(format!(
@@ -374,6 +388,7 @@ impl FairingSetup {
         for (u, interior, e) in [(u1, !at_start, ends[0]), (u2, !at_end, ends[1])] {
             let want = want(e);
             if interior && want > 0 {
+                let u = snap_to_knot(work.knots().values(), u, eps);
                 let have = work.knots().multiplicity(u);
                 if have < want {
                     work = work.insert_knot(u, want - have)?;
