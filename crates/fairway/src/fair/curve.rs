@@ -246,6 +246,9 @@ pub struct FairingSetup {
     /// Quadratic with a G2 join at the start / end of the moving stretch: the unit tangent there, along
     /// which alone the first / last free point may move ([`Self::keep_end_curvature`]).
     quad_g2: [Option<DVec3>; 2],
+    /// The unit normal of the plane of a planar 3D curve (control points within 1e-12 of its size of
+    /// one plane): the update stays in that plane ([`Self::keep_end_curvature`]).
+    plane: Option<DVec3>,
 }
 
 /// Smallest fairness weight μ tried (see the module docs, step 6).
@@ -268,6 +271,24 @@ pub(crate) fn band_accept(m: f64, curve: &BSplineCurve) -> f64 {
     let (lo, hi) = curve.control_bounds();
     let scale = lo.abs().max(hi.abs()).max_element();
     m * (1.0 - 1e-9) - 16.0 * f64::EPSILON * scale
+}
+
+/// The unit normal of the plane holding all `pts` to `1e-12 ×` their bounding-box diagonal, if they
+/// span one (`None` for points on a line or not coplanar). The plane is spanned from the first point
+/// by the farthest point and then the point farthest from that line.
+fn plane_normal(pts: &[DVec3]) -> Option<DVec3> {
+    let o = *pts.first()?;
+    let (lo, hi) = pts.iter().fold((o, o), |(l, h), p| (l.min(*p), h.max(*p)));
+    let size = (hi - lo).length();
+    let far = |f: &dyn Fn(DVec3) -> f64| pts.iter().copied().max_by(|a, b| f(*a).total_cmp(&f(*b)));
+    let p1 = far(&|p| p.distance(o))?;
+    let e1 = (p1 - o).normalize_or_zero();
+    let p2 = far(&|p| (p - o).cross(e1).length())?;
+    let n = e1.cross(p2 - o).normalize_or_zero();
+    if n == DVec3::ZERO || !(size > 0.0) || (p2 - o).cross(e1).length() <= 1e-9 * size {
+        return None;
+    }
+    pts.iter().all(|p| (*p - o).dot(n).abs() <= 1e-12 * size).then_some(n)
 }
 
 /// `u`, or the knot nearest to it if that is within `eps`: a G1 / G0 region end is inserted there rather
@@ -532,6 +553,7 @@ impl FairingSetup {
             seam: Seam::Open,
             scan_from: 0,
             quad_g2: [None; 2],
+            plane: None,
         };
         s.seam = if !super::closed::is_closed_curve(&s.input) {
             Seam::Open
@@ -621,6 +643,9 @@ impl FairingSetup {
             s.speed.push(v);
             s.dspeed.push(d.d1.dot(d.d2) / v);
             kappa.push(kap);
+        }
+        if dim == 3 {
+            s.plane = plane_normal(work.points());
         }
         // A quadratic is only C1 at its knots: at a join with the untouched curve the right-hand c'' (hence
         // κ) depends on the first free point. Moving it along the tangent only keeps the join's curvature,
@@ -1349,10 +1374,18 @@ impl FairingSetup {
         Ok(())
     }
 
-    /// Quadratic G2 joins (`quad_g2`): the first / last free point's update reduced to its component
-    /// along the join's tangent T. A quadratic's c'' on the span at the join is affine in that point
-    /// alone (the others are held), so c''⊥, and with c' held the curvature vector, stays the original's.
+    /// Constraints on an update: a planar 3D curve's update projected onto its plane (the fit solves
+    /// each coordinate alone, and at a large fairness weight its rounding, amplified by the condition
+    /// number, moved a planar curve out of its plane by up to 1e-6 of its size); then the quadratic
+    /// G2 joins (`quad_g2`): the first / last free point's update reduced to its component along the
+    /// join's tangent T. A quadratic's c'' on the span at the join is affine in that point alone (the
+    /// others are held), so c''⊥, and with c' held the curvature vector, stays the original's.
     fn keep_end_curvature(&self, d: &mut [DVec3]) {
+        if let Some(n) = self.plane {
+            for x in d.iter_mut() {
+                *x -= n * x.dot(n);
+            }
+        }
         for (e, t) in self.quad_g2.iter().enumerate() {
             if let (Some(t), Some(last)) = (t, d.len().checked_sub(1)) {
                 let i = if e == 0 { 0 } else { last };
