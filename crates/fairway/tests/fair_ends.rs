@@ -145,6 +145,21 @@ fn quadratic_keeps_the_curvature_at_its_g2_joins() {
     assert!(a <= u1 + 1e-15 && kappa_side(&f, a, false).length() < 1e-9);
     let dev = deviations(&c, &f, 2000).into_iter().fold(0.0, f64::max);
     assert!(dev <= 0.01, "{dev}");
+    // a region with a single free point carries both joins: it may move along both tangents only, i.e.
+    // (tangents not parallel) not at all; the second restriction used to undo the first
+    let one = FairingOptions {
+        region: Some((knots[14], knots[17])),
+        ..opts
+    };
+    let mut s = FairingSetup::new_with_ends(&c, one, [EndCondition::G2; 2]).unwrap();
+    assert_eq!(s.free_points().len(), 1);
+    let f = s.fair().unwrap().curve;
+    for u in [knots[14], knots[17]] {
+        for side in [true, false] {
+            let (kf, kc) = (kappa_side(&f, u, side), kappa_side(&c, u, side));
+            assert!(kf.distance(kc) <= 1e-9 * kc.length().max(1.0), "at {u}: {kf} vs {kc}");
+        }
+    }
 }
 
 /// Regression (probe campaign, issue 4): a G0 / G1 region end 1e-14 away from an existing knot was

@@ -1392,6 +1392,12 @@ impl FairingSetup {
                 d[i] = *t * d[i].dot(*t);
             }
         }
+        // one free point carrying both joins: it may move only along both tangents
+        if let ([Some(t0), Some(t1)], 1) = (self.quad_g2, d.len())
+            && t0.cross(t1).length() > 1e-12
+        {
+            d[0] = DVec3::ZERO;
+        }
     }
 
     /// Upper bound of the max over the check samples of the distance from the
