@@ -198,3 +198,103 @@ fn g0_and_g1_ends_next_to_a_knot_are_inserted_at_that_knot() {
     assert!(dev <= 0.002, "{dev}");
     let _ = f.reversed();
 }
+
+/// A smooth cubic written with knots of multiplicity 2 (C1 by the knots) or 3 (C0) at the region ends,
+/// as CAD data often is: the knots no longer give the G2 join by themselves. Probe campaign (C0 chains,
+/// issue 4): G2 ends got curvature (double knot) or tangent (triple knot) jumps of up to 4e-2, a G1
+/// end at a triple knot a tangent jump. The first free points are now constrained so that the faired
+/// side keeps the original's tangent and curvature at each join.
+#[test]
+fn joins_at_multiple_knots_keep_the_requested_continuity() {
+    let c = wiggly();
+    let kv = c.knots().values().to_vec();
+    let (u1, u2) = (kv[12], kv[26]);
+    for mult in [2usize, 3] {
+        let m = c.insert_knot(u1, mult - 1).unwrap().insert_knot(u2, mult - 1).unwrap();
+        for ends in [
+            [EndCondition::G2; 2],
+            [EndCondition::G1, EndCondition::G2],
+            [EndCondition::G2, EndCondition::G1],
+        ] {
+            let opts = FairingOptions {
+                region: Some((u1, u2)),
+                tolerance: 0.002,
+                ..Default::default()
+            };
+            let mut s = FairingSetup::new_with_ends(&m, opts, ends).unwrap();
+            let f = s.fair().unwrap().curve;
+            assert!(
+                f.points().iter().zip(m.points()).any(|(a, b)| a.distance(*b) > 1e-5),
+                "faired"
+            );
+            for (u, e) in [(u1, ends[0]), (u2, ends[1])] {
+                let side = |c: &BSplineCurve, left: bool| {
+                    let (a, b) = c.domain();
+                    if left {
+                        let d = c.reversed().derivs(a + b - u);
+                        (-d.d1.normalize(), d.curvature_vector())
+                    } else {
+                        let d = c.derivs(u);
+                        (d.d1.normalize(), d.curvature_vector())
+                    }
+                };
+                let ((tl, kl), (tr, kr)) = (side(&f, true), side(&f, false));
+                assert!(
+                    tl.cross(tr).length() <= 1e-9 && tl.dot(tr) > 0.0,
+                    "mult {mult} {ends:?}: tangent at {u}"
+                );
+                if e == EndCondition::G2 {
+                    assert!(
+                        kl.distance(kr) <= 1e-9 * kl.length().max(1.0),
+                        "mult {mult} {ends:?}: κ at {u}: {kl} vs {kr}"
+                    );
+                }
+            }
+            let dev = deviations(&m, &f, 2000).into_iter().fold(0.0, f64::max);
+            assert!(dev <= 0.002, "{dev}");
+        }
+    }
+}
+
+/// Regression (probe campaign, issue 4: 14 of 300 random C0 chains): a short span between p-fold knots
+/// can receive none of the equal arc-length samples; the Bézier points only it supports then had empty
+/// rows and the fit failed ("matrix not positive definite ... raise --samples"). A small ridge on the
+/// retry keeps such points where they are; the rest is faired as usual.
+#[test]
+fn a_short_span_between_multiple_knots_without_samples_is_held() {
+    let mut k = vec![0.0; 4];
+    k.extend([0.3; 3]);
+    k.extend([0.3001; 3]);
+    k.extend([0.6; 3]);
+    k.extend([1.0; 4]);
+    let mut pts: Vec<DVec2> = (0..13)
+        .map(|i| {
+            let t = i as f64 / 12.0;
+            DVec2::new(3.0 * t, 0.5 * (4.0 * t).sin() + if i % 2 == 0 { 0.01 } else { -0.01 })
+        })
+        .collect();
+    // the short segment [0.3, 0.3001] is the Bézier P3..P6: make it short in space as well
+    for (j, i) in (3..=6).enumerate() {
+        pts[i] = pts[3] + DVec2::new(1e-4 * j as f64, 0.0);
+    }
+    let c = BSplineCurve::new_2d(3, k, &pts).unwrap();
+    let opts = FairingOptions {
+        tolerance: 0.01,
+        ..Default::default()
+    };
+    let mut s = FairingSetup::new(&c, opts).unwrap();
+    let r = s.fair().unwrap();
+    for i in [4, 5] {
+        assert_eq!(r.curve.points()[i], c.points()[i], "unsampled point {i} held");
+    }
+    assert!(
+        r.curve
+            .points()
+            .iter()
+            .zip(c.points())
+            .any(|(a, b)| a.distance(*b) > 1e-4),
+        "faired"
+    );
+    let dev = deviations(&c, &r.curve, 2000).into_iter().fold(0.0, f64::max);
+    assert!(dev <= 0.01, "{dev}");
+}

@@ -12,10 +12,13 @@
 //!    exactly the points whose change leaves the curve outside the region
 //!    unchanged, and since the knot vector is kept, the faired stretch meets
 //!    its neighbours with the curve's own continuity at `u1`, `u2` (C2 for a
-//!    cubic with simple knots, hence **G2**). A quadratic is only C1 at its
-//!    knots: at a G2 join its first / last free point moves along the join's
-//!    tangent only, which keeps the faired side's curvature there equal to the
-//!    original's (G2 wherever the original is G2). End options:
+//!    cubic with simple knots, hence **G2**). Where the knots give less (a
+//!    quadratic's simple knots, a cubic's double knot: C1; a p-fold knot: C0)
+//!    the first / last free points are constrained instead: the first moves
+//!    along the join's tangent only (C1 knot at G2, C0 knot at G1), or stays
+//!    and the next one moves along the tangent (C0 knot at G2). That keeps the
+//!    faired side's tangent and curvature at the join equal to the original's
+//!    (G2 wherever the original is G2 there). End options:
 //!    * `G1` / `G0` at an interior region end: the end is first inserted as a
 //!      knot up to multiplicity `p − 1` / `p` (Boehm, the curve is unchanged),
 //!      which frees one / two more control points and leaves C1 / C0 at the
@@ -243,9 +246,10 @@ pub struct FairingSetup {
     /// The check sample of the last band violation: the next scan starts there (a violated band is
     /// usually violated at the same place again, and a check stops at the first violation it finds).
     scan_from: usize,
-    /// Quadratic with a G2 join at the start / end of the moving stretch: the unit tangent there, along
-    /// which alone the first / last free point may move ([`Self::keep_end_curvature`]).
-    quad_g2: [Option<DVec3>; 2],
+    /// Free points (local index) constrained at a join whose knot is too multiple for the requested
+    /// continuity to come by itself: `Some(T)` moves only along the join's tangent T, `None` not at
+    /// all ([`Self::keep_end_curvature`]).
+    join_fix: Vec<(usize, Option<DVec3>)>,
     /// The unit normal of the plane of a planar 3D curve (control points within 1e-12 of its size of
     /// one plane): the update stays in that plane ([`Self::keep_end_curvature`]).
     plane: Option<DVec3>,
@@ -552,7 +556,7 @@ impl FairingSetup {
             pad: Vec::new(),
             seam: Seam::Open,
             scan_from: 0,
-            quad_g2: [None; 2],
+            join_fix: Vec::new(),
             plane: None,
         };
         s.seam = if !super::closed::is_closed_curve(&s.input) {
@@ -647,13 +651,54 @@ impl FairingSetup {
         if dim == 3 {
             s.plane = plane_normal(work.points());
         }
-        // A quadratic is only C1 at its knots: at a join with the untouched curve the right-hand c'' (hence
-        // κ) depends on the first free point. Moving it along the tangent only keeps the join's curvature,
-        // the original's, on the faired side too (G2 where the original is G2 there).
-        if p == 2 {
-            for (e, (interior, e_cond)) in [(!at_start, ends[0]), (!at_end, ends[1])].into_iter().enumerate() {
-                if interior && e_cond == EndCondition::G2 {
-                    s.quad_g2[e] = Some(s.tangents[if e == 0 { 0 } else { ns - 1 }]);
+        // A join at a knot of multiplicity m is only C^(p−m) by the knots: the first free point's basis
+        // function starts like (u − u_j)^(p−m+1), so it changes the derivative of order o = p − m + 1
+        // there, the next one order o + 1. A G^r join with r ≥ o (a quadratic's simple knots at G2, a
+        // cubic's double knot at G2, a p-fold knot at G1 / G2 in the original) therefore constrains them:
+        // r = o: the first free point moves along the join's tangent T only (the order-o derivative then
+        // changes along T: the tangent direction, resp. with c' kept the curvature vector, is kept);
+        // r = o + 1 (p-fold knot, G2): it stays, and the next one moves along T only.
+        for (e, (interior, cond)) in [(!at_start, ends[0]), (!at_end, ends[1])].into_iter().enumerate() {
+            let r = match cond {
+                EndCondition::G2 => 2,
+                EndCondition::G1 => 1,
+                EndCondition::G0 => 0,
+            };
+            let kj = if e == 0 { range.0 } else { range.1 };
+            let o = p + 1 - work.knots().multiplicity(kj).min(p);
+            if !interior || r < o {
+                continue;
+            }
+            // the tangent on the faired side: at the stretch's end, the span that ends at the join
+            let t = if e == 0 {
+                s.tangents[0]
+            } else {
+                let kvw = work.knots().values();
+                let j = kvw.partition_point(|&k| k < kj) - 1;
+                let mut nd = [[0.0; MAX_ORDER]; 3];
+                ders_basis_funs(kvw, j, kj, p, &mut nd);
+                let d1: DVec3 = (0..=p).map(|i| work.points()[j - p + i] * nd[1][i]).sum();
+                d1.normalize_or(s.tangents[ns - 1])
+            };
+            let (first, second) = if e == 0 { (0, 1) } else { (nf - 1, nf.wrapping_sub(2)) };
+            let fixes = if r == o {
+                vec![(first, Some(t))]
+            } else {
+                vec![(first, None), (second, Some(t))]
+            };
+            for (i, c) in fixes {
+                if i >= nf {
+                    continue;
+                }
+                match s.join_fix.iter_mut().find(|(k, _)| *k == i) {
+                    // a point constrained by both joins: along both tangents, i.e. still unless parallel
+                    Some((_, old)) => {
+                        *old = match (*old, c) {
+                            (Some(a), Some(b)) if a.cross(b).length() <= 1e-12 => Some(a),
+                            _ => None,
+                        }
+                    }
+                    None => s.join_fix.push((i, c)),
                 }
             }
         }
@@ -1362,11 +1407,32 @@ impl FairingSetup {
         for i in 0..self.nf {
             self.sol[i] = self.rhs0[i] + self.rhs2[i] * lambda;
         }
-        self.m.factor().map_err(|e| {
-            Error::Solve(format!(
-                "fairing fit: {e}; the region has too few samples per free control point (raise --samples)"
-            ))
-        })?;
+        if self.m.factor().is_err() {
+            // A free point whose support no sample reaches (a short span between multiple knots, which
+            // equal arc-length samples can skip) has an empty row: a small ridge keeps such points where
+            // they are (their right-hand side is zero) and leaves the others as good as unchanged.
+            self.m.reset(self.nf, p);
+            let mut dmax: f64 = 0.0;
+            for i in 0..self.nf {
+                dmax = dmax.max(self.a0.get(i, i) + lambda * self.a2.get(i, i));
+            }
+            for i in 0..self.nf {
+                for j in i.saturating_sub(p)..=i {
+                    let mut v = self.a0.get(i, j) + lambda * self.a2.get(i, j);
+                    if i == j {
+                        v += 1e-9 * dmax;
+                    }
+                    if v != 0.0 {
+                        self.m.add(i, j, v);
+                    }
+                }
+            }
+            self.m.factor().map_err(|e| {
+                Error::Solve(format!(
+                    "fairing fit: {e}; the region has too few samples per free control point (raise --samples)"
+                ))
+            })?;
+        }
         self.m.solve_in_place(&mut self.sol);
         let mut sol = std::mem::take(&mut self.sol);
         self.keep_end_curvature(&mut sol);
@@ -1376,27 +1442,20 @@ impl FairingSetup {
 
     /// Constraints on an update: a planar 3D curve's update projected onto its plane (the fit solves
     /// each coordinate alone, and at a large fairness weight its rounding, amplified by the condition
-    /// number, moved a planar curve out of its plane by up to 1e-6 of its size); then the quadratic
-    /// G2 joins (`quad_g2`): the first / last free point's update reduced to its component along the
-    /// join's tangent T. A quadratic's c'' on the span at the join is affine in that point alone (the
-    /// others are held), so c''⊥, and with c' held the curvature vector, stays the original's.
+    /// number, moved a planar curve out of its plane by up to 1e-6 of its size); then the joins at
+    /// multiple knots (`join_fix`, see where the setup fills it): e.g. a quadratic's c'' on the span at
+    /// a G2 join is affine in the first free point alone (the others are held), so moving it along the
+    /// join's tangent T keeps c''⊥, and with c' held the curvature vector, the original's.
     fn keep_end_curvature(&self, d: &mut [DVec3]) {
         if let Some(n) = self.plane {
             for x in d.iter_mut() {
                 *x -= n * x.dot(n);
             }
         }
-        for (e, t) in self.quad_g2.iter().enumerate() {
-            if let (Some(t), Some(last)) = (t, d.len().checked_sub(1)) {
-                let i = if e == 0 { 0 } else { last };
-                d[i] = *t * d[i].dot(*t);
+        for &(i, c) in &self.join_fix {
+            if let Some(x) = d.get_mut(i) {
+                *x = c.map_or(DVec3::ZERO, |t| t * x.dot(t));
             }
-        }
-        // one free point carrying both joins: it may move only along both tangents
-        if let ([Some(t0), Some(t1)], 1) = (self.quad_g2, d.len())
-            && t0.cross(t1).length() > 1e-12
-        {
-            d[0] = DVec3::ZERO;
         }
     }
 
