@@ -1459,6 +1459,26 @@ impl FairingSetup {
         }
     }
 
+    /// One free point's update under the constraints of [`Self::keep_end_curvature`] (plane of a planar
+    /// 3D curve, joins at multiple knots): `local` indexes the free points (0 = the first). For the
+    /// iterative baseline, which moves one point at a time.
+    pub(crate) fn constrain_point(&self, local: usize, d: DVec3) -> DVec3 {
+        let mut d = match self.plane {
+            Some(n) => d - n * d.dot(n),
+            None => d,
+        };
+        if let Some(&(_, c)) = self.join_fix.iter().find(|(k, _)| *k == local) {
+            d = c.map_or(DVec3::ZERO, |t| t * d.dot(t));
+        }
+        d
+    }
+
+    /// The band's check parameters inside the moving stretch (the original's arc-length samples, see
+    /// [`Self::new_with_ends_phase`]); empty with `check_samples = 0`.
+    pub(crate) fn check_params(&self) -> &[f64] {
+        &self.chk_u
+    }
+
     /// Upper bound of the max over the check samples of the distance from the
     /// original sample to the curve `c_orig + Σ N_i d_i`. Samples whose
     /// parametric distance exceeds `sharpen` are projected (Newton near u_j).

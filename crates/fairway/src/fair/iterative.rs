@@ -15,7 +15,7 @@
 
 use glam::DVec3;
 
-use super::curve::{CHECK_SAMPLES, FairingResult, FairingSetup};
+use super::curve::{CHECK_SAMPLES, FairingResult, FairingSetup, band_accept};
 use crate::arclength::ArcLengthTable;
 use crate::basis::{MAX_ORDER, basis_funs, ders_basis_funs};
 use crate::curve::BSplineCurve;
@@ -115,11 +115,16 @@ pub fn fair_iterative(setup: &FairingSetup, opts: IterativeOptions) -> Result<Fa
         ders.push(d);
     }
     let (a, b) = setup.moving_range();
-    let chk_u: Vec<f64> = ArcLengthTable::new(work, 1e-12)
-        .equal_arc_params(work, CHECK_SAMPLES)
-        .into_iter()
-        .filter(|&u| u > a && u < b)
-        .collect();
+    // the setup's own check samples (across the seam: the original's, not the rotated curve's)
+    let chk_u: Vec<f64> = if setup.check_params().is_empty() {
+        ArcLengthTable::new(work, 1e-12)
+            .equal_arc_params(work, CHECK_SAMPLES)
+            .into_iter()
+            .filter(|&u| u > a && u < b)
+            .collect()
+    } else {
+        setup.check_params().to_vec()
+    };
     let mut chk_span = Vec::with_capacity(chk_u.len());
     let mut chk_b = Vec::with_capacity(chk_u.len());
     for &u in &chk_u {
@@ -129,7 +134,7 @@ pub fn fair_iterative(setup: &FairingSetup, opts: IterativeOptions) -> Result<Fa
         chk_span.push(s);
         chk_b.push(nb);
     }
-    let m = setup.options().tolerance * (1.0 - 1e-9);
+    let m = band_accept(setup.options().tolerance, work);
     let mut loc = Local {
         setup,
         p,
@@ -157,8 +162,18 @@ pub fn fair_iterative(setup: &FairingSetup, opts: IterativeOptions) -> Result<Fa
             let js = range_of(&chk_u, lo, hi);
             let x0 = loc.pts[i];
             let step = (setup.options().tolerance * 0.5).max(1e-12);
-            let (x, _e) = nelder_mead(|x| loc.local_e(i, x, ks, js), x0, step, dim, opts.max_evals, &mut evals);
-            loc.pts[i] = x;
+            // the setup's constraints (plane of a planar 3D curve, joins at multiple knots) on the move
+            let li = i - free.start;
+            let fix = |x: DVec3| x0 + setup.constrain_point(li, x - x0);
+            let (x, _e) = nelder_mead(
+                |x| loc.local_e(i, fix(x), ks, js),
+                x0,
+                step,
+                dim,
+                opts.max_evals,
+                &mut evals,
+            );
+            loc.pts[i] = fix(x);
         }
         let c = work.with_points(loc.pts.clone())?;
         e_total = setup.energy(&c);
