@@ -76,12 +76,14 @@ impl<'a> CurveProjector<'a> {
             if i == usize::MAX {
                 continue;
             }
-            let (j0, j1) = (i.saturating_sub(1), (i + 2).min(n - 1));
+            // two segments on each side: the candidate list keeps one segment per run of neighbours, and a
+            // run can cross a corner, leaving the minimum on its other side a segment or two away
+            let (j0, j1) = (i.saturating_sub(2), (i + 3).min(n - 1));
             let (a, b) = (self.params[j0], self.params[j1]);
             // a smooth window with a bracket (f(a) < 0 < f(b), b's side from the left: a knot there may
             // start a span of another speed or direction) holds one minimum; otherwise the window may still
             // hold a minimum between a local maximum and its end, or a corner: no assumptions then
-            let smooth_bracket = self.smooth_window(j0, j1) && {
+            let smooth_bracket = self.smooth_window(j0, j1) && !self.corner_inside(a, b) && {
                 let (fa, _, _) = self.f(a, q);
                 let (fb, _, _) = self.f(b - (b - a) * 1e-9, q);
                 fa < 0.0 && fb > 0.0
@@ -125,6 +127,22 @@ impl<'a> CurveProjector<'a> {
                 let (u, v) = (seg(j), seg(j + 1));
                 u.dot(v) > 0.9 * (u.length() * v.length())
             })
+    }
+
+    /// Whether a knot of multiplicity ≥ p (where the curve may have a corner and `f` jump) lies in `(a, b)`.
+    fn corner_inside(&self, a: f64, b: f64) -> bool {
+        let kv = self.curve.knots().values();
+        let p = self.curve.degree();
+        let mut i = kv.partition_point(|&k| k <= a);
+        while i < kv.len() && kv[i] < b {
+            let k = kv[i];
+            let m = kv[i..].iter().take_while(|&&x| x == k).count();
+            if m >= p {
+                return true;
+            }
+            i += m;
+        }
+        false
     }
 
     /// Minimise |c(t) − q| over `[a, b]` without assuming smoothness. The window is split at the knots

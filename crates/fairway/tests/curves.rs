@@ -515,7 +515,7 @@ fn closest_point_at_corners_and_stationary_stretches_matches_brute_force() {
     }
 }
 
-/// Regression (probe campaign, issue 4): two faired curves and original sample points where `measure`
+/// Regression (probe campaign, issue 4): faired curves and original sample points where `measure`
 /// still overestimated the distance after the fix above. (1) A window with f(a) < 0 and f(b) < 0 that
 /// holds a minimum before a local maximum (the curve passes q, turns away and back): no bracket, so the
 /// segment midpoint was returned (3.229e-4 for 2.652e-4). (2) A window ending at a knot that starts a
@@ -623,7 +623,38 @@ fn closest_point_without_a_bracket_in_a_smooth_window() {
     )
     .unwrap();
     let q2 = DVec3::new(0.36083539895647015, 1.065611702362366, 0.0);
-    for (c, q, want) in [(&c1, q1, 2.652393030011119e-4), (&c2, q2, 2.4272715151665673e-3)] {
+    // (3) a quadratic with a corner (double knot): the candidate list keeps one segment per run of
+    // neighbours, and the run crossed the corner, leaving the better minimum on the other side outside
+    // the refined window (7.3809e-3 for 7.3782e-3); windows are two segments wider on each side now
+    let c3 = BSplineCurve::try_new(
+        2,
+        vec![
+            0.1770138092200837,
+            0.1770138092200837,
+            0.1770138092200837,
+            0.23609343004319933,
+            0.23609343004319933,
+            0.264273859428374,
+            0.264273859428374,
+            0.264273859428374,
+        ],
+        d(&[
+            [0.17968071820960124, -1.1334425566818853],
+            [0.19577402032547433, -1.1294328822305886],
+            [0.21536511251296817, -1.1183602735670362],
+            [0.22617753170632976, -1.1169690747432266],
+            [0.23932636097306456, -1.1174065358512268],
+        ]),
+        None,
+        2,
+    )
+    .unwrap();
+    let q3 = DVec3::new(0.21769858183441182, -1.1255110578448662, 0.0);
+    for (c, q, want) in [
+        (&c1, q1, 2.652393030011119e-4),
+        (&c2, q2, 2.4272715151665673e-3),
+        (&c3, q3, 7.3781677924323e-3),
+    ] {
         let got = CurveProjector::new(c, 16).project(q).distance;
         assert!(got <= want * (1.0 + 1e-9), "{got:e} vs {want:e}");
         assert!(
