@@ -78,6 +78,16 @@ fn check(h: &Harness<'static, App>, file: &str, seed: u64, step: usize, what: &s
     }
 }
 
+/// The primary button pressed or released at `pos`.
+fn primary(h: &Harness<'static, App>, pos: Pos2, pressed: bool, modifiers: Modifiers) {
+    h.event(Event::PointerButton {
+        pos,
+        button: PointerButton::Primary,
+        pressed,
+        modifiers,
+    });
+}
+
 fn monkey(file: &str, seed: u64, actions: usize) {
     let dir = std::env::temp_dir().join(format!("fairway-monkey-{}-{seed}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -119,24 +129,14 @@ fn monkey(file: &str, seed: u64, actions: usize) {
                 let mut p = rng.pos();
                 h.event(Event::PointerMoved(p));
                 h.step();
-                h.event(Event::PointerButton {
-                    pos: p,
-                    button: PointerButton::Primary,
-                    pressed: true,
-                    modifiers: mods,
-                });
+                primary(&h, p, true, mods);
                 h.step();
                 for _ in 0..1 + rng.below(5) {
                     p += egui::vec2(rng.unit() - 0.5, rng.unit() - 0.5) * 300.0;
                     h.event(Event::PointerMoved(p));
                     h.step();
                 }
-                h.event(Event::PointerButton {
-                    pos: p,
-                    button: PointerButton::Primary,
-                    pressed: false,
-                    modifiers: mods,
-                });
+                primary(&h, p, false, mods);
                 h.event(Event::ModifiersChanged(Modifiers::NONE));
                 "drag"
             }
@@ -145,12 +145,7 @@ fn monkey(file: &str, seed: u64, actions: usize) {
                 h.event(Event::PointerMoved(p));
                 h.step();
                 for pressed in [true, false] {
-                    h.event(Event::PointerButton {
-                        pos: p,
-                        button: PointerButton::Primary,
-                        pressed,
-                        modifiers: Modifiers::NONE,
-                    });
+                    primary(&h, p, pressed, Modifiers::NONE);
                 }
                 "click"
             }
