@@ -72,8 +72,18 @@ impl<'a> CurveProjector<'a> {
         if end.distance < best.distance {
             best = end;
         }
-        for &(_, i) in &cand {
+        for (rank, &(_, i)) in cand.iter().enumerate() {
             if i == usize::MAX {
+                continue;
+            }
+            // The curve is within `chord + gap` of q (the segment's distance, plus how far the curve strays
+            // from the segment, estimated at the middle parameter), and not nearer than `chord − gap`: a
+            // further candidate (larger chord distance) whose `chord − 4 gap` exceeds the best distance
+            // found cannot win and is skipped
+            let chord = seg_dist2(self.pts[i], self.pts[i + 1], q).sqrt();
+            let mid = self.curve.point(0.5 * (self.params[i] + self.params[i + 1]));
+            let gap = seg_dist2(self.pts[i], self.pts[i + 1], mid).sqrt();
+            if rank > 0 && chord - 4.0 * gap > best.distance {
                 continue;
             }
             // two segments on each side: the candidate list keeps one segment per run of neighbours, and a
@@ -96,13 +106,8 @@ impl<'a> CurveProjector<'a> {
             } else {
                 self.refine_nonsmooth(q, a, b)
             };
-            // The curve is within `chord + gap` of q (the segment's distance, plus how far the curve strays
-            // from the segment, estimated at the middle parameter); a refinement above that landed on another, worse
-            // local minimum (a feature the polyline does not resolve, a stationary stretch): search the
-            // window without assumptions
-            let chord = seg_dist2(self.pts[i], self.pts[i + 1], q).sqrt();
-            let mid = self.curve.point(0.5 * (self.params[i] + self.params[i + 1]));
-            let gap = seg_dist2(self.pts[i], self.pts[i + 1], mid).sqrt();
+            // a refinement above `chord + gap` landed on another, worse local minimum (a feature the
+            // polyline does not resolve, a stationary stretch): search the window without assumptions
             if r.distance > chord + 2.0 * gap + 1e-12 * self.pts[i].distance(self.pts[i + 1]) {
                 let s = self.refine_nonsmooth(q, a, b);
                 if s.distance < r.distance {
