@@ -299,3 +299,31 @@ fn far_from_the_origin_the_measured_deviation_stays_in_the_band() {
     }
     assert!(worst <= 1.0, "measured deviation {worst} × the tolerance");
 }
+
+/// Regression (probe campaign, issue 4: 2 of 300 random re-fairs after target edits): a target edited
+/// to an absurd value (2.5e299, then flattened over a stretch) made the integration overflow to NaN; the
+/// cold band search compared `d > accept`, which is false for NaN, accepted the NaN update at the smallest
+/// fairness weight, and the fair failed with "points: value at index 13 is not a finite number". The
+/// comparison is NaN-safe now: such an update is outside the band, the step is scaled back (α = 0, the
+/// original), and the result is a finite curve within the band.
+#[test]
+fn an_absurd_target_gives_a_finite_result_within_the_band() {
+    use fairway::fair::{FairingSetup, Integrator};
+    let w = wiggly();
+    for integrator in [Integrator::Euler, Integrator::Rk2, Integrator::Arc] {
+        let mut s = FairingSetup::new(&w, opts(0.01, None)).unwrap();
+        s.fair().unwrap();
+        let n = s.target().len();
+        assert!(s.target_mut().set(n / 2, 2.5e299));
+        s.target_mut().flatten_range(n / 4, 3 * n / 4);
+        s.set_integrator(integrator);
+        // a cold band search (no warm start from the previous μ): its MU_MIN comparison was the one
+        s.set_mu_hint(None);
+        let r = s.fair().unwrap();
+        assert!(r.curve.points().iter().all(|p| p.is_finite()), "{integrator:?}");
+        assert!(
+            r.max_deviation <= 0.01 && band_dev(&w, &r.curve) <= 0.01,
+            "{integrator:?}"
+        );
+    }
+}

@@ -585,7 +585,7 @@ pub fn fair_closed(curve: &BSplineCurve, opts: FairingOptions) -> Result<Fairing
         }
         // halve the update around every sample out of the band, tapered over TAPER points on each side
         let mut phi = vec![0.0f64; n];
-        for (j, _) in devs.iter().enumerate().filter(|(_, d)| **d > accept) {
+        for (j, _) in devs.iter().enumerate().filter(|(_, d)| !(**d <= accept)) {
             let ur = if us[j] >= at { us[j] } else { us[j] + l };
             let span = rot1.knots().find_span(ur);
             for i in span - p..=span {

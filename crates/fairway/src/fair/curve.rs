@@ -1339,7 +1339,8 @@ impl FairingSetup {
                     return Ok(self.finish_mu(hi, d_hi));
                 }
                 let d_lo = self.try_mu(MU_MIN, accept, solves);
-                if d_lo > accept {
+                // NaN-safe (an update from a target out of range can be NaN): not within the band
+                if !(d_lo <= accept) {
                     return self.scale_update(accept, solves);
                 }
                 self.best.copy_from_slice(&self.sol);
