@@ -783,3 +783,36 @@ fn region_across_the_seam_with_g0_ends_next_to_knots() {
     );
     assert!(dev_max(&c, &r.curve) <= m);
 }
+
+/// A region ending at the seam of a closed curve with a G1 / G0 end there: the seam is that region end,
+/// so it keeps position (and tangent for G1) but not its curvature (tangent) — as requested; the seam text
+/// said it was held "like a G2 region end" (probe campaign, issue 4: 55 of 400 mixed-end cases at the
+/// seam). It now names the end condition and what the seam keeps.
+#[test]
+fn seam_text_names_the_end_condition_at_the_seam() {
+    let c = periodic_ellipse(24, 2e-3, 3);
+    let o = FairingOptions {
+        region: Some((0.3, 1.0)),
+        ..opts(3e-3)
+    };
+    for (e, want) in [
+        (EndCondition::G2, "holds like a G2 region end"),
+        (
+            EndCondition::G1,
+            "treats as a G1 region end: the seam keeps its position and tangent, not its curvature",
+        ),
+        (
+            EndCondition::G0,
+            "treats as a G0 region end: the seam keeps its position, not its tangent and curvature",
+        ),
+    ] {
+        let mut s = FairingSetup::new_with_ends(&c, o, [EndCondition::G2, e]).unwrap();
+        let r = s.fair().unwrap();
+        match &r.seam {
+            Seam::Held(why) => assert!(why.contains(want), "{e:?}: {why}"),
+            other => panic!("{e:?}: {other:?}"),
+        }
+        let n = r.curve.n_points();
+        assert!(r.curve.points()[0].distance(r.curve.points()[n - 1]) <= 1e-12, "closed");
+    }
+}

@@ -562,11 +562,35 @@ impl FairingSetup {
         s.seam = if !super::closed::is_closed_curve(&s.input) {
             Seam::Open
         } else if range.0 <= d0 + eps || range.1 >= d1 - eps {
-            Seam::Held(
-                "the moving stretch reaches the seam, which one pass holds like a G2 region end (its first/last \
-                 control points stay); fair_curve on the whole closed curve fairs across it"
+            // the end condition of the region end(s) at the seam (the weaker if both)
+            let rank = |e: EndCondition| match e {
+                EndCondition::G0 => 0,
+                EndCondition::G1 => 1,
+                EndCondition::G2 => 2,
+            };
+            let at_seam = [(range.0 <= d0 + eps, ends[0]), (range.1 >= d1 - eps, ends[1])]
+                .into_iter()
+                .filter(|(at, _)| *at)
+                .map(|(_, e)| e)
+                .min_by_key(|e| rank(*e))
+                .unwrap_or(EndCondition::G2);
+            Seam::Held(match at_seam {
+                EndCondition::G2 => "the moving stretch reaches the seam, which one pass holds like a G2 region end \
+                                     (its first/last control points stay); fair_curve on the whole closed curve \
+                                     fairs across it"
                     .into(),
-            )
+                e => format!(
+                    "the moving stretch reaches the seam, which one pass treats as a {e:?} region end: the seam keeps \
+                     its position{}, not its {} (G2 ends keep them; fair_curve on the whole closed curve fairs \
+                     across it)",
+                    if e == EndCondition::G1 { " and tangent" } else { "" },
+                    if e == EndCondition::G1 {
+                        "curvature"
+                    } else {
+                        "tangent and curvature"
+                    }
+                ),
+            })
         } else {
             Seam::Untouched
         };
