@@ -19,6 +19,20 @@ pub struct ClosestPoint {
     pub distance: f64,
 }
 
+impl ClosestPoint {
+    /// Take the curve point `p` = c(`t`) instead if it is closer to `q`.
+    fn keep_closer(&mut self, t: f64, p: DVec3, q: DVec3) {
+        let d = p.distance(q);
+        if d < self.distance {
+            *self = ClosestPoint {
+                param: t,
+                point: p,
+                distance: d,
+            };
+        }
+    }
+}
+
 /// Projects points onto one curve; build once, query many times.
 #[derive(Debug, Clone)]
 pub struct CurveProjector<'a> {
@@ -179,14 +193,7 @@ impl<'a> CurveProjector<'a> {
                     x + (y - x) * k as f64 / G as f64
                 };
                 let (ft, _, pt) = self.f(t, q);
-                let dt = pt.distance(q);
-                if dt < best.distance {
-                    best = ClosestPoint {
-                        param: t,
-                        point: pt,
-                        distance: dt,
-                    };
-                }
+                best.keep_closer(t, pt, q);
                 if let Some((tp, fp)) = prev
                     && fp < 0.0
                     && ft > 0.0
@@ -236,14 +243,7 @@ impl<'a> CurveProjector<'a> {
             point: pa,
             distance: pa.distance(q),
         };
-        let db = pb.distance(q);
-        if db < best.distance {
-            best = ClosestPoint {
-                param: b,
-                point: pb,
-                distance: db,
-            };
-        }
+        best.keep_closer(b, pb, q);
         if !(fa < 0.0 && fb > 0.0) {
             // no interior minimum bracketed: the ends (and the guess) are the candidates
             let g = self.at(t0, q);

@@ -574,17 +574,13 @@ fn planar_curve_in_3d_stays_in_its_plane() {
         let (lo, hi) = c3.control_bounds();
         (hi - lo).length()
     };
+    // the largest distance of a control point from the plane
+    let off_plane = |c: &BSplineCurve| c.points().iter().map(|p| (*p - off).dot(n).abs()).fold(0.0, f64::max);
     let mut worst: f64 = 0.0;
     for m in [1e-3, 3e-2, 0.2, 1.0] {
         for region in [None, Some((0.2, 0.9))] {
             let r = fair_curve(&c3, FairingOptions { region, ..opts(m) }).unwrap();
-            let off_plane = r
-                .curve
-                .points()
-                .iter()
-                .map(|p| (*p - off).dot(n).abs())
-                .fold(0.0, f64::max);
-            worst = worst.max(off_plane / size);
+            worst = worst.max(off_plane(&r.curve) / size);
         }
     }
     assert!(worst <= 1e-13, "out of the plane by {worst:e} of the size");
@@ -593,16 +589,8 @@ fn planar_curve_in_3d_stays_in_its_plane() {
     // planar cases); its moves are now constrained by the setup as well
     let s = FairingSetup::new(&c3, opts(0.2)).unwrap();
     let r = fair_iterative(&s, IterativeOptions::default()).unwrap();
-    let off_plane = r
-        .curve
-        .points()
-        .iter()
-        .map(|p| (*p - off).dot(n).abs())
-        .fold(0.0, f64::max);
-    assert!(
-        off_plane <= 1e-13 * size,
-        "iterative: out of the plane by {off_plane:e}"
-    );
+    let d = off_plane(&r.curve);
+    assert!(d <= 1e-13 * size, "iterative: out of the plane by {d:e}");
     assert!(
         r.curve
             .points()
