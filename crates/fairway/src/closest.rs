@@ -20,16 +20,18 @@ pub struct ClosestPoint {
 }
 
 impl ClosestPoint {
-    /// Take the curve point `p` = c(`t`) instead if it is closer to `q`.
-    fn keep_closer(&mut self, t: f64, p: DVec3, q: DVec3) {
-        let d = p.distance(q);
-        if d < self.distance {
-            *self = ClosestPoint {
-                param: t,
-                point: p,
-                distance: d,
-            };
+    /// The curve point `point` = c(`param`) as a candidate for the query `q`.
+    fn of(param: f64, point: DVec3, q: DVec3) -> Self {
+        Self {
+            param,
+            point,
+            distance: point.distance(q),
         }
+    }
+
+    /// The nearer of two candidates (`self` on a tie).
+    fn closer(self, other: Self) -> Self {
+        if other.distance < self.distance { other } else { self }
     }
 }
 
@@ -81,11 +83,7 @@ impl<'a> CurveProjector<'a> {
                 cand.sort_by(|a, b| a.0.total_cmp(&b.0));
             }
         }
-        let mut best = self.at(self.params[0], q);
-        let end = self.at(self.params[n - 1], q);
-        if end.distance < best.distance {
-            best = end;
-        }
+        let mut best = self.at(self.params[0], q).closer(self.at(self.params[n - 1], q));
         for (rank, &(_, i)) in cand.iter().enumerate() {
             if i == usize::MAX {
                 continue;
@@ -113,24 +111,18 @@ impl<'a> CurveProjector<'a> {
                 fa < 0.0 && fb > 0.0
             };
             let mut r = if smooth_bracket {
-                let g = self.bracketed(q, a, b, 0.5 * (self.params[i] + self.params[i + 1]));
-                [self.at(a, q), self.at(b, q)]
-                    .into_iter()
-                    .fold(g, |x, y| if y.distance < x.distance { y } else { x })
+                self.bracketed(q, a, b, 0.5 * (self.params[i] + self.params[i + 1]))
+                    .closer(self.at(a, q))
+                    .closer(self.at(b, q))
             } else {
                 self.refine_nonsmooth(q, a, b)
             };
             // a refinement above `chord + gap` landed on another, worse local minimum (a feature the
             // polyline does not resolve, a stationary stretch): search the window without assumptions
             if r.distance > chord + 2.0 * gap + 1e-12 * self.pts[i].distance(self.pts[i + 1]) {
-                let s = self.refine_nonsmooth(q, a, b);
-                if s.distance < r.distance {
-                    r = s;
-                }
+                r = r.closer(self.refine_nonsmooth(q, a, b));
             }
-            if r.distance < best.distance {
-                best = r;
-            }
+            best = best.closer(r);
         }
         best
     }
@@ -172,11 +164,7 @@ impl<'a> CurveProjector<'a> {
     /// Every candidate is a point of the curve, so the result bounds the true distance from above.
     fn refine_nonsmooth(&self, q: DVec3, a: f64, b: f64) -> ClosestPoint {
         const G: usize = NONSMOOTH_GRID;
-        let mut best = self.at(a, q);
-        let end = self.at(b, q);
-        if end.distance < best.distance {
-            best = end;
-        }
+        let mut best = self.at(a, q).closer(self.at(b, q));
         let kv = self.curve.knots().values();
         let inner = kv.iter().copied().filter(|&k| k > a && k < b);
         let mut x = a;
@@ -193,15 +181,12 @@ impl<'a> CurveProjector<'a> {
                     x + (y - x) * k as f64 / G as f64
                 };
                 let (ft, _, pt) = self.f(t, q);
-                best.keep_closer(t, pt, q);
+                best = best.closer(ClosestPoint::of(t, pt, q));
                 if let Some((tp, fp)) = prev
                     && fp < 0.0
                     && ft > 0.0
                 {
-                    let r = self.bracketed(q, tp, t, 0.5 * (tp + t));
-                    if r.distance < best.distance {
-                        best = r;
-                    }
+                    best = best.closer(self.bracketed(q, tp, t, 0.5 * (tp + t)));
                 }
                 prev = Some((t, ft));
             }
@@ -220,12 +205,7 @@ impl<'a> CurveProjector<'a> {
     }
 
     fn at(&self, t: f64, q: DVec3) -> ClosestPoint {
-        let p = self.curve.point(t);
-        ClosestPoint {
-            param: t,
-            point: p,
-            distance: p.distance(q),
-        }
+        ClosestPoint::of(t, self.curve.point(t), q)
     }
 
     fn f(&self, t: f64, q: DVec3) -> (f64, f64, DVec3) {
@@ -238,19 +218,12 @@ impl<'a> CurveProjector<'a> {
     fn refine(&self, q: DVec3, a: f64, b: f64, t0: f64) -> ClosestPoint {
         let (fa, _, pa) = self.f(a, q);
         let (fb, _, pb) = self.f(b, q);
-        let mut best = ClosestPoint {
-            param: a,
-            point: pa,
-            distance: pa.distance(q),
-        };
-        best.keep_closer(b, pb, q);
+        let best = ClosestPoint::of(a, pa, q).closer(ClosestPoint::of(b, pb, q));
         if !(fa < 0.0 && fb > 0.0) {
             // no interior minimum bracketed: the ends (and the guess) are the candidates
-            let g = self.at(t0, q);
-            return if g.distance < best.distance { g } else { best };
+            return best.closer(self.at(t0, q));
         }
-        let g = self.bracketed(q, a, b, t0);
-        if g.distance < best.distance { g } else { best }
+        best.closer(self.bracketed(q, a, b, t0))
     }
 
     /// Safeguarded Newton on `f = c'·(c − q)` in `[a, b]`, `f(a) < 0 < f(b)`, started at `t0`

@@ -376,9 +376,9 @@ pub fn setup_across_seam_with_ends(
     // original, the form the result is rotated back onto
     let work = setup.working_curve();
     let mut form = input.clone();
+    // the setup inserts at an existing knot within its ε of the end (snap_to_knot): the same here
+    let (eo, er) = (1e-12 * (b - a), 1e-12 * (rot.domain().1 - rot.domain().0));
     for (u, ur) in [(u1, u1), (u2, u2 + (b - a))] {
-        // the setup inserts at an existing knot within its ε of the end (snap_to_knot): the same here
-        let (eo, er) = (1e-12 * (b - a), 1e-12 * (rot.domain().1 - rot.domain().0));
         let ur = snap_to_knot(rot.knots().values(), ur, er);
         let extra = work
             .knots()

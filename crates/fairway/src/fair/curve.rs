@@ -97,6 +97,17 @@ pub enum EndCondition {
     G2,
 }
 
+impl EndCondition {
+    /// The order of geometric continuity: 0, 1 or 2.
+    pub fn order(self) -> usize {
+        match self {
+            Self::G0 => 0,
+            Self::G1 => 1,
+            Self::G2 => 2,
+        }
+    }
+}
+
 impl std::str::FromStr for EndCondition {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self> {
@@ -248,10 +259,10 @@ pub struct FairingSetup {
     scan_from: usize,
     /// Free points (local index) constrained at a join whose knot is too multiple for the requested
     /// continuity to come by itself: `Some(T)` moves only along the join's tangent T, `None` not at
-    /// all ([`Self::keep_end_curvature`]).
+    /// all ([`Self::constrain_update`]).
     join_fix: Vec<(usize, Option<DVec3>)>,
     /// The unit normal of the plane of a planar 3D curve (control points within 1e-12 of its size of
-    /// one plane): the update stays in that plane ([`Self::keep_end_curvature`]).
+    /// one plane): the update stays in that plane ([`Self::constrain_update`]).
     plane: Option<DVec3>,
 }
 
@@ -422,15 +433,8 @@ impl FairingSetup {
         }
         let n = work.n_points();
         let kv = work.knots().values();
-        let keep = |e: EndCondition| {
-            match e {
-                EndCondition::G2 => 3,
-                EndCondition::G1 => 2,
-                EndCondition::G0 => 1,
-            }
-            .max(hold)
-            .min(n)
-        };
+        // the points a curve end holds: position, and one more per order of continuity
+        let keep = |e: EndCondition| (e.order() + 1).max(hold).min(n);
         let (keep_start, keep_end) = (keep(ends[0]), keep(ends[1]));
         let inside = (0..n).filter(|&i| kv[i] >= u1 - eps && kv[i + p + 1] <= u2 + eps);
         let n_inside = inside.clone().count();
@@ -563,16 +567,11 @@ impl FairingSetup {
             Seam::Open
         } else if range.0 <= d0 + eps || range.1 >= d1 - eps {
             // the end condition of the region end(s) at the seam (the weaker if both)
-            let rank = |e: EndCondition| match e {
-                EndCondition::G0 => 0,
-                EndCondition::G1 => 1,
-                EndCondition::G2 => 2,
-            };
             let at_seam = [(range.0 <= d0 + eps, ends[0]), (range.1 >= d1 - eps, ends[1])]
                 .into_iter()
                 .filter(|(at, _)| *at)
                 .map(|(_, e)| e)
-                .min_by_key(|e| rank(*e))
+                .min_by_key(|e| e.order())
                 .unwrap_or(EndCondition::G2);
             Seam::Held(match at_seam {
                 EndCondition::G2 => "the moving stretch reaches the seam, which one pass holds like a G2 region end \
@@ -683,11 +682,7 @@ impl FairingSetup {
         // changes along T: the tangent direction, resp. with c' kept the curvature vector, is kept);
         // r = o + 1 (p-fold knot, G2): it stays, and the next one moves along T only.
         for (e, (interior, cond)) in [(!at_start, ends[0]), (!at_end, ends[1])].into_iter().enumerate() {
-            let r = match cond {
-                EndCondition::G2 => 2,
-                EndCondition::G1 => 1,
-                EndCondition::G0 => 0,
-            };
+            let r = cond.order();
             let kj = if e == 0 { range.0 } else { range.1 };
             let o = p + 1 - work.knots().multiplicity(kj).min(p);
             if !interior || r < o {
@@ -1146,7 +1141,7 @@ impl FairingSetup {
                         d
                     })
                     .collect();
-                self.keep_end_curvature(&mut full);
+                self.constrain_update(&mut full);
                 // backtracking on the step length: the longest of 1, 1/2, … that lowers E inside the band
                 let mut found = None;
                 let mut alpha = 1.0;
@@ -1419,16 +1414,7 @@ impl FairingSetup {
 
     /// Solve `(A0 + λ A2) ΔP = rhs0 + λ rhs2` into `self.sol`.
     fn solve(&mut self, lambda: f64) -> Result<()> {
-        let p = self.work.degree();
-        self.m.reset(self.nf, p);
-        for i in 0..self.nf {
-            for j in i.saturating_sub(p)..=i {
-                let v = self.a0.get(i, j) + lambda * self.a2.get(i, j);
-                if v != 0.0 {
-                    self.m.add(i, j, v);
-                }
-            }
-        }
+        self.assemble(lambda, 0.0);
         for i in 0..self.nf {
             self.sol[i] = self.rhs0[i] + self.rhs2[i] * lambda;
         }
@@ -1436,22 +1422,10 @@ impl FairingSetup {
             // A free point whose support no sample reaches (a short span between multiple knots, which
             // equal arc-length samples can skip) has an empty row: a small ridge keeps such points where
             // they are (their right-hand side is zero) and leaves the others as good as unchanged.
-            self.m.reset(self.nf, p);
-            let mut dmax: f64 = 0.0;
-            for i in 0..self.nf {
-                dmax = dmax.max(self.a0.get(i, i) + lambda * self.a2.get(i, i));
-            }
-            for i in 0..self.nf {
-                for j in i.saturating_sub(p)..=i {
-                    let mut v = self.a0.get(i, j) + lambda * self.a2.get(i, j);
-                    if i == j {
-                        v += 1e-9 * dmax;
-                    }
-                    if v != 0.0 {
-                        self.m.add(i, j, v);
-                    }
-                }
-            }
+            let dmax = (0..self.nf)
+                .map(|i| self.a0.get(i, i) + lambda * self.a2.get(i, i))
+                .fold(0.0, f64::max);
+            self.assemble(lambda, 1e-9 * dmax);
             self.m.factor().map_err(|e| {
                 Error::Solve(format!(
                     "fairing fit: {e}; the region has too few samples per free control point (raise --samples)"
@@ -1460,9 +1434,26 @@ impl FairingSetup {
         }
         self.m.solve_in_place(&mut self.sol);
         let mut sol = std::mem::take(&mut self.sol);
-        self.keep_end_curvature(&mut sol);
+        self.constrain_update(&mut sol);
         self.sol = sol;
         Ok(())
+    }
+
+    /// `self.m = A0 + λ A2 + ridge·I` (lower band).
+    fn assemble(&mut self, lambda: f64, ridge: f64) {
+        let p = self.work.degree();
+        self.m.reset(self.nf, p);
+        for i in 0..self.nf {
+            for j in i.saturating_sub(p)..=i {
+                let mut v = self.a0.get(i, j) + lambda * self.a2.get(i, j);
+                if i == j {
+                    v += ridge;
+                }
+                if v != 0.0 {
+                    self.m.add(i, j, v);
+                }
+            }
+        }
     }
 
     /// Constraints on an update: a planar 3D curve's update projected onto its plane (the fit solves
@@ -1471,22 +1462,18 @@ impl FairingSetup {
     /// multiple knots (`join_fix`, see where the setup fills it): e.g. a quadratic's c'' on the span at
     /// a G2 join is affine in the first free point alone (the others are held), so moving it along the
     /// join's tangent T keeps c''⊥, and with c' held the curvature vector, the original's.
-    fn keep_end_curvature(&self, d: &mut [DVec3]) {
-        if let Some(n) = self.plane {
-            for x in d.iter_mut() {
-                *x -= n * x.dot(n);
-            }
+    fn constrain_update(&self, d: &mut [DVec3]) {
+        if self.plane.is_none() && self.join_fix.is_empty() {
+            return;
         }
-        for &(i, c) in &self.join_fix {
-            if let Some(x) = d.get_mut(i) {
-                *x = c.map_or(DVec3::ZERO, |t| t * x.dot(t));
-            }
+        for (i, x) in d.iter_mut().enumerate() {
+            *x = self.constrain_point(i, *x);
         }
     }
 
-    /// One free point's update under the constraints of [`Self::keep_end_curvature`] (plane of a planar
-    /// 3D curve, joins at multiple knots): `local` indexes the free points (0 = the first). For the
-    /// iterative baseline, which moves one point at a time.
+    /// One free point's update under the constraints of [`Self::constrain_update`] (plane of a planar
+    /// 3D curve, joins at multiple knots): `local` indexes the free points (0 = the first). The iterative
+    /// baseline, which moves one point at a time, calls it directly.
     pub(crate) fn constrain_point(&self, local: usize, d: DVec3) -> DVec3 {
         let mut d = match self.plane {
             Some(n) => d - n * d.dot(n),
