@@ -169,16 +169,35 @@ pub fn run(a: &Args) -> Result<()> {
         polish: true,
         polish_iterations: a.polish_iterations,
     };
+    // the destinations' folders first: a missing folder is found before any work, and never after the
+    // output was written
+    for (what, path) in [("output", Some(&a.output)), ("report", a.report.as_ref())] {
+        if let Some(path) = path {
+            let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
+            if let Some(dir) = dir.filter(|d| !d.is_dir()) {
+                bail!(
+                    "cannot write the {what} {}: folder {} does not exist",
+                    path.display(),
+                    dir.display()
+                );
+            }
+        }
+    }
     match load_geometry(&a.input)? {
         Geometry::Curve(c) => fair_curve_cmd(a, &c, opts),
         Geometry::Surface(s) => fair_surface_cmd(a, &s, opts),
     }
 }
 
-fn write_report<T: Serialize>(path: &std::path::Path, report: &T) -> Result<()> {
+/// Write the report after the output `written`: a failure says that the output is there.
+fn write_report<T: Serialize>(path: &std::path::Path, report: &T, written: &std::path::Path) -> Result<()> {
     let text = serde_json::to_string_pretty(report)?;
-    fairway::io::write_atomic(path, text.as_bytes())?;
-    Ok(())
+    fairway::io::write_atomic(path, text.as_bytes()).with_context(|| {
+        format!(
+            "the result was written to {}, but the report could not be written",
+            written.display()
+        )
+    })
 }
 
 fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions) -> Result<()> {
@@ -239,7 +258,7 @@ fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions) -> R
             },
             measures: measure(curve, &result.curve),
         };
-        write_report(path, &report)?;
+        write_report(path, &report, &a.output)?;
     }
     Ok(())
 }
@@ -285,7 +304,7 @@ fn fair_surface_cmd(a: &Args, surface: &BSplineSurface, curve: FairingOptions) -
             free_v: [result.free_v.start, result.free_v.end],
             measures: surface_measures(surface, &result.surface),
         };
-        write_report(path, &report)?;
+        write_report(path, &report, &a.output)?;
     }
     Ok(())
 }

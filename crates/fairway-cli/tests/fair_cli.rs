@@ -355,7 +355,27 @@ fn fair_bad_input_gives_clear_errors() {
     );
     let missing = fairway(&["fair", s(&dir.join("nope.json")), "--tolerance", "0.01", "-o", s(&out)]);
     fails_with(&missing, 1, "nope.json");
+    // a report (or output) into a folder that does not exist: said before any work, nothing written
+    let report = dir.join("no_such_folder").join("r.json");
+    fails_with(
+        &run(&["--tolerance", "0.01", "--report", s(&report)]),
+        1,
+        "cannot write the report",
+    );
+    let nowhere = dir.join("no_such_folder").join("out.json");
+    let lost = fairway(&["fair", s(&input), "--tolerance", "0.01", "-o", s(&nowhere)]);
+    fails_with(&lost, 1, "folder");
     assert!(!out.exists(), "no output written on errors");
+    // a report that cannot be written although its folder exists (here: it is a folder): the error says
+    // that the result was written
+    let clash = dir.join("report_is_a_folder");
+    std::fs::create_dir_all(&clash).unwrap();
+    fails_with(
+        &run(&["--tolerance", "0.01", "--report", s(&clash)]),
+        1,
+        "the result was written to",
+    );
+    assert!(out.exists());
 }
 
 /// A closed, C2 cubic: the uniform periodic B-spline of `n` wavy points around a circle, written
