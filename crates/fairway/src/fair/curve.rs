@@ -1552,8 +1552,28 @@ impl FairingSetup {
     /// along itself by more than a few check spacings). Every value is the distance to a point of the
     /// curve, so the result still bounds the measured `dev_max` from above.
     fn sharp_deviation(&mut self, d: &[DVec3], bound: f64) -> f64 {
-        let np1 = self.work.degree() + 1;
         let mut pad = std::mem::take(&mut self.pad);
+        let mut cache = std::mem::take(&mut self.chk_d);
+        let dev = self.sharp_deviation_with(d, bound, &mut pad, &mut cache);
+        self.chk_d = cache;
+        self.pad = pad;
+        dev
+    }
+
+    /// [`Self::sharp_deviation`] of an update `d` of the free points found elsewhere (the iterative
+    /// baseline), with buffers of its own.
+    pub(crate) fn sharp_deviation_of(&self, d: &[DVec3], bound: f64) -> f64 {
+        self.sharp_deviation_with(d, bound, &mut Vec::new(), &mut Vec::new())
+    }
+
+    fn sharp_deviation_with(
+        &self,
+        d: &[DVec3],
+        bound: f64,
+        pad: &mut Vec<DVec3>,
+        cache: &mut Vec<Option<ChkDeriv>>,
+    ) -> f64 {
+        let np1 = self.work.degree() + 1;
         pad.clear();
         pad.resize(self.nf + 2 * np1, DVec3::ZERO);
         pad[np1..np1 + self.nf].copy_from_slice(d);
@@ -1573,7 +1593,6 @@ impl FairingSetup {
             let v = delta_at(j).length();
             // NaN-safe: a NaN displacement keeps the known bound
             if !v.is_finite() {
-                self.pad = pad;
                 return bound;
             }
             if v > 0.0 {
@@ -1586,10 +1605,8 @@ impl FairingSetup {
             }
         }
         let Ok(c) = self.updated_curve(d) else {
-            self.pad = pad;
             return bound;
         };
-        let mut cache = std::mem::take(&mut self.chk_d);
         let mut heap = std::collections::BinaryHeap::from(all);
         let mut worst = 0.0f64;
         while let Some(mut b) = heap.pop() {
@@ -1598,7 +1615,7 @@ impl FairingSetup {
             match b.level {
                 0 => {
                     let base = (self.chk_first[j] + np1 as isize) as usize;
-                    let start = self.first_newton_step(j, &pad[base..base + np1], delta_at(j), &mut cache);
+                    let start = self.first_newton_step(j, &pad[base..base + np1], delta_at(j), cache);
                     b.t = if start.is_finite() { start } else { self.chk_u[j] };
                     b.v = b.v.min(c.point(b.t).distance(q));
                 }
@@ -1613,8 +1630,6 @@ impl FairingSetup {
             b.level += 1;
             heap.push(b);
         }
-        self.chk_d = cache;
-        self.pad = pad;
         worst.min(bound)
     }
 

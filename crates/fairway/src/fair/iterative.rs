@@ -182,11 +182,13 @@ pub fn fair_iterative(setup: &FairingSetup, opts: IterativeOptions) -> Result<Fa
         }
     }
     let curve: BSplineCurve = work.with_points(loc.pts.clone())?;
+    // the parametric distance bounds the band; the reported value is sharpened by projection
     let mut dev = 0.0f64;
-    for (j, &u) in chk_u.iter().enumerate() {
-        let _ = j;
+    for &u in &chk_u {
         dev = dev.max(curve.point(u).distance(work.point(u)));
     }
+    let update: Vec<DVec3> = free.clone().map(|i| loc.pts[i] - work.points()[i]).collect();
+    let dev = setup.sharp_deviation_of(&update, dev);
     let energy = setup.energy(&curve);
     Ok(FairingResult {
         curve,
