@@ -13,6 +13,13 @@ pub const MAX_ORDER: usize = MAX_DEGREE + 1;
 /// (A2.2). `span` must come from [`find_span`](crate::knots::find_span).
 #[inline]
 pub fn basis_funs(knots: &[f64], span: usize, u: f64, p: usize, out: &mut [f64]) {
+    if p == 3 {
+        // the same operations unrolled (bit-identical)
+        let mut d = [[0.0; MAX_ORDER]; 1];
+        cubic_ders::<1>(knots, span, u, &mut d);
+        out[..4].copy_from_slice(&d[0][..4]);
+        return;
+    }
     let mut left = [0.0; MAX_ORDER];
     let mut right = [0.0; MAX_ORDER];
     out[0] = 1.0;
@@ -37,12 +44,67 @@ pub fn ders_basis_funs<const D: usize>(knots: &[f64], span: usize, u: f64, p: us
     // The triangular work table is sized for the degree at hand: zeroing a
     // MAX_ORDER² table (2 KiB) on every call cost more than the algorithm
     // itself for cubics.
-    if p < 4 {
+    if p == 3 {
+        cubic_ders::<D>(knots, span, u, ders)
+    } else if p < 4 {
         ders_impl::<D, 4>(knots, span, u, p, ders)
     } else if p < 8 {
         ders_impl::<D, 8>(knots, span, u, p, ders)
     } else {
         ders_impl::<D, MAX_ORDER>(knots, span, u, p, ders)
+    }
+}
+
+/// [`ders_basis_funs`] for cubics (derivatives above the third are zero): the
+/// triangular table of A2.2 for degrees 1–3, then the derivative recurrence
+/// `N'_{k,q} = q (N_{k,q−1} / (t_{k+q} − t_k) − N_{k+1,q−1} / (t_{k+q+1} − t_{k+1}))` on the
+/// functions that are non-zero in the span (whose denominators are therefore positive).
+#[inline(always)]
+fn cubic_ders<const D: usize>(t: &[f64], i: usize, u: f64, ders: &mut [[f64; MAX_ORDER]; D]) {
+    let (l1, l2, l3) = (u - t[i], u - t[i - 1], u - t[i - 2]);
+    let (r1, r2, r3) = (t[i + 1] - u, t[i + 2] - u, t[i + 3] - u);
+    // degree 1: N_{i−1,1}, N_{i,1}
+    let tmp = 1.0 / (r1 + l1);
+    let n1 = [r1 * tmp, l1 * tmp];
+    // degree 2: N_{i−2..i,2}
+    let a = n1[0] / (r1 + l2);
+    let b = n1[1] / (r2 + l1);
+    let n2 = [r1 * a, l2 * a + r2 * b, l1 * b];
+    // degree 3
+    let a = n2[0] / (r1 + l3);
+    let b = n2[1] / (r2 + l2);
+    let c = n2[2] / (r3 + l1);
+    ders[0][..4].copy_from_slice(&[r1 * a, l3 * a + r2 * b, l2 * b + r3 * c, l1 * c]);
+    if D == 1 {
+        return;
+    }
+    // 3 N_{i−2+m,2} / (t_{i+1+m} − t_{i−2+m}), m = 0..2
+    let w3 = [
+        3.0 / (t[i + 1] - t[i - 2]),
+        3.0 / (t[i + 2] - t[i - 1]),
+        3.0 / (t[i + 3] - t[i]),
+    ];
+    let q = [n2[0] * w3[0], n2[1] * w3[1], n2[2] * w3[2]];
+    ders[1][..4].copy_from_slice(&[-q[0], q[0] - q[1], q[1] - q[2], q[2]]);
+    if D == 2 {
+        return;
+    }
+    // N'_{i−2+m,2} from 2 N_{i−1+m',1} / (t_{i+1+m'} − t_{i−1+m'}), m' = 0..1
+    let rr = [2.0 * n1[0] / (t[i + 1] - t[i - 1]), 2.0 * n1[1] / (t[i + 2] - t[i])];
+    let d2 = [-rr[0], rr[0] - rr[1], rr[1]];
+    let sq = [d2[0] * w3[0], d2[1] * w3[1], d2[2] * w3[2]];
+    ders[2][..4].copy_from_slice(&[-sq[0], sq[0] - sq[1], sq[1] - sq[2], sq[2]]);
+    if D == 3 {
+        return;
+    }
+    // N''_{i−2+m,2} from N'_{i−1,1} = −e, N'_{i,1} = e (e = 1 / (t_{i+1} − t_i))
+    let e = 1.0 / (t[i + 1] - t[i]);
+    let pp = [-2.0 * e / (t[i + 1] - t[i - 1]), 2.0 * e / (t[i + 2] - t[i])];
+    let dd2 = [-pp[0], pp[0] - pp[1], pp[1]];
+    let sc = [dd2[0] * w3[0], dd2[1] * w3[1], dd2[2] * w3[2]];
+    ders[3][..4].copy_from_slice(&[-sc[0], sc[0] - sc[1], sc[1] - sc[2], sc[2]]);
+    for row in ders.iter_mut().skip(4) {
+        row[..4].fill(0.0);
     }
 }
 
@@ -142,6 +204,70 @@ mod tests {
             for k in 1..4 {
                 assert!(d[k][..4].iter().sum::<f64>().abs() < 1e-9, "k={k}");
             }
+        }
+    }
+
+    /// The unrolled cubic `basis_funs` is A2.2's arithmetic, bit for bit.
+    #[test]
+    fn cubic_basis_is_a2_2_bit_for_bit() {
+        fn a2_2(knots: &[f64], span: usize, u: f64, p: usize, out: &mut [f64]) {
+            let mut left = [0.0; MAX_ORDER];
+            let mut right = [0.0; MAX_ORDER];
+            out[0] = 1.0;
+            for j in 1..=p {
+                left[j] = u - knots[span + 1 - j];
+                right[j] = knots[span + j] - u;
+                let mut saved = 0.0;
+                for r in 0..j {
+                    let temp = out[r] / (right[r + 1] + left[j - r]);
+                    out[r] = saved + right[r + 1] * temp;
+                    saved = left[j - r] * temp;
+                }
+                out[j] = saved;
+            }
+        }
+        let knots = [
+            0., 0., 0., 0., 0.1, 0.1, 0.3, 0.55, 0.55, 0.55, 0.7, 0.71, 1., 1., 1., 1.,
+        ];
+        let n = knots.len() - 4;
+        for i in 0..=1000 {
+            let u = (i as f64 / 1000.0).powf(1.3);
+            let span = find_span(&knots, 3, n, u);
+            let (mut a, mut b) = ([0.0; MAX_ORDER], [0.0; MAX_ORDER]);
+            basis_funs(&knots, span, u, 3, &mut a);
+            a2_2(&knots, span, u, 3, &mut b);
+            assert_eq!(a[..4], b[..4], "u {u}");
+        }
+    }
+
+    /// The cubic path agrees with the general algorithm A2.3, also next to double and triple knots.
+    #[test]
+    fn cubic_path_matches_the_general_algorithm() {
+        let knots = [
+            0., 0., 0., 0., 0.1, 0.1, 0.3, 0.55, 0.55, 0.55, 0.7, 0.71, 1., 1., 1., 1.,
+        ];
+        let n = knots.len() - 4;
+        for i in 0..=400 {
+            let u = i as f64 / 400.0;
+            let span = find_span(&knots, 3, n, u);
+            let mut fast = [[0.0; MAX_ORDER]; 5];
+            let mut general = [[0.0; MAX_ORDER]; 5];
+            ders_basis_funs(&knots, span, u, 3, &mut fast);
+            ders_impl::<5, 4>(&knots, span, u, 3, &mut general);
+            for k in 0..5 {
+                let scale = general[k][..4].iter().fold(1.0f64, |m, x| m.max(x.abs()));
+                for j in 0..4 {
+                    assert!(
+                        (fast[k][j] - general[k][j]).abs() <= 1e-13 * scale,
+                        "u {u} k {k} j {j}: {} vs {}",
+                        fast[k][j],
+                        general[k][j]
+                    );
+                }
+            }
+            let mut one = [[0.0; MAX_ORDER]; 1];
+            ders_basis_funs(&knots, span, u, 3, &mut one);
+            assert_eq!(one[0][..4], fast[0][..4]);
         }
     }
 

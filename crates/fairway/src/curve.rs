@@ -86,6 +86,50 @@ impl CurveDerivs {
     }
 }
 
+/// Checks of [`BSplineCurve::try_new`] on the control points and weights (their count against the
+/// knots is the knot vector's check): finite points, z = 0 in 2D, finite positive weights, one per point.
+fn validate_points(points: &[DVec3], weights: Option<&[f64]>, dim: usize) -> Result<()> {
+    for (i, p) in points.iter().enumerate() {
+        if !p.is_finite() {
+            return Err(Error::NotFinite {
+                field: "points".into(),
+                index: i,
+            });
+        }
+        if dim == 2 && p.z != 0.0 {
+            return Err(Error::InvalidInput(format!(
+                "points: point {i} of a 2D curve has z = {}",
+                p.z
+            )));
+        }
+    }
+    if let Some(w) = weights {
+        if w.len() != points.len() {
+            return Err(Error::LengthMismatch {
+                field: "weights".into(),
+                count: w.len(),
+                expected: points.len(),
+            });
+        }
+        for (i, &x) in w.iter().enumerate() {
+            if !x.is_finite() {
+                return Err(Error::NotFinite {
+                    field: "weights".into(),
+                    index: i,
+                });
+            }
+            if x <= 0.0 {
+                return Err(Error::BadWeight {
+                    field: "weights".into(),
+                    index: i,
+                    value: x,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
 impl BSplineCurve {
     /// Build and validate a curve. `dim` is 2 or 3; for 2D, the z coordinates
     /// must be 0. `weights`, if given, must be positive, one per point.
@@ -102,44 +146,7 @@ impl BSplineCurve {
             )));
         }
         let knots = KnotVector::try_new(knots, degree, points.len(), "knots")?;
-        for (i, p) in points.iter().enumerate() {
-            if !p.is_finite() {
-                return Err(Error::NotFinite {
-                    field: "points".into(),
-                    index: i,
-                });
-            }
-            if dim == 2 && p.z != 0.0 {
-                return Err(Error::InvalidInput(format!(
-                    "points: point {i} of a 2D curve has z = {}",
-                    p.z
-                )));
-            }
-        }
-        if let Some(w) = &weights {
-            if w.len() != points.len() {
-                return Err(Error::LengthMismatch {
-                    field: "weights".into(),
-                    count: w.len(),
-                    expected: points.len(),
-                });
-            }
-            for (i, &x) in w.iter().enumerate() {
-                if !x.is_finite() {
-                    return Err(Error::NotFinite {
-                        field: "weights".into(),
-                        index: i,
-                    });
-                }
-                if x <= 0.0 {
-                    return Err(Error::BadWeight {
-                        field: "weights".into(),
-                        index: i,
-                        value: x,
-                    });
-                }
-            }
-        }
+        validate_points(&points, weights.as_deref(), dim)?;
         Ok(Self {
             knots,
             points,
@@ -166,15 +173,23 @@ impl BSplineCurve {
         Self::try_new(p, k, points, None, dim)
     }
 
-    /// The same knots and weights with new control points (validated).
+    /// The same knots and weights with new control points (validated: as many as before, finite,
+    /// z = 0 in 2D; the knots are not checked again).
     pub fn with_points(&self, points: Vec<DVec3>) -> Result<Self> {
-        Self::try_new(
-            self.degree(),
-            self.knots.values().to_vec(),
+        if points.len() != self.points.len() {
+            return Err(Error::LengthMismatch {
+                field: "points".into(),
+                count: points.len(),
+                expected: self.points.len(),
+            });
+        }
+        validate_points(&points, self.weights.as_deref(), self.dim)?;
+        Ok(Self {
+            knots: self.knots.clone(),
             points,
-            self.weights.clone(),
-            self.dim,
-        )
+            weights: self.weights.clone(),
+            dim: self.dim,
+        })
     }
 
     /// Degree p.

@@ -151,6 +151,22 @@ impl KnotVector {
         find_span(&self.values, self.degree, self.n_points(), u)
     }
 
+    /// [`Self::find_span`] for increasing parameters: `hint` is the previous answer, and when `u` lies
+    /// strictly inside the domain in that span or the next one, no search is needed. Same result.
+    #[inline]
+    pub fn find_span_from(&self, u: f64, hint: usize) -> usize {
+        let (k, n) = (&self.values, self.n_points());
+        if u > k[self.degree] && u < k[n] && hint >= self.degree && hint < n {
+            if k[hint] <= u && u < k[hint + 1] {
+                return hint;
+            }
+            if hint + 1 < n && k[hint + 1] <= u && u < k[hint + 2] {
+                return hint + 1;
+            }
+        }
+        self.find_span(u)
+    }
+
     /// Multiplicity of the value `u` in the knot vector (0 if absent).
     pub fn multiplicity(&self, u: f64) -> usize {
         self.values.iter().filter(|&&v| v == u).count()
@@ -240,6 +256,23 @@ pub fn find_span(knots: &[f64], p: usize, n: usize, u: f64) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn find_span_from_agrees_with_find_span() {
+        let values = vec![
+            0., 0., 0., 0., 0.1, 0.1, 0.3, 0.55, 0.55, 0.55, 0.7, 0.71, 1., 1., 1., 1.,
+        ];
+        let kv = KnotVector::try_new(values, 3, 12, "knots").unwrap();
+        let mut hint = 0;
+        for i in 0..=2000 {
+            let u = -0.1 + 1.2 * (i as f64 / 2000.0).powf(1.5);
+            let s = kv.find_span_from(u, hint);
+            assert_eq!(s, kv.find_span(u), "u {u}");
+            hint = s;
+            // any hint gives the same answer
+            assert_eq!(kv.find_span_from(u, i % 20), kv.find_span(u));
+        }
+    }
 
     #[test]
     fn validation_messages() {

@@ -614,8 +614,9 @@ impl FairingSetup {
             let kv = work.knots().values();
             let cp = work.points();
             let mut ders = [[0.0; MAX_ORDER]; 3];
+            let mut span = 0;
             for &u in &s.params {
-                let span = work.knots().find_span(u);
+                span = work.knots().find_span_from(u, span);
                 ders_basis_funs(kv, span, work.knots().clamp(u), p, &mut ders);
                 let (mut x, mut d1, mut d2) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
                 for j in 0..=p {
@@ -793,11 +794,16 @@ impl FairingSetup {
             table.equal_arc_params_between(&work, s0, s1, k1 + 1 - k0, &mut v);
             v
         };
+        s.chk_u.reserve(all.len());
+        s.chk_q.reserve(all.len());
+        s.chk_first.reserve(all.len());
+        s.chk_b.reserve(all.len() * (p + 1));
+        let mut span = 0;
         for u in all {
             if u <= range.0 || u >= range.1 {
                 continue;
             }
-            let span = work.knots().find_span(u);
+            span = work.knots().find_span_from(u, span);
             let mut nb = [0.0; MAX_ORDER];
             basis_funs(work.knots().values(), span, work.knots().clamp(u), p, &mut nb);
             let f = (span - p) as isize - i0 as isize;
@@ -951,12 +957,41 @@ impl FairingSetup {
     /// [`Self::energy`] of `c_orig + Σ N_i d_i` from the stored basis rows: the
     /// same numbers without evaluating the new curve (two fused sums per sample).
     fn energy_of_update(&self, d: &[DVec3]) -> f64 {
+        match self.work.degree() {
+            2 => self.energy_rows::<3>(d),
+            3 => self.energy_rows::<4>(d),
+            4 => self.energy_rows::<5>(d),
+            5 => self.energy_rows::<6>(d),
+            _ => self.energy_rows::<0>(d),
+        }
+    }
+
+    /// [`Self::energy_of_update`] with `N` = p + 1 known at compile time (0: read p from the curve):
+    /// samples whose p + 1 rows are all free take an unrolled path (the same sums in the same order).
+    fn energy_rows<const N: usize>(&self, d: &[DVec3]) -> f64 {
         let p = self.work.degree();
         let g = self.target.values();
         (0..self.params.len())
             .map(|k| {
                 let f = self.first[k];
                 let (mut d1, mut d2) = (self.d1[k], self.d2[k]);
+                if N > 0 && f >= 0 && f as usize + N <= self.nf {
+                    let base = f as usize;
+                    let rows = &d[base..base + N];
+                    let (b1, b2) = (&self.b1[k * N..(k + 1) * N], &self.b2[k * N..(k + 1) * N]);
+                    for i in 0..N {
+                        d1 += rows[i] * b1[i];
+                        d2 += rows[i] * b2[i];
+                    }
+                    let cd = CurveDerivs {
+                        p: DVec3::ZERO,
+                        d1,
+                        d2,
+                        d3: DVec3::ZERO,
+                    };
+                    let e = self.signed_kappa(&cd, k) - g[k];
+                    return e * e;
+                }
                 for i in 0..=p {
                     let li = f + i as isize;
                     if li >= 0 && (li as usize) < self.nf {
