@@ -979,6 +979,19 @@ impl FairingSetup {
                     let base = f as usize;
                     let rows = &d[base..base + N];
                     let (b1, b2) = (&self.b1[k * N..(k + 1) * N], &self.b2[k * N..(k + 1) * N]);
+                    if self.work.dim() == 2 {
+                        // z is 0 in 2D: κ = (x'y'' − y'x'') / |c'|³ from x and y alone (the same value)
+                        let (mut x1, mut y1, mut x2, mut y2) = (d1.x, d1.y, d2.x, d2.y);
+                        for i in 0..N {
+                            x1 += rows[i].x * b1[i];
+                            y1 += rows[i].y * b1[i];
+                            x2 += rows[i].x * b2[i];
+                            y2 += rows[i].y * b2[i];
+                        }
+                        let v = (x1 * x1 + y1 * y1).sqrt();
+                        let e = (x1 * y2 - y1 * x2) / (v * v * v) - g[k];
+                        return e * e;
+                    }
                     for i in 0..N {
                         d1 += rows[i] * b1[i];
                         d2 += rows[i] * b2[i];
@@ -1563,11 +1576,12 @@ impl FairingSetup {
         let mut cache = std::mem::take(&mut self.chk_d);
         // the common degrees with the row count known at compile time (an unrolled inner loop)
         let (worst, broken_at) = match self.work.degree() {
-            2 => self.scan::<3>(&pad, d, sharpen, &mut cache),
-            3 => self.scan::<4>(&pad, d, sharpen, &mut cache),
-            4 => self.scan::<5>(&pad, d, sharpen, &mut cache),
-            5 => self.scan::<6>(&pad, d, sharpen, &mut cache),
-            _ => self.scan::<0>(&pad, d, sharpen, &mut cache),
+            3 if self.work.dim() == 2 => self.scan::<4, true>(&pad, d, sharpen, &mut cache),
+            2 => self.scan::<3, false>(&pad, d, sharpen, &mut cache),
+            3 => self.scan::<4, false>(&pad, d, sharpen, &mut cache),
+            4 => self.scan::<5, false>(&pad, d, sharpen, &mut cache),
+            5 => self.scan::<6, false>(&pad, d, sharpen, &mut cache),
+            _ => self.scan::<0, false>(&pad, d, sharpen, &mut cache),
         };
         if let Some(j) = broken_at {
             self.scan_from = j;
@@ -1714,7 +1728,7 @@ impl FairingSetup {
     /// the same value, since the root is monotone and correctly rounded). The scan starts at
     /// `self.scan_from` and wraps around: the maximum is the same in any order, and a broken band
     /// returns the first violation found (callers only compare it with `sharpen`) and where.
-    fn scan<const N: usize>(
+    fn scan<const N: usize, const PLANE: bool>(
         &self,
         pad: &[DVec3],
         d: &[DVec3],
@@ -1732,10 +1746,21 @@ impl FairingSetup {
             let base = (self.chk_first[j] + off as isize) as usize;
             let w = &self.chk_b[j * np1..(j + 1) * np1];
             let rows = &pad[base..base + np1];
-            let mut delta = DVec3::ZERO;
-            for (x, b) in rows.iter().zip(w) {
-                delta += *x * *b;
-            }
+            // 2D (`PLANE`): z is 0 in every row, so only x and y are summed (the same value)
+            let delta = if PLANE {
+                let (mut x, mut y) = (0.0, 0.0);
+                for (r, b) in rows.iter().zip(w) {
+                    x += r.x * *b;
+                    y += r.y * *b;
+                }
+                DVec3::new(x, y, 0.0)
+            } else {
+                let mut delta = DVec3::ZERO;
+                for (x, b) in rows.iter().zip(w) {
+                    delta += *x * *b;
+                }
+                delta
+            };
             let len2 = delta.length_squared();
             // NaN-safe: a NaN update is "above the band"
             if !(len2 <= sharpen2) {
