@@ -71,9 +71,9 @@
 //!    gives a sharper (still upper) bound. So the reported
 //!    `max_deviation ≥` the measured `dev_max`, and it is `≤ m`. The band
 //!    checks stop each projection as soon as it is inside the band; the
-//!    reported value is sharpened once at the end (the samples taken in
-//!    decreasing order of their bound, each projected until it cannot raise
-//!    the maximum): it equals the measured `dev_max` to rounding.
+//!    reported value is sharpened once at the end (the sample with the
+//!    largest bound is projected further until a converged projection is the
+//!    largest): it equals the measured `dev_max` to rounding.
 //!
 //! [`FitMode::Paper`] is the faithful reproduction for comparisons:
 //! position-only pull-back, plain least squares (λ = 0), no verification
@@ -1595,11 +1595,14 @@ impl FairingSetup {
     /// distances to `c_orig + Σ N_i d_i` that is as sharp as the projections make it (`bound` is a
     /// bound already known, e.g. the accepting band check's). The band checks only need to know that
     /// a sample is within the band, so they stop each projection at the first point inside it and
-    /// search within four check spacings of u_j; here the samples are visited in decreasing order of their
-    /// parametric displacement (itself an upper bound), each projection runs until it cannot raise
-    /// the running maximum, and its window widens when Newton leaves it (the faired curve may slide
-    /// along itself by more than a few check spacings). Every value is the distance to a point of the
-    /// curve, so the result still bounds the measured `dev_max` from above.
+    /// search within four check spacings of u_j. Here every sample starts with its parametric
+    /// displacement (an upper bound); the sample with the largest bound is sharpened one level (the
+    /// point one Newton step from u_j, then a converged Newton projection whose window widens when
+    /// Newton leaves it: the faired curve may slide along itself by more than a few check spacings)
+    /// and goes back into a max-heap, until a fully projected sample is on top: no other sample can
+    /// exceed it. Only samples whose bounds exceed the result are refined (≈ 270 of 2000 on the bench
+    /// curve). Every value is the distance to a point of the curve, so the result still bounds the
+    /// measured `dev_max` from above.
     fn sharp_deviation(&mut self, d: &[DVec3], bound: f64) -> f64 {
         let mut pad = std::mem::take(&mut self.pad);
         let mut cache = std::mem::take(&mut self.chk_d);
