@@ -104,27 +104,33 @@ fn validate_points(points: &[DVec3], weights: Option<&[f64]>, dim: usize) -> Res
         }
     }
     if let Some(w) = weights {
-        if w.len() != points.len() {
-            return Err(Error::LengthMismatch {
+        validate_weights(w, points.len())?;
+    }
+    Ok(())
+}
+
+/// Weights of a rational curve or surface: one per control point (`n`), finite and positive.
+pub(crate) fn validate_weights(w: &[f64], n: usize) -> Result<()> {
+    if w.len() != n {
+        return Err(Error::LengthMismatch {
+            field: "weights".into(),
+            count: w.len(),
+            expected: n,
+        });
+    }
+    for (i, &x) in w.iter().enumerate() {
+        if !x.is_finite() {
+            return Err(Error::NotFinite {
                 field: "weights".into(),
-                count: w.len(),
-                expected: points.len(),
+                index: i,
             });
         }
-        for (i, &x) in w.iter().enumerate() {
-            if !x.is_finite() {
-                return Err(Error::NotFinite {
-                    field: "weights".into(),
-                    index: i,
-                });
-            }
-            if x <= 0.0 {
-                return Err(Error::BadWeight {
-                    field: "weights".into(),
-                    index: i,
-                    value: x,
-                });
-            }
+        if x <= 0.0 {
+            return Err(Error::BadWeight {
+                field: "weights".into(),
+                index: i,
+                value: x,
+            });
         }
     }
     Ok(())

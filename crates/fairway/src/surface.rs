@@ -140,28 +140,7 @@ impl BSplineSurface {
             });
         }
         if let Some(w) = &weights {
-            if w.len() != points.len() {
-                return Err(Error::LengthMismatch {
-                    field: "weights".into(),
-                    count: w.len(),
-                    expected: points.len(),
-                });
-            }
-            for (i, &x) in w.iter().enumerate() {
-                if !x.is_finite() {
-                    return Err(Error::NotFinite {
-                        field: "weights".into(),
-                        index: i,
-                    });
-                }
-                if x <= 0.0 {
-                    return Err(Error::BadWeight {
-                        field: "weights".into(),
-                        index: i,
-                        value: x,
-                    });
-                }
-            }
+            crate::curve::validate_weights(w, points.len())?;
         }
         Ok(Self {
             knots_u,

@@ -996,20 +996,13 @@ impl FairingSetup {
                         d1 += rows[i] * b1[i];
                         d2 += rows[i] * b2[i];
                     }
-                    let cd = CurveDerivs {
-                        p: DVec3::ZERO,
-                        d1,
-                        d2,
-                        d3: DVec3::ZERO,
-                    };
-                    let e = self.signed_kappa(&cd, k) - g[k];
-                    return e * e;
-                }
-                for i in 0..=p {
-                    let li = f + i as isize;
-                    if li >= 0 && (li as usize) < self.nf {
-                        d1 += d[li as usize] * self.b1[k * (p + 1) + i];
-                        d2 += d[li as usize] * self.b2[k * (p + 1) + i];
+                } else {
+                    for i in 0..=p {
+                        let li = f + i as isize;
+                        if li >= 0 && (li as usize) < self.nf {
+                            d1 += d[li as usize] * self.b1[k * (p + 1) + i];
+                            d2 += d[li as usize] * self.b2[k * (p + 1) + i];
+                        }
                     }
                 }
                 let cd = CurveDerivs {
