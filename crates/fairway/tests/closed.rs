@@ -584,15 +584,16 @@ fn periodic_degree(q: &[DVec3], p: usize) -> BSplineCurve {
 /// C^{p−1} like the original's. Each result holds the band, keeps the knots, stays closed and
 /// C^{p−1} across the seam. Summed over the seeds, its curvature error against the noise-free
 /// construction is below the input's and below that of one pass with the seam held (what quartics
-/// and quintics got before), and next to the seam below the held pass's and within 1.5× the error
-/// over the whole loop (no seam artifact; the held seam's neighbourhood even came out worse than the
-/// input there, 0.0622 vs 0.0437 on one quartic seed).
+/// and quintics got before), and next to the seam below the held pass's, within 1.5× the error
+/// over the whole loop and within 1.25× the error around the antipode, the other curvature maximum
+/// (no seam artifact; the held seam's neighbourhood even came out worse than the input there, 0.0622
+/// vs 0.0437 on one quartic seed).
 #[test]
 fn closed_quartic_and_quintic_are_faired_across_their_seam() {
     for p in [3usize, 4, 5] {
         // Σ over the seeds of the κ RMS error: input, faired across the seam, held seam; each over the
         // whole loop and over the tenth of the domain on each side of the seam
-        let (mut all, mut seam) = ([0.0; 3], [0.0; 3]);
+        let (mut all, mut seam, mut antipode) = ([0.0; 3], [0.0; 3], [0.0; 3]);
         for seed in 0..4u64 {
             let n = 40;
             let mut rng = Rng::new(30 + p as u64 + 100 * seed);
@@ -635,10 +636,11 @@ fn closed_quartic_and_quintic_are_faired_across_their_seam() {
             assert!(matches!(held.seam, Seam::Held(_)));
             // curvature error against the noise-free construction, at the closest point of it
             let proj = fairway::CurveProjector::new(&truth, 8);
-            let kappa_err = |x: &BSplineCurve, near_seam: bool| {
+            // over the parameters `keep` selects
+            let kappa_err = |x: &BSplineCurve, keep: &dyn Fn(f64) -> bool| {
                 let us: Vec<f64> = (0..400)
                     .map(|i| (i as f64 + 0.5) / 400.0)
-                    .filter(|&u| !near_seam || !(0.1..=0.9).contains(&u))
+                    .filter(|&u| keep(u))
                     .collect();
                 let s: f64 = us
                     .iter()
@@ -650,13 +652,16 @@ fn closed_quartic_and_quintic_are_faired_across_their_seam() {
                 (s / us.len() as f64).sqrt()
             };
             for (k, x) in [&c, f, &held.curve].into_iter().enumerate() {
-                all[k] += kappa_err(x, false);
-                seam[k] += kappa_err(x, true);
+                all[k] += kappa_err(x, &|_| true);
+                seam[k] += kappa_err(x, &|u| !(0.1..=0.9).contains(&u));
+                // the same width around the antipode, the ellipse's other curvature maximum
+                antipode[k] += kappa_err(x, &|u| (0.4..=0.6).contains(&u));
             }
         }
         println!(
-            "closed degree {p}, Σ of 4 seeds: κ RMS error {:.4} -> {:.4} (held seam {:.4}); next to the seam {:.4} -> {:.4} (held {:.4})",
-            all[0], all[1], all[2], seam[0], seam[1], seam[2]
+            "closed degree {p}, Σ of 4 seeds: κ RMS error {:.4} -> {:.4} (held seam {:.4}); next to the seam {:.4} -> {:.4} (held {:.4}); \
+             around the antipode {:.4} -> {:.4} (held {:.4})",
+            all[0], all[1], all[2], seam[0], seam[1], seam[2], antipode[0], antipode[1], antipode[2]
         );
         assert!(all[1] < 0.9 * all[0], "p = {p}: {all:?}");
         assert!(all[1] < all[2], "p = {p}: {all:?}");
@@ -664,6 +669,14 @@ fn closed_quartic_and_quintic_are_faired_across_their_seam() {
         // error over the whole loop (the held seam: 1.5–1.8×)
         assert!(seam[1] < 0.9 * seam[2], "p = {p}: {seam:?}");
         assert!(seam[1] <= 1.5 * all[1], "p = {p}: {seam:?} vs {all:?}");
+        // no seam artifact: next to the seam as good as around the antipode, the other curvature
+        // maximum, where the smoothed target flattens the peak the same way (measured 0.90×, 1.12×,
+        // 0.97× for p = 3, 4, 5; the held seam: 1.80×, 1.70×, 1.27×). Where the faired seam is worse than the
+        // input (p = 5: 0.111 vs 0.096), the input's noise happens to be small there (its antipode: 0.145).
+        assert!(
+            seam[1] <= 1.25 * antipode[1],
+            "p = {p}: seam {seam:?} vs antipode {antipode:?}"
+        );
     }
 }
 
