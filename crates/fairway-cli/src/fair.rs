@@ -222,12 +222,12 @@ fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions) -> R
     let setup_ms = t0.elapsed().as_secs_f64() * 1e3;
     let t1 = Instant::now();
     // a whole closed curve: faired across the seam (two passes, see fairway::fair::closed)
-    let result = if a.method == "iterative" {
-        fair_iterative(&setup, IterativeOptions::default())
-    } else if across.is_none() && closed::applies(curve, &opts) {
-        closed::fair_closed(curve, opts)
-    } else {
-        setup.fair()
+    let whole_closed = across.is_none() && closed::applies(curve, &opts);
+    let result = match (a.method == "iterative", whole_closed) {
+        (true, true) => closed::fair_closed_iterative(curve, opts, IterativeOptions::default()),
+        (true, false) => fair_iterative(&setup, IterativeOptions::default()),
+        (false, true) => closed::fair_closed(curve, opts),
+        (false, false) => setup.fair(),
     }
     .context("fairing")?;
     let result = match &across {

@@ -447,6 +447,27 @@ pub fn applies(curve: &BSplineCurve, opts: &FairingOptions) -> bool {
 /// open curve; every failure of the seam treatment falls back to the first pass's result with
 /// [`Seam::Held`] and the reason.
 pub fn fair_closed(curve: &BSplineCurve, opts: FairingOptions) -> Result<FairingResult> {
+    fair_closed_with(curve, opts, |s| s.fair())
+}
+
+/// [`fair_closed`] with the iterative baseline ([`super::iterative::fair_iterative`]) as the pass:
+/// the same two passes, blend and verification, so the baseline too fairs a whole closed curve
+/// across its seam (and a region across the seam) and the two methods are compared on the same
+/// problem.
+pub fn fair_closed_iterative(
+    curve: &BSplineCurve,
+    opts: FairingOptions,
+    iterative: super::iterative::IterativeOptions,
+) -> Result<FairingResult> {
+    fair_closed_with(curve, opts, |s| super::iterative::fair_iterative(s, iterative))
+}
+
+/// [`fair_closed`] with `pass` as the single pass of a prepared setup.
+fn fair_closed_with(
+    curve: &BSplineCurve,
+    opts: FairingOptions,
+    pass: impl Fn(&mut FairingSetup) -> Result<FairingResult>,
+) -> Result<FairingResult> {
     let input = curve.to_polynomial()?;
     if !is_closed_curve(&input) {
         return Err(Error::InvalidInput(format!(
@@ -456,11 +477,11 @@ pub fn fair_closed(curve: &BSplineCurve, opts: FairingOptions) -> Result<Fairing
     }
     if opts.region.is_some_and(|(u1, u2)| u1 > u2) {
         let (mut setup, across) = setup_across_seam(&input, opts)?;
-        let r = setup.fair()?;
+        let r = pass(&mut setup)?;
         return across.back(r);
     }
     if !applies(&input, &opts) {
-        return FairingSetup::new(&input, opts)?.fair();
+        return pass(&mut FairingSetup::new(&input, opts)?);
     }
     let m = opts.tolerance;
     let b = input.domain().1;
@@ -475,7 +496,7 @@ pub fn fair_closed(curve: &BSplineCurve, opts: FairingOptions) -> Result<Fairing
     // only three (G2) left a quartic's or quintic's seam C2 and the two forms could not be blended.
     let p = input.degree();
     let mut s1 = FairingSetup::new_holding(&input, o1, p)?;
-    let r1 = s1.fair()?;
+    let r1 = pass(&mut s1)?;
     let held = |reason: String| FairingResult {
         seam: Seam::Held(reason),
         ..r1.clone()
@@ -510,7 +531,7 @@ pub fn fair_closed(curve: &BSplineCurve, opts: FairingOptions) -> Result<Fairing
     let rt = ArcLengthTable::new(&rot0, 1e-10);
     let total = rt.length();
     let s_seam = rt.length_at(&rot0, b);
-    let r2 = match FairingSetup::new(&rot0, o1).and_then(|mut s2| s2.fair()) {
+    let r2 = match FairingSetup::new(&rot0, o1).and_then(|mut s2| pass(&mut s2)) {
         Ok(r) => r,
         Err(e) => return Ok(held(format!("the pass on the re-seamed curve failed ({e}): held"))),
     };

@@ -38,7 +38,7 @@ pub mod iterative;
 pub mod surface;
 pub mod target;
 
-pub use closed::{Seam, fair_closed};
+pub use closed::{Seam, fair_closed, fair_closed_iterative};
 pub use curve::{EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, fair_curve};
 pub use integrate::Integrator;
 pub use iterative::{IterativeOptions, fair_iterative};
