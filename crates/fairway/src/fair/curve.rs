@@ -1328,12 +1328,7 @@ impl FairingSetup {
         let mut cand: Option<BSplineCurve> = None;
         let mut out = vec![];
         for j in 0..self.chk_u.len() {
-            let base = (self.chk_first[j] + np1 as isize) as usize;
-            let rows = &pad[base..base + np1];
-            let mut delta = DVec3::ZERO;
-            for (x, b) in rows.iter().zip(&self.chk_b[j * np1..(j + 1) * np1]) {
-                delta += *x * *b;
-            }
+            let (rows, delta) = self.chk_rows(&pad, j);
             if delta.length() <= level {
                 continue;
             }
@@ -1625,17 +1620,9 @@ impl FairingSetup {
         // lazy refinement: the sample with the largest bound so far is sharpened one level (0: the
         // parametric displacement, 1: the point one Newton step from u_j, 2: the projection) and put
         // back; a sample at level 2 on top bounds all the others
-        let delta_at = |j: usize| {
-            let base = (self.chk_first[j] + np1 as isize) as usize;
-            let mut delta = DVec3::ZERO;
-            for (x, b) in pad[base..base + np1].iter().zip(&self.chk_b[j * np1..(j + 1) * np1]) {
-                delta += *x * *b;
-            }
-            delta
-        };
         let mut all = Vec::with_capacity(self.chk_u.len());
         for j in 0..self.chk_u.len() {
-            let v = delta_at(j).length();
+            let v = self.chk_rows(pad, j).1.length();
             // NaN-safe: a NaN displacement keeps the known bound
             if !v.is_finite() {
                 return bound;
@@ -1659,8 +1646,8 @@ impl FairingSetup {
             let q = self.chk_q[j];
             match b.level {
                 0 => {
-                    let base = (self.chk_first[j] + np1 as isize) as usize;
-                    let start = self.first_newton_step(j, &pad[base..base + np1], delta_at(j), cache);
+                    let (rows, delta) = self.chk_rows(pad, j);
+                    let start = self.first_newton_step(j, rows, delta, cache);
                     b.t = if start.is_finite() { start } else { self.chk_u[j] };
                     b.v = b.v.min(c.point(b.t).distance(q));
                 }
@@ -1676,6 +1663,20 @@ impl FairingSetup {
             heap.push(b);
         }
         worst.min(bound)
+    }
+
+    /// Check sample j's p + 1 rows of the padded update `pad` (see [`Self::deviation`]) and the
+    /// displacement `Σ N_i(u_j) d_i` they give.
+    #[inline]
+    fn chk_rows<'a>(&self, pad: &'a [DVec3], j: usize) -> (&'a [DVec3], DVec3) {
+        let np1 = self.work.degree() + 1;
+        let base = (self.chk_first[j] + np1 as isize) as usize;
+        let rows = &pad[base..base + np1];
+        let mut delta = DVec3::ZERO;
+        for (x, b) in rows.iter().zip(&self.chk_b[j * np1..(j + 1) * np1]) {
+            delta += *x * *b;
+        }
+        (rows, delta)
     }
 
     /// The parameter after one Newton step of the projection of check sample j's original point q onto
@@ -1825,16 +1826,35 @@ fn kappa_and_gradients(dim: usize, nn: DVec3, d1: DVec3, d2: DVec3) -> (f64, DVe
 /// Stops as soon as a point within `enough` is found (the band check only
 /// needs to know that the distance is below the band).
 pub(crate) fn project_near(c: &BSplineCurve, q: DVec3, u: f64, w: f64, start: f64, enough: f64) -> f64 {
+    newton_distance(c, q, u, w, start, enough, false)
+}
+
+/// [`project_near`] whose window doubles (up to the whole domain) each time Newton wants to leave
+/// it, started anywhere in the domain: the faired curve may slide along itself by more than the
+/// window.
+fn project_widening(c: &BSplineCurve, q: DVec3, u: f64, w: f64, start: f64, enough: f64) -> f64 {
+    newton_distance(c, q, u, w, start, enough, true)
+}
+
+/// The Newton search of [`project_near`] (`widen` false: 12 steps in a fixed window) and
+/// [`project_widening`] (`widen` true: 40 steps, the window doubling when Newton leaves it).
+#[inline(always)]
+fn newton_distance(c: &BSplineCurve, q: DVec3, u: f64, w: f64, start: f64, enough: f64, widen: bool) -> f64 {
     let (d0, d1) = c.domain();
-    let (lo, hi) = ((u - w).max(d0), (u + w).min(d1));
-    let mut t = if start.is_finite() { start.clamp(lo, hi) } else { u };
+    let window = |w: f64| ((u - w).max(d0), (u + w).min(d1));
+    let mut w = w;
+    let (mut lo, mut hi) = window(w);
+    let mut t = match (start.is_finite(), widen) {
+        (false, _) => u,
+        (true, false) => start.clamp(lo, hi),
+        (true, true) => start.clamp(d0, d1),
+    };
     // the point alone first: near the band edge one Newton step from u_j usually lands within `enough`
-    let first = c.point(t).distance(q);
-    if first <= enough {
-        return first;
+    let mut best = c.point(t).distance(q);
+    if best <= enough {
+        return best;
     }
-    let mut best = first;
-    for _ in 0..12 {
+    for _ in 0..if widen { 40 } else { 12 } {
         let d = c.derivs(t);
         let r = d.p - q;
         best = best.min(r.length());
@@ -1844,14 +1864,20 @@ pub(crate) fn project_near(c: &BSplineCurve, q: DVec3, u: f64, w: f64, start: f6
         let f = d.d1.dot(r);
         let df = d.d2.dot(r) + d.d1.length_squared();
         if !(df > 0.0) {
-            break;
+            return best;
         }
-        let nt = (t - f / df).clamp(lo, hi);
+        let want = t - f / df;
+        if widen && ((want < lo && lo > d0) || (want > hi && hi < d1)) {
+            w = (2.0 * w).max(f64::MIN_POSITIVE);
+            (lo, hi) = window(w);
+        }
+        let nt = want.clamp(lo, hi);
         if (nt - t).abs() <= 1e-15 * (1.0 + t.abs()) {
-            break;
+            return best;
         }
         t = nt;
     }
+    // the last step's point (not evaluated in the loop)
     best.min(c.point(t).distance(q))
 }
 
@@ -1886,46 +1912,6 @@ impl Ord for Bound {
     fn cmp(&self, other: &Self) -> std::cmp::Ordering {
         self.v.total_cmp(&other.v)
     }
-}
-
-/// Distance from `q` to the best point of `c` found by safeguarded Newton on `c'(t)·(c(t) − q)`,
-/// started at `start` in the window `[u − w, u + w]`, which doubles (up to the whole domain) each
-/// time Newton wants to leave it; stops as soon as a point within `enough` is found. Every
-/// evaluated point is on the curve, so the result bounds the true distance from above.
-fn project_widening(c: &BSplineCurve, q: DVec3, u: f64, w: f64, start: f64, enough: f64) -> f64 {
-    let (d0, d1) = c.domain();
-    let mut w = w.max(f64::MIN_POSITIVE);
-    let mut t = if start.is_finite() { start.clamp(d0, d1) } else { u };
-    // the point alone first: one Newton step from u_j usually lands within `enough`
-    let mut best = c.point(t).distance(q);
-    if best <= enough {
-        return best;
-    }
-    for _ in 0..40 {
-        let d = c.derivs(t);
-        let r = d.p - q;
-        best = best.min(r.length());
-        if best <= enough {
-            break;
-        }
-        let f = d.d1.dot(r);
-        let df = d.d2.dot(r) + d.d1.length_squared();
-        if !(df > 0.0) {
-            break;
-        }
-        let want = t - f / df;
-        let (lo, hi) = ((u - w).max(d0), (u + w).min(d1));
-        if (want < lo && lo > d0) || (want > hi && hi < d1) {
-            w *= 2.0;
-        }
-        let (lo, hi) = ((u - w).max(d0), (u + w).min(d1));
-        let nt = want.clamp(lo, hi);
-        if (nt - t).abs() <= 1e-15 * (1.0 + t.abs()) {
-            break;
-        }
-        t = nt;
-    }
-    best
 }
 
 /// Default number of smoothing passes for `n` samples: a three-point average
