@@ -28,15 +28,6 @@ fn wavy(p: usize, n: usize) -> BSplineCurve {
     BSplineCurve::new_2d(p, k, &pts).unwrap()
 }
 
-fn max_point_diff(a: &BSplineCurve, b: &BSplineCurve) -> f64 {
-    assert_eq!(a.n_points(), b.n_points());
-    a.points()
-        .iter()
-        .zip(b.points())
-        .map(|(x, y)| x.distance(*y))
-        .fold(0.0, f64::max)
-}
-
 #[test]
 fn remove_knot_undoes_insert_knot() {
     for p in [2usize, 3, 4, 5] {

@@ -6,6 +6,17 @@ use fairway::fit::{Smoothing, fit_curve_points};
 use fairway::measure::deviations;
 use fairway::{BSplineCurve, DVec3, KnotVector};
 
+/// The largest distance between corresponding control points of `a` and `b` (same count): how far
+/// the fairing moved the curve's points.
+pub fn max_point_diff(a: &BSplineCurve, b: &BSplineCurve) -> f64 {
+    assert_eq!(a.n_points(), b.n_points());
+    a.points()
+        .iter()
+        .zip(b.points())
+        .map(|(x, y)| x.distance(*y))
+        .fold(0.0, f64::max)
+}
+
 /// Max closest-point distance from 2000 arc-length samples of `a` to `b` (the measure's dev_max).
 pub fn dev_max(a: &BSplineCurve, b: &BSplineCurve) -> f64 {
     deviations(a, b, 2000).into_iter().fold(0.0, f64::max)
