@@ -63,11 +63,13 @@ fn assets_load_with_the_promised_kinds() {
 /// The engine's reported `max_deviation` is the deviation the user would measure, not only a bound
 /// of it: on every bundled curve, whole and over a region (across the seam on a closed one), at a
 /// tolerance where the band binds and one where it does not, it is ≥ `measure`'s `dev_max` (a bound)
-/// and within 1e-6·m of it. Before the final sharpening the band checks' early exits reported, e.g.,
-/// 9.97e-3 for a measured 6.90e-3 (car roof, region [0.35, 0.75], m = 0.01).
+/// and within 1e-6·m of it, with the default polish and a long one. Before the final sharpening the
+/// band checks' early exits reported, e.g., 9.97e-3 for a measured 6.90e-3 (car roof, region
+/// [0.35, 0.75], m = 0.01); before session 8's search without a starting guess, 24 polish iterations
+/// there reported 2.02e-2 for a measured 6.45e-3 (Newton settled in another local minimum).
 #[test]
 fn reported_deviation_is_the_measured_one_on_the_samples() {
-    use fairway::fair::{FairingOptions, fair_curve};
+    use fairway::fair::{FairingOptions, curve::POLISH_ITERS, fair_curve};
     let mut cases = 0;
     for (name, _) in generate::generate() {
         let doc = fairway::io::load(&assets().join(name)).unwrap();
@@ -83,30 +85,33 @@ fn reported_deviation_is_the_measured_one_on_the_samples() {
         if closed {
             regions.push(Some((at(0.8), at(0.2))));
         }
-        for region in regions {
+        // the default polish and a long one (the editor's slider goes to 64): the longer the polish, the
+        // further the faired curve slides along itself
+        for (region, its) in regions.into_iter().flat_map(|r| [(r, POLISH_ITERS), (r, 24)]) {
             for rel in [1e-3, 5e-3] {
                 let m = rel * size;
                 let opts = FairingOptions {
                     tolerance: m,
                     region,
+                    polish_iterations: its,
                     ..Default::default()
                 };
                 let r = fair_curve(c, opts).unwrap_or_else(|e| panic!("{name} {region:?} m {m}: {e}"));
                 let measured = fairway::measure::measure(c, &r.curve).dev_max;
                 println!(
-                    "{name} {region:?} m {m:.3e}: reported {:.6e}, measured {measured:.6e}",
+                    "{name} {region:?} m {m:.3e}, {its} polish iterations: reported {:.6e}, measured {measured:.6e}",
                     r.max_deviation
                 );
                 assert!(r.max_deviation <= m, "{name}: {} > m", r.max_deviation);
                 assert!(measured <= r.max_deviation + 1e-12 * size, "{name}: not a bound");
                 assert!(
                     r.max_deviation - measured <= 1e-6 * m,
-                    "{name} {region:?} m {m}: reported {} vs measured {measured}",
+                    "{name} {region:?} m {m}, {its} iterations: reported {} vs measured {measured}",
                     r.max_deviation
                 );
                 cases += 1;
             }
         }
     }
-    assert!(cases >= 10, "{cases} cases");
+    assert!(cases >= 20, "{cases} cases");
 }

@@ -276,4 +276,23 @@ impl BSplineCurve {
     pub fn closest_point(&self, q: DVec3) -> ClosestPoint {
         CurveProjector::new(self, 16).project(q)
     }
+
+    /// The closest point to `q` of the stretch `[a, b]` of the curve (clamped to the domain), found
+    /// without a starting guess: every knot span of the stretch is searched on a grid and each sign
+    /// change of `c'·(c − q)` refined by bracketed Newton, so a local minimum that Newton from a poor
+    /// start would miss is still found. Cheap for a stretch of a few spans.
+    pub fn closest_point_between(&self, q: DVec3, a: f64, b: f64) -> ClosestPoint {
+        let (d0, d1) = self.domain();
+        let (a, b) = (a.clamp(d0, d1), b.clamp(d0, d1));
+        let bare = CurveProjector {
+            curve: self,
+            params: Vec::new(),
+            pts: Vec::new(),
+        };
+        if b > a {
+            bare.refine_nonsmooth(q, a, b)
+        } else {
+            bare.at(a, q)
+        }
+    }
 }

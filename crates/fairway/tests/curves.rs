@@ -359,6 +359,41 @@ fn closest_point_matches_brute_force() {
     }
 }
 
+/// `closest_point_between` searches a stretch without a starting guess: on every stretch it equals the
+/// brute-force minimum over the same stretch, including stretches where the distance has several local
+/// minima (the wiggly curve, queries off its bends) and stretches that end before the global foot.
+#[test]
+fn closest_point_between_matches_brute_force_on_the_stretch() {
+    let c = wiggly_2d();
+    for k in 0..30 {
+        let q = DVec3::new(-1.0 + 0.35 * k as f64, 3.0 * (0.9 * k as f64).sin(), 0.0);
+        for (a, b) in [(0.0, 1.0), (0.1, 0.45), (0.3, 0.9), (0.62, 0.7), (-0.5, 0.2)] {
+            let (lo, hi) = (f64::max(a, 0.0), f64::min(b, 1.0));
+            let brute = (0..=20000)
+                .map(|i| c.point(lo + (hi - lo) * i as f64 / 20000.0).distance(q))
+                .fold(f64::INFINITY, f64::min);
+            let cp = c.closest_point_between(q, a, b);
+            assert!(cp.param >= lo && cp.param <= hi, "q={q} [{a}, {b}]: {}", cp.param);
+            assert!((cp.point.distance(q) - cp.distance).abs() <= 1e-14);
+            assert!(
+                cp.distance <= brute + 1e-12,
+                "q={q} [{a}, {b}]: {} > {brute}",
+                cp.distance
+            );
+            assert!(
+                cp.distance >= brute - 1e-5,
+                "q={q} [{a}, {b}]: {} < {brute}",
+                cp.distance
+            );
+        }
+    }
+    // an empty stretch is its one point
+    let q = DVec3::new(0.3, 0.2, 0.0);
+    let cp = c.closest_point_between(q, 0.4, 0.4);
+    assert_eq!(cp.param, 0.4);
+    assert_eq!(cp.distance, c.point(0.4).distance(q));
+}
+
 #[test]
 fn reversal_and_rational_polynomial_conversion() {
     let c = rational_3d();
