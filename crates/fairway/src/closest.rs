@@ -66,10 +66,30 @@ impl<'a> CurveProjector<'a> {
 
     /// The closest point of the curve to `q`.
     pub fn project(&self, q: DVec3) -> ClosestPoint {
+        self.project_points(q, 0, self.pts.len() - 1)
+    }
+
+    /// The closest point to `q` of the stretch `[a, b]` of the curve, widened to the polyline points
+    /// around it (the same search as [`Self::project`] on the polyline's segments there only: its
+    /// cost grows with the stretch, not with the curve).
+    pub fn project_between(&self, q: DVec3, a: f64, b: f64) -> ClosestPoint {
+        let n = self.params.len();
+        let i0 = self.params.partition_point(|&p| p <= a).saturating_sub(1);
+        let i1 = self
+            .params
+            .partition_point(|&p| p < b)
+            .min(n - 1)
+            .max((i0 + 1).min(n - 1));
+        self.project_points(q, i0, i1)
+    }
+
+    /// [`Self::project`] over the polyline's points `i0..=i1` (the refinement may look up to two
+    /// segments beyond them).
+    fn project_points(&self, q: DVec3, i0: usize, i1: usize) -> ClosestPoint {
         // best segments by distance to the polyline; keep up to three local minima
         let mut cand: [(f64, usize); 3] = [(f64::INFINITY, usize::MAX); 3];
         let n = self.pts.len();
-        for i in 0..n - 1 {
+        for i in i0..i1 {
             let d = seg_dist2(self.pts[i], self.pts[i + 1], q);
             if d < cand[2].0 {
                 // avoid adjacent duplicates: replace a neighbour if better
@@ -83,7 +103,7 @@ impl<'a> CurveProjector<'a> {
                 cand.sort_by(|a, b| a.0.total_cmp(&b.0));
             }
         }
-        let mut best = self.at(self.params[0], q).closer(self.at(self.params[n - 1], q));
+        let mut best = self.at(self.params[i0], q).closer(self.at(self.params[i1], q));
         for (rank, &(_, i)) in cand.iter().enumerate() {
             if i == usize::MAX {
                 continue;
@@ -275,24 +295,5 @@ impl BSplineCurve {
     /// [`CurveProjector`] for many queries).
     pub fn closest_point(&self, q: DVec3) -> ClosestPoint {
         CurveProjector::new(self, 16).project(q)
-    }
-
-    /// The closest point to `q` of the stretch `[a, b]` of the curve (clamped to the domain), found
-    /// without a starting guess: every knot span of the stretch is searched on a grid and each sign
-    /// change of `c'·(c − q)` refined by bracketed Newton, so a local minimum that Newton from a poor
-    /// start would miss is still found. Cheap for a stretch of a few spans.
-    pub fn closest_point_between(&self, q: DVec3, a: f64, b: f64) -> ClosestPoint {
-        let (d0, d1) = self.domain();
-        let (a, b) = (a.clamp(d0, d1), b.clamp(d0, d1));
-        let bare = CurveProjector {
-            curve: self,
-            params: Vec::new(),
-            pts: Vec::new(),
-        };
-        if b > a {
-            bare.refine_nonsmooth(q, a, b)
-        } else {
-            bare.at(a, q)
-        }
     }
 }

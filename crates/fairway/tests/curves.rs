@@ -359,39 +359,55 @@ fn closest_point_matches_brute_force() {
     }
 }
 
-/// `closest_point_between` searches a stretch without a starting guess: on every stretch it equals the
-/// brute-force minimum over the same stretch, including stretches where the distance has several local
-/// minima (the wiggly curve, queries off its bends) and stretches that end before the global foot.
+/// `CurveProjector::project_between` searches only the polyline's segments over a stretch: on every
+/// stretch it is at most the brute-force minimum over that stretch and at least the minimum over the
+/// stretch widened by the two segments its refinement may look beyond, including stretches where the distance
+/// has several local minima (the wiggly curve, queries off its bends), stretches that end before the
+/// global foot, and coarse polylines (the fairing engine's report uses 8 points per span).
 #[test]
-fn closest_point_between_matches_brute_force_on_the_stretch() {
+fn project_between_matches_brute_force_on_the_stretch() {
     let c = wiggly_2d();
-    for k in 0..30 {
-        let q = DVec3::new(-1.0 + 0.35 * k as f64, 3.0 * (0.9 * k as f64).sin(), 0.0);
-        for (a, b) in [(0.0, 1.0), (0.1, 0.45), (0.3, 0.9), (0.62, 0.7), (-0.5, 0.2)] {
-            let (lo, hi) = (f64::max(a, 0.0), f64::min(b, 1.0));
-            let brute = (0..=20000)
-                .map(|i| c.point(lo + (hi - lo) * i as f64 / 20000.0).distance(q))
-                .fold(f64::INFINITY, f64::min);
-            let cp = c.closest_point_between(q, a, b);
-            assert!(cp.param >= lo && cp.param <= hi, "q={q} [{a}, {b}]: {}", cp.param);
-            assert!((cp.point.distance(q) - cp.distance).abs() <= 1e-14);
-            assert!(
-                cp.distance <= brute + 1e-12,
-                "q={q} [{a}, {b}]: {} > {brute}",
-                cp.distance
-            );
-            assert!(
-                cp.distance >= brute - 1e-5,
-                "q={q} [{a}, {b}]: {} < {brute}",
-                cp.distance
-            );
+    for per_span in [4, 8, 16] {
+        let proj = CurveProjector::new(&c, per_span);
+        // the projector's polyline parameters: `per_span` per knot span
+        let bp = c.knots().breakpoints();
+        let mut params: Vec<f64> = bp
+            .windows(2)
+            .flat_map(|w| (0..per_span).map(move |k| w[0] + (w[1] - w[0]) * k as f64 / per_span as f64))
+            .collect();
+        params.push(*bp.last().unwrap());
+        for k in 0..30 {
+            let q = DVec3::new(-1.0 + 0.35 * k as f64, 3.0 * (0.9 * k as f64).sin(), 0.0);
+            for (a, b) in [(0.0f64, 1.0f64), (0.1, 0.45), (0.3, 0.9), (0.62, 0.7), (-0.5, 0.2)] {
+                // the stretch is widened to the polyline points around it
+                let lo = params.iter().copied().filter(|&t| t <= a.max(0.0)).fold(0.0, f64::max);
+                let hi = params.iter().copied().filter(|&t| t >= b.min(1.0)).fold(1.0, f64::min);
+                let brute_on = |lo: f64, hi: f64| {
+                    (0..=20000)
+                        .map(|i| c.point(lo + (hi - lo) * i as f64 / 20000.0).distance(q))
+                        .fold(f64::INFINITY, f64::min)
+                };
+                let brute = brute_on(lo, hi);
+                // the refinement may look up to two segments beyond: nothing nearer than that
+                let i_lo = params.iter().position(|&t| t == lo).unwrap();
+                let i_hi = params.iter().position(|&t| t == hi).unwrap();
+                let wide = brute_on(params[i_lo.saturating_sub(2)], params[(i_hi + 2).min(params.len() - 1)]);
+                let cp = proj.project_between(q, a, b);
+                assert!((cp.point.distance(q) - cp.distance).abs() <= 1e-14);
+                assert!(
+                    cp.distance <= brute + 1e-12,
+                    "{per_span} q={q} [{a}, {b}]: {} > {brute}",
+                    cp.distance
+                );
+                // the stretch's minimum is found, and nothing is nearer than the curve near it allows
+                assert!(
+                    cp.distance >= wide - 1e-5,
+                    "{per_span} q={q} [{a}, {b}]: {} < {wide}",
+                    cp.distance
+                );
+            }
         }
     }
-    // an empty stretch is its one point
-    let q = DVec3::new(0.3, 0.2, 0.0);
-    let cp = c.closest_point_between(q, 0.4, 0.4);
-    assert_eq!(cp.param, 0.4);
-    assert_eq!(cp.distance, c.point(0.4).distance(q));
 }
 
 #[test]

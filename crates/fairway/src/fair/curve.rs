@@ -1673,23 +1673,24 @@ impl FairingSetup {
                     // from u_j overshoots onto a stretch curving away (c''·(c − q) + |c'|² ≤ 0 there),
                     // it stops far from the true foot (car roof, region, 24 polish iterations: 2.77e-2
                     // for a true 5.6e-3; a straight line whose points slid along it: 8.8e-3 for 1e-14).
-                    // Search, without a start, the stretch where a nearer foot can be: the faired curve
+                    // Search, without a start (`measure`'s polyline search, then Newton on the best
+                    // segments), the stretch where a nearer foot can be on this branch: the faired curve
                     // is within `reach` of the original, so a point nearer than v lies where the original
-                    // is within v + reach of q, i.e. within that arc length of u_j (near branch)
+                    // is within v + reach of q, i.e. within that arc length of u_j or on another branch
                     let k = ((b.v + reach) / self.chk_step).ceil();
                     let k = if k < n_chk as f64 { k as usize + 1 } else { n_chk };
                     let lo = if j >= k { self.chk_u[j - k] } else { d0 };
                     let hi = if j + k < n_chk { self.chk_u[j + k] } else { d1 };
-                    b.v = b.v.min(c.closest_point_between(q, lo, hi).distance);
+                    let proj = projector.get_or_insert_with(|| CurveProjector::new(&c, 8));
+                    b.v = b.v.min(proj.project_between(q, lo, hi).distance);
                 }
                 3 => {
-                    // `measure`'s global search (a polyline, then Newton on the best segments) for the
-                    // few samples that reach the top: the faired curve may pass near q on another
-                    // branch (a curve doubling back on itself, a hairpin), beyond any arc-length window.
-                    // The near branch is settled above, so a coarse polyline (4 points per span, not
-                    // measure's 16) only has to find other branches: +1 % per fair instead of +4 %,
-                    // and the probe campaign's reports still equal `dev_max`
-                    let proj = projector.get_or_insert_with(|| CurveProjector::new(&c, 4));
+                    // the same search over the whole curve for the few samples that reach the top: the
+                    // faired curve may pass near q again on another branch (a curve doubling back on
+                    // itself, a hairpin, a zig-zag), beyond the arc-length window. The polyline has 8
+                    // points per span, not measure's 16: +1 % time per fair instead of +4 %; with 4 one
+                    // probe case (quadratic, m = 4.6e-8) reported 0.7 % above `dev_max`
+                    let proj = projector.get_or_insert_with(|| CurveProjector::new(&c, 8));
                     b.v = b.v.min(proj.project(q).distance);
                 }
                 _ => {
@@ -1900,9 +1901,17 @@ fn newton_distance(c: &BSplineCurve, q: DVec3, u: f64, w: f64, start: f64, enoug
             return best;
         }
         let f = d.d1.dot(r);
-        let df = d.d2.dot(r) + d.d1.length_squared();
+        let mut df = d.d2.dot(r) + d.d1.length_squared();
         if !(df > 0.0) {
-            return best;
+            if !widen {
+                return best;
+            }
+            // where the curve bends away from q, Newton has no minimum to aim at: a Gauss–Newton step
+            // (the curve's tangent line's foot) still moves towards one
+            df = d.d1.length_squared();
+            if !(df > 0.0) {
+                return best;
+            }
         }
         let want = t - f / df;
         if widen && ((want < lo && lo > d0) || (want > hi && hi < d1)) {
