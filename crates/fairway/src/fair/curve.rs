@@ -1593,12 +1593,13 @@ impl FairingSetup {
     /// displacement (an upper bound); the sample with the largest bound is sharpened one level (the
     /// point one Newton step from u_j, then a converged Newton projection whose window widens when
     /// Newton leaves it: the faired curve may slide along itself by more than a few check spacings,
-    /// then a search of the stretch around u_j without a starting guess, for where Newton settled in
-    /// the wrong local minimum, then `measure`'s global projection, for a curve that passes q again
+    /// then `measure`'s search without a starting guess over the stretch around u_j, for where Newton
+    /// settled in the wrong local minimum, then over the whole curve, for a curve that passes q again
     /// on another branch) and goes back into a max-heap, until a fully searched sample is on top: no
-    /// other sample can exceed it, and the result is the `dev_max` that `measure` reports. Only samples whose bounds exceed the result are refined (≈ 270 of 2000 on the bench
-    /// curve). Every value is the distance to a point of the curve, so the result still bounds the
-    /// measured `dev_max` from above.
+    /// other sample can exceed it, and the result is the `dev_max` that `measure` reports. Only
+    /// samples whose bounds exceed the result are refined (≈ 270 of 2000 on the bench curve). Every
+    /// value is the distance to a point of the curve, so the result still bounds the measured
+    /// `dev_max` from above.
     fn sharp_deviation(&mut self, d: &[DVec3], bound: f64) -> f64 {
         let mut pad = std::mem::take(&mut self.pad);
         let mut cache = std::mem::take(&mut self.chk_d);
@@ -1627,8 +1628,8 @@ impl FairingSetup {
         pad[np1..np1 + self.nf].copy_from_slice(d);
         // lazy refinement: the sample with the largest bound so far is sharpened one level (0: the
         // parametric displacement, 1: the point one Newton step from u_j, 2: the Newton projection, 3:
-        // the search of the stretch around u_j, 4: the global projection) and put back; a sample at
-        // level 4 on top bounds all the others
+        // the search of the stretch around u_j, 4: the search of the whole curve) and put back; a
+        // sample at level 4 on top bounds all the others
         let mut all = Vec::with_capacity(self.chk_u.len());
         for j in 0..self.chk_u.len() {
             let v = self.chk_rows(pad, j).1.length();
@@ -1936,7 +1937,7 @@ struct Bound {
     /// The check sample.
     j: u32,
     /// How sharp `v` is: 0 the parametric displacement, 1 one Newton step, 2 the Newton projection, 3
-    /// the search of the stretch around u_j, 4 the global projection.
+    /// the search of the stretch around u_j, 4 the search of the whole curve.
     level: u8,
     /// The parameter of the point `v` was measured at (levels 1 and 2).
     t: f64,
