@@ -72,8 +72,9 @@
 //!    `max_deviation ≥` the measured `dev_max`, and it is `≤ m`. The band
 //!    checks stop each projection as soon as it is inside the band; the
 //!    reported value is sharpened once at the end (the sample with the
-//!    largest bound is projected further until a converged projection is the
-//!    largest): it equals the measured `dev_max` to rounding.
+//!    largest bound is projected further — Newton, then `measure`'s search
+//!    near u_j, then over the whole curve — until a fully searched sample is
+//!    the largest): it equals the measured `dev_max` to rounding.
 //!
 //! [`FitMode::Paper`] is the faithful reproduction for comparisons:
 //! position-only pull-back, plain least squares (λ = 0), no verification
@@ -281,6 +282,10 @@ pub struct FairingSetup {
     plane: Option<DVec3>,
 }
 
+/// Polyline points per knot span of the reported deviation's searches ([`FairingSetup::sharp_deviation`]),
+/// not `measure`'s 16: +1 % time per fair instead of +4 %; with 4 one probe case (quadratic,
+/// m = 4.6e-8) reported 0.7 % above `dev_max`.
+const REPORT_POLYLINE: usize = 8;
 /// Smallest fairness weight μ tried (see the module docs, step 6).
 pub const MU_MIN: f64 = 1e-6;
 /// Largest fairness weight μ tried.
@@ -1682,16 +1687,18 @@ impl FairingSetup {
                     let k = if k < n_chk as f64 { k as usize + 1 } else { n_chk };
                     let lo = if j >= k { self.chk_u[j - k] } else { d0 };
                     let hi = if j + k < n_chk { self.chk_u[j + k] } else { d1 };
-                    let proj = projector.get_or_insert_with(|| CurveProjector::new(&c, 8));
+                    let proj = projector.get_or_insert_with(|| CurveProjector::new(&c, REPORT_POLYLINE));
                     b.v = b.v.min(proj.project_between(q, lo, hi).distance);
+                    if lo <= d0 && hi >= d1 {
+                        // the stretch was the whole curve: the next level would repeat the search
+                        b.level = 3;
+                    }
                 }
                 3 => {
                     // the same search over the whole curve for the few samples that reach the top: the
                     // faired curve may pass near q again on another branch (a curve doubling back on
-                    // itself, a hairpin, a zig-zag), beyond the arc-length window. The polyline has 8
-                    // points per span, not measure's 16: +1 % time per fair instead of +4 %; with 4 one
-                    // probe case (quadratic, m = 4.6e-8) reported 0.7 % above `dev_max`
-                    let proj = projector.get_or_insert_with(|| CurveProjector::new(&c, 8));
+                    // itself, a hairpin, a zig-zag), beyond the arc-length window
+                    let proj = projector.get_or_insert_with(|| CurveProjector::new(&c, REPORT_POLYLINE));
                     b.v = b.v.min(proj.project(q).distance);
                 }
                 _ => {
