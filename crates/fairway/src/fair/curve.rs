@@ -1280,8 +1280,9 @@ impl FairingSetup {
                         jr[i * d + c] = gi[c];
                     }
                 }
-                for (a, x) in jr.iter().enumerate() {
-                    rhs[base * d + a].x -= x * r;
+                let block: &mut [DVec3; W] = (&mut rhs[base * d..base * d + W]).try_into().expect("W rows");
+                for (y, x) in block.iter_mut().zip(&jr) {
+                    y.x -= x * r;
                 }
                 h.add_outer_fixed(base * d, &jr);
                 continue;
