@@ -33,7 +33,8 @@ pub struct Args {
     /// curve `u1 > u2` is the stretch across the seam ([u1, end] then [start, u2]).
     #[arg(long, value_parser = parse_region, allow_hyphen_values = true)]
     pub region: Option<Region>,
-    /// Continuity at the region ends: g0, g1 or g2.
+    /// Continuity at the region ends: g0, g1 or g2. A whole closed curve has no ends: it is faired G2 all
+    /// round, across its seam.
     #[arg(long, default_value = "g2")]
     pub ends: EndCondition,
     /// Target curvature: heat (the averaging's heat flow, implicit, O(n); default), average (paper's passes),
@@ -98,7 +99,8 @@ pub struct Report {
     pub method: String,
     /// The requested tolerance.
     pub tolerance: f64,
-    /// Setup time (sampling, matrices), ms.
+    /// Setup time (sampling, matrices), ms; for a whole closed curve, of its first pass (the second pass
+    /// builds its setup inside the solve).
     pub setup_ms: f64,
     /// Solve time (integration, fit, band control or simplex sweeps), ms.
     pub solve_ms: f64,
@@ -211,18 +213,23 @@ fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions) -> R
         ),
     };
     let t0 = Instant::now();
-    // a region across the seam of a closed curve (u1 > u2): the setup is on the curve re-seamed inside the
-    // untouched rest, and the result is rotated back (see fairway::fair::closed::setup_across_seam)
-    let (mut setup, across) = if opts.region.is_some_and(|(u1, u2)| u1 > u2) && closed::is_closed_curve(curve) {
+    let across_seam = opts.region.is_some_and(|(u1, u2)| u1 > u2) && closed::is_closed_curve(curve);
+    // a whole closed curve: faired across the seam (two passes, see fairway::fair::closed)
+    let whole_closed = !across_seam && closed::applies(curve, &opts);
+    let (mut setup, across) = if across_seam {
+        // a region across the seam (u1 > u2): the setup is on the curve re-seamed inside the untouched
+        // rest, and the result is rotated back (see fairway::fair::closed::setup_across_seam)
         let (s, back) = closed::setup_across_seam(curve, opts).context("fairing setup")?;
         (s, Some(back))
+    } else if whole_closed {
+        // the first pass's setup (the loop has no ends: G2 all round, whatever --ends says): the result's
+        // E is measured on it, so the report's E before and after compare the same thing
+        (closed::first_pass_setup(curve, opts).context("fairing setup")?, None)
     } else {
         (FairingSetup::new(curve, opts).context("fairing setup")?, None)
     };
     let setup_ms = t0.elapsed().as_secs_f64() * 1e3;
     let t1 = Instant::now();
-    // a whole closed curve: faired across the seam (two passes, see fairway::fair::closed)
-    let whole_closed = across.is_none() && closed::applies(curve, &opts);
     let result = match (a.method == "iterative", whole_closed) {
         (true, true) => closed::fair_closed_iterative(curve, opts, IterativeOptions::default()),
         (true, false) => fair_iterative(&setup, IterativeOptions::default()),

@@ -420,6 +420,20 @@ fn fair_closed_curve_across_the_seam() {
     // the seam moved: one pass would have held the first control points
     assert!(f.points()[1].distance(c.points()[1]) > 1e-6);
     assert!(fairway::measure::measure(&c, &f).dev_max <= 0.005);
+    // a loop has no ends: --ends does not change the result, and the report's E before and after are
+    // both the first pass's (G2, p points held at each end), whatever --ends says
+    let r2 = json_file(&rep);
+    let n = c.n_points() as u64;
+    assert_eq!(r2["free_points"], serde_json::json!([3, n - 3]));
+    assert!(r2["energy"].as_f64().unwrap() < r2["energy_before"].as_f64().unwrap());
+    for ends in ["g0", "g1"] {
+        fair(&["--ends", ends]);
+        let r = json_file(&rep);
+        assert_eq!(curve(&out).points(), f.points(), "--ends {ends}");
+        for key in ["energy_before", "energy", "free_points", "max_deviation_bound"] {
+            assert_eq!(r[key], r2[key], "--ends {ends}: {key}");
+        }
+    }
     // the iterative baseline fairs across the seam too (the same two passes and blend)
     fair(&["--method", "iterative"]);
     let fi = curve(&out);

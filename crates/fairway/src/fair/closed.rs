@@ -462,6 +462,32 @@ pub fn fair_closed_iterative(
     fair_closed_with(curve, opts, |s| super::iterative::fair_iterative(s, iterative))
 }
 
+/// The options of both passes over a whole closed curve: the whole loop, G2 at the (temporary) ends.
+fn pass_options(opts: FairingOptions) -> FairingOptions {
+    FairingOptions {
+        region: None,
+        ends: EndCondition::G2,
+        ..opts
+    }
+}
+
+/// The first pass's setup on the (polynomial) closed curve `input`. Pass 1 holds p control points at
+/// each end (three for a cubic or a quadratic, as G2 ends do): the seam of a degree-p closed curve is
+/// C^{p−1}, and only a pass that keeps its first and last p points keeps it so; pass 1 then re-seams
+/// to the same knots as the original (step 4). Holding only three (G2) left a quartic's or quintic's
+/// seam C2 and the two forms could not be blended.
+fn first_pass_on(input: &BSplineCurve, opts: FairingOptions) -> Result<FairingSetup> {
+    FairingSetup::new_holding(input, pass_options(opts), input.degree())
+}
+
+/// The setup of the first pass of [`fair_closed`] over a whole closed curve ([`applies`]): the whole
+/// loop with G2 ends (`opts.ends` does not apply to a loop) and the first and last p control points
+/// held. The result's `energy` is measured against its target, so this is the setup on which to
+/// compare it with the original's E (`fairway fair --report` does).
+pub fn first_pass_setup(curve: &BSplineCurve, opts: FairingOptions) -> Result<FairingSetup> {
+    first_pass_on(&curve.to_polynomial()?, opts)
+}
+
 /// [`fair_closed`] with `pass` as the single pass of a prepared setup.
 fn fair_closed_with(
     curve: &BSplineCurve,
@@ -485,17 +511,9 @@ fn fair_closed_with(
     }
     let m = opts.tolerance;
     let b = input.domain().1;
-    let o1 = FairingOptions {
-        region: None,
-        ends: EndCondition::G2,
-        ..opts
-    };
-    // Pass 1 holds p control points at each end (three for a cubic or a quadratic, as G2 ends do):
-    // the seam of a degree-p closed curve is C^{p−1}, and only a pass that keeps its first and last p
-    // points keeps it so; pass 1 then re-seams to the same knots as the original (step 4). Holding
-    // only three (G2) left a quartic's or quintic's seam C2 and the two forms could not be blended.
+    let o1 = pass_options(opts);
     let p = input.degree();
-    let mut s1 = FairingSetup::new_holding(&input, o1, p)?;
+    let mut s1 = first_pass_on(&input, opts)?;
     let r1 = pass(&mut s1)?;
     let held = |reason: String| FairingResult {
         seam: Seam::Held(reason),
