@@ -37,6 +37,12 @@ pub struct Args {
     /// round, across its seam.
     #[arg(long, default_value = "g2")]
     pub ends: EndCondition,
+    /// Curves: at a G2 end that is an end of the (open) curve, ease the target into the kept end curvature
+    /// within the end knot span instead of climbing to it from far inside. For noisy input whose end
+    /// curvature is off but must be kept (fewer extra curvature extrema there); where the end curvature is
+    /// real it can add wiggles near the ends, so compare the measures with and without.
+    #[arg(long)]
+    pub ease_ends: bool,
     /// Target curvature: heat (the averaging's heat flow, implicit, O(n); default), average (paper's passes),
     /// binomial or fit (paper eq. 3).
     #[arg(long, default_value = "heat")]
@@ -170,6 +176,7 @@ pub fn run(a: &Args) -> Result<()> {
         mode,
         polish: true,
         polish_iterations: a.polish_iterations,
+        ease_curve_ends: a.ease_ends,
     };
     // the destinations' folders first: a missing folder is found before any work, and never after the
     // output was written

@@ -510,3 +510,32 @@ fn polish_iterations_trade_time_for_a_lower_energy() {
     ]);
     assert!(!bad.status.success());
 }
+
+/// `--ease-ends`: a different fair of an open curve with G2 ends, still in the band, keeping the end
+/// curvature; with `--ends g1` the flag changes nothing (there is no kept end curvature to ease into).
+#[test]
+fn ease_ends_re_fairs_g2_curve_ends_only() {
+    let dir = temp_dir("ease");
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/car_roof.json");
+    let m = 0.005;
+    let fair = |name: &str, extra: &[&str]| {
+        let out = dir.join(format!("{name}.json"));
+        let mut args = vec!["fair", s(&input), "--tolerance", "0.005", "-o", s(&out)];
+        args.extend_from_slice(extra);
+        ok(&fairway(&args));
+        curve(&out)
+    };
+    let c0 = curve(&input);
+    let (d0, d1) = c0.domain();
+    let plain = fair("plain", &[]);
+    let eased = fair("eased", &["--ease-ends"]);
+    assert_ne!(plain.points(), eased.points(), "--ease-ends changed nothing");
+    assert!(fairway::measure::measure(&c0, &eased).dev_max <= m);
+    for u in [d0, d1] {
+        let (k0, k1) = (c0.curvature(u), eased.curvature(u));
+        assert!((k0 - k1).abs() < 1e-9 * k0.abs().max(1.0), "end κ {k0} -> {k1}");
+    }
+    let g1 = fair("g1", &["--ends", "g1"]);
+    let g1_eased = fair("g1_eased", &["--ends", "g1", "--ease-ends"]);
+    assert_eq!(g1.points(), g1_eased.points());
+}

@@ -245,6 +245,13 @@ impl App {
                 }
             });
         }
+        ui.checkbox(&mut self.prefs.fair.ease_ends, "Ease G2 curve ends")
+            .on_hover_text(
+                "Where a G2 end is an end of the (open) curve, its own end curvature is kept. On noisy data it \
+                 is often far off: eased, the target reaches it within the end knot span instead of climbing \
+                 to it from far inside (fewer wiggles near noisy ends; where the end curvature is real it can \
+                 add some: compare). Region ends inside the curve and closed curves are not affected.",
+            );
         egui::CollapsingHeader::new("Advanced").show(ui, |ui| {
             ui.horizontal(|ui| {
                 ui.label("Integrator:");

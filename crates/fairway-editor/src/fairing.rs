@@ -42,6 +42,9 @@ pub struct FairOptions {
     pub integrator: Integrator,
     /// Gauss–Newton iterations of the core's E polish in a full fair (drafts skip the polish).
     pub polish_iterations: usize,
+    /// Ease the automatic target into G2 ends that are ends of an open curve
+    /// ([`FairingOptions::ease_curve_ends`]).
+    pub ease_ends: bool,
 }
 
 impl Default for FairOptions {
@@ -53,6 +56,7 @@ impl Default for FairOptions {
             strength: None,
             integrator: d.integrator,
             polish_iterations: d.polish_iterations,
+            ease_ends: d.ease_curve_ends,
         }
     }
 }
@@ -62,6 +66,8 @@ struct SetupKey {
     curve_rev: u64,
     region: (f64, f64),
     ends: [EndCondition; 2],
+    /// Eased G2 curve ends (they shape the automatic target, built with the setup).
+    ease_ends: bool,
     /// The core's E polish (off for a draft while a drag is in progress).
     polish: bool,
 }
@@ -198,6 +204,7 @@ impl Fairing {
             curve_rev,
             region,
             ends: opts.ends,
+            ease_ends: opts.ease_ends,
             polish,
         };
         if self.setup_key.as_ref() != Some(&sk) {
@@ -212,6 +219,7 @@ impl Fairing {
                 strength: opts.strength,
                 integrator: opts.integrator,
                 polish,
+                ease_curve_ends: opts.ease_ends,
                 ..FairingOptions::default()
             };
             let t0 = Instant::now();

@@ -209,6 +209,39 @@ fn end_conditions_and_integrator_re_fair_the_preview() {
     assert!(pe.result.max_deviation <= m * (1.0 + 1e-9));
 }
 
+/// "Ease G2 curve ends": re-fairs a region that reaches the curve's start (the start keeps its curvature,
+/// the band holds) and leaves a region inside the curve exactly as it was.
+#[test]
+fn ease_g2_curve_ends_checkbox_re_fairs_a_region_at_the_curve_end() {
+    let mut h = harness(App::default());
+    let (d0, d1) = h.state().curve().domain();
+    let inner = (d0 + 0.3 * (d1 - d0), d0 + 0.6 * (d1 - d0));
+    h.state_mut().apply(fairway_editor::Command::SetRegion(Some(inner)));
+    h.run();
+    let inner_plain = h.state().preview().unwrap().result.curve.clone();
+    let at_start = (d0, d0 + 0.5 * (d1 - d0));
+    h.state_mut().apply(fairway_editor::Command::SetRegion(Some(at_start)));
+    h.run();
+    let plain = h.state().preview().unwrap().result.curve.clone();
+    assert!(!h.state().prefs.fair.ease_ends);
+    h.get_by_role_and_label(Role::CheckBox, "Ease G2 curve ends").click();
+    h.run();
+    assert!(h.state().prefs.fair.ease_ends);
+    let m = h.state().tolerance();
+    let c0 = h.state().curve().clone();
+    let p = h.state().preview().unwrap().clone();
+    assert_ne!(p.result.curve.points(), plain.points(), "easing did not re-fair");
+    assert!(p.result.max_deviation <= m * (1.0 + 1e-9));
+    let (ko, kf) = (c0.curvature(d0), p.result.curve.curvature(d0));
+    assert!(
+        (ko - kf).abs() < 1e-9 * ko.abs().max(1.0),
+        "the G2 curve end keeps κ: {ko} vs {kf}"
+    );
+    h.state_mut().apply(fairway_editor::Command::SetRegion(Some(inner)));
+    h.run();
+    assert_eq!(h.state().preview().unwrap().result.curve.points(), inner_plain.points());
+}
+
 #[test]
 fn compare_space_toggle_blend_overlay_and_the_trio() {
     let mut h = harness(App::default());

@@ -213,6 +213,14 @@ fn closed_curve_is_faired_across_the_seam() {
         // the old behaviour: one pass, seam held
         let held = FairingSetup::new(&c, opts(m)).unwrap().fair().unwrap();
         assert!(matches!(held.seam, Seam::Held(_)), "{:?}", held.seam);
+        // a loop has no curve ends to ease (FairingOptions::ease_curve_ends): the same curves
+        let eased = FairingOptions {
+            ease_curve_ends: true,
+            ..opts(m)
+        };
+        assert_eq!(fair_closed(&c, eased).unwrap().curve.points(), r.curve.points());
+        let held_eased = FairingSetup::new(&c, eased).unwrap().fair().unwrap();
+        assert_eq!(held_eased.curve.points(), held.curve.points());
         let fmt = |e: [f64; 10]| e.iter().map(|x| format!("{x:.4}")).collect::<Vec<_>>().join(" ");
         let (eo, ef, eh) = (
             window_errors(&c, &truth),

@@ -666,3 +666,85 @@ fn planar_curve_in_3d_stays_in_its_plane() {
     assert!(d <= 1e-13 * size, "iterative: out of the plane by {d:e}");
     assert!(max_point_diff(&r.curve, &c3) > 1e-4, "faired");
 }
+
+/// `FairingOptions::ease_curve_ends`: G2 curve ends still keep position, tangent and curvature, the band
+/// holds, and on the known-answer arcs (8 seeds each) the extra extrema drop against the default target,
+/// which climbs to the noisy end curvature from far inside, and so does the curvature error of the circle
+/// and the clothoid.
+#[test]
+fn eased_g2_curve_ends_keep_the_end_and_fair_the_end_span() {
+    let shapes = [
+        Shape::Circle { r: 1.0, a: 2.0 },
+        Shape::Ellipse {
+            a: 2.0,
+            b: 1.0,
+            th: 2.5,
+        },
+        Shape::Clothoid { a: 1.0, l: 2.0 },
+    ];
+    let tol = 3e-3;
+    let eased_opts = FairingOptions {
+        ease_curve_ends: true,
+        ..opts(tol)
+    };
+    for shape in shapes {
+        let kmax = shape.dense(200).1.iter().fold(0.0f64, |m, k| m.max(k.abs()));
+        let (mut rms, mut ext) = ([0.0; 2], [0; 2]);
+        for seed in 1..=8 {
+            let c = noisy_curve(shape, 40, 1e-3, seed);
+            let (d0, d1) = c.domain();
+            for (j, o) in [opts(tol), eased_opts].into_iter().enumerate() {
+                let r = fair_curve(&c, o).unwrap();
+                assert!(dev_max(&c, &r.curve) <= tol, "{shape:?} seed {seed}");
+                for u in [d0, d1] {
+                    assert!(c.point(u).distance(r.curve.point(u)) < 1e-12);
+                    assert!(c.tangent(u).angle_between(r.curve.tangent(u)) < 1e-9);
+                    let (k0, k1) = (c.curvature(u), r.curve.curvature(u));
+                    assert!(
+                        (k0 - k1).abs() < 1e-9 * k0.abs().max(1.0),
+                        "{shape:?} seed {seed}: {k0} -> {k1}"
+                    );
+                }
+                rms[j] += curvature_error(&r.curve, shape).0;
+                ext[j] += extrema(&r.curve, 0.05 * kmax);
+            }
+        }
+        println!(
+            "{shape:?}, 8 seeds: Σ κ RMS error {:.3} -> {:.3} eased, Σ extrema {} -> {}",
+            rms[0], rms[1], ext[0], ext[1]
+        );
+        assert!(ext[1] < ext[0], "{shape:?}: {ext:?}");
+        // the ellipse's ends are not the arc's worst error: its κ RMS error stays about the same
+        // (measured 0.152 -> 0.156); the circle's and the clothoid's drop
+        if !matches!(shape, Shape::Ellipse { .. }) {
+            assert!(rms[1] < 0.8 * rms[0], "{shape:?}: {rms:?}");
+        }
+    }
+}
+
+/// The option only touches G2 ends that are ends of an open curve: a region inside the curve and G1 ends
+/// give the same curve bit for bit.
+#[test]
+fn easing_leaves_region_joins_and_g1_ends_alone() {
+    let c = noisy_curve(Shape::Circle { r: 1.0, a: 2.0 }, 40, 1e-3, 7);
+    let (d0, d1) = c.domain();
+    let region = Some((d0 + 0.2 * (d1 - d0), d0 + 0.8 * (d1 - d0)));
+    for o in [
+        FairingOptions { region, ..opts(3e-3) },
+        FairingOptions {
+            ends: EndCondition::G1,
+            ..opts(3e-3)
+        },
+    ] {
+        let plain = fair_curve(&c, o).unwrap();
+        let eased = fair_curve(
+            &c,
+            FairingOptions {
+                ease_curve_ends: true,
+                ..o
+            },
+        )
+        .unwrap();
+        assert_eq!(plain.curve.points(), eased.curve.points(), "{o:?}");
+    }
+}

@@ -467,6 +467,7 @@ fn pass_options(opts: FairingOptions) -> FairingOptions {
     FairingOptions {
         region: None,
         ends: EndCondition::G2,
+        ease_curve_ends: false,
         ..opts
     }
 }

@@ -77,6 +77,8 @@ pub struct Target {
     free_ends: [bool; 2],
     /// Samples at each end that [`Self::smooth`] fills from the interior first ([`Self::extrapolate_end`]).
     extrapolated: [usize; 2],
+    /// Samples at each end over which [`Self::smooth`] eases into the kept end value ([`Self::ease_end`]).
+    eased: [usize; 2],
 }
 
 impl Target {
@@ -105,6 +107,7 @@ impl Target {
             pinned,
             free_ends: [false; 2],
             extrapolated: [0; 2],
+            eased: [0; 2],
         })
     }
 
@@ -125,6 +128,25 @@ impl Target {
     /// the end instead of removing it. Ignored unless `3·span < n`.
     pub fn extrapolate_end(&mut self, last: bool, span: usize) {
         self.extrapolated[last as usize] = span;
+    }
+
+    /// Ease the first (`last = false`) or the last end into its kept curvature over `span` samples.
+    /// For a G2 curve end: it has no neighbour, so the curvature it keeps is the original's own, which on
+    /// a curve fitted to noisy points carries the end knot span's large error (3.9 where the true value
+    /// is 1 on the noisy circle arc of the tests). A pinned end makes the smoothed target climb to that
+    /// value from far inside, and the faired curve follows. With an eased end, [`Self::smooth`] smooths
+    /// the target as if the end were free (released, its end span filled from the interior as at a G0
+    /// curve end), then blends back from that value to the kept end value over the last `span` samples
+    /// with the quintic weight: the excess stays in the end span, where the original has it. The end
+    /// sample keeps its value and stays pinned; the fit still holds the end's curvature (G2). Ignored
+    /// for a released end and unless `3·span < n`.
+    pub fn ease_end(&mut self, last: bool, span: usize) {
+        self.eased[last as usize] = span;
+    }
+
+    /// The samples over which each end is eased ([`Self::ease_end`]; 0: not eased).
+    pub fn eased_ends(&self) -> [usize; 2] {
+        self.eased
     }
 
     /// Fill the ends marked by [`Self::extrapolate_end`].
@@ -222,10 +244,41 @@ impl Target {
         (lo, hi)
     }
 
-    /// Smooth the whole target (after filling the ends marked by [`Self::extrapolate_end`]).
+    /// Smooth the whole target (after filling the ends marked by [`Self::extrapolate_end`]; ends marked
+    /// by [`Self::ease_end`] are smoothed as free ends and then eased into their kept value).
     pub fn smooth(&mut self, method: TargetMethod, strength: usize) {
+        let n = self.len();
+        let end = |e: usize| if e == 1 { n - 1 } else { 0 };
+        let eased = [0, 1].map(|e| {
+            let span = self.eased[e];
+            (span > 0 && 3 * span < n && !self.free_ends[e]).then_some(span)
+        });
+        let (free_ends, extrapolated) = (self.free_ends, self.extrapolated);
+        let mut kept = [0.0; 2];
+        for (e, span) in eased.iter().enumerate() {
+            if let Some(span) = *span {
+                kept[e] = self.values[end(e)];
+                self.free_ends[e] = true;
+                self.pinned[end(e)] = false;
+                self.extrapolated[e] = self.extrapolated[e].max(span);
+            }
+        }
         self.fill_extrapolated_ends();
-        self.smooth_range(0, self.len() - 1, method, strength);
+        self.smooth_range(0, n - 1, method, strength);
+        (self.free_ends, self.extrapolated) = (free_ends, extrapolated);
+        for (e, span) in eased.iter().enumerate() {
+            let Some(span) = *span else { continue };
+            // i samples from the end: weight 0 at the end (the kept value), 1 from `span` samples in
+            for i in 0..span {
+                let k = if e == 1 { n - 1 - i } else { i };
+                if i > 0 && self.pinned[k] {
+                    continue;
+                }
+                let w = quintic(i as f64 / span as f64);
+                self.values[k] = w * self.values[k] + (1.0 - w) * kept[e];
+            }
+            self.pinned[end(e)] = true;
+        }
     }
 
     /// Smooth the samples `a..=b` (clamped) with `strength` passes / weight;
@@ -576,6 +629,70 @@ mod tests {
         w.extrapolate_end(false, 20);
         w.smooth(TargetMethod::Heat, 0);
         assert_eq!(w.values()[1], k[1]);
+    }
+
+    /// An eased end keeps its value and its pin, follows the free-end target (filled from the interior)
+    /// from `span` samples in, and blends between the two with the quintic weight in between; an end
+    /// that is released, or a span too long, is not eased.
+    #[test]
+    fn eased_end_joins_the_kept_value_within_its_span() {
+        let n = 60;
+        let span = 5;
+        // the noisy end ramp of the test above at the start, a smooth slope elsewhere
+        let k: Vec<f64> = (0..n)
+            .map(|i| {
+                if i < 5 {
+                    4.0 - 0.6 * i as f64
+                } else {
+                    1.0 + 0.001 * i as f64
+                }
+            })
+            .collect();
+        for method in [TargetMethod::Heat, TargetMethod::Binomial, TargetMethod::Fit] {
+            let mut free = Target::new(&k).unwrap();
+            free.release_end(false);
+            free.extrapolate_end(false, span);
+            free.smooth(method, 30);
+            let mut t = Target::new(&k).unwrap();
+            t.ease_end(false, span);
+            assert_eq!(t.eased_ends(), [span, 0]);
+            t.smooth(method, 30);
+            let g = t.values();
+            assert_eq!(g[0], k[0], "{method:?}: the end keeps its curvature");
+            assert!(t.pinned()[0] && !t.pinned()[1], "{method:?}");
+            assert_eq!(t.free_ends(), [false, false], "{method:?}: not released");
+            assert_eq!(g[n - 1], k[n - 1], "{method:?}: the other end is untouched");
+            for i in 1..span {
+                let w = quintic(i as f64 / span as f64);
+                let want = w * free.values()[i] + (1.0 - w) * k[0];
+                assert!((g[i] - want).abs() < 1e-12, "{method:?} {i}: {} vs {want}", g[i]);
+            }
+            // from the span on, the free end's target itself
+            assert_eq!(&g[span..], &free.values()[span..], "{method:?}");
+            // where a pinned end spreads its excess far inside
+            let mut pinned = Target::new(&k).unwrap();
+            pinned.smooth(method, 30);
+            assert!(pinned.values()[2 * span] > g[2 * span] + 0.05, "{method:?}");
+            // reset + smooth: the same target (the editor's path)
+            let first = g.to_vec();
+            t.reset();
+            t.smooth(method, 30);
+            assert_eq!(t.values(), &first[..], "{method:?}");
+        }
+        // a released end is not eased; nor is a span with 3·span ≥ n
+        let mut released = Target::new(&k).unwrap();
+        released.release_end(false);
+        let mut plain = released.clone();
+        released.ease_end(false, span);
+        released.smooth(TargetMethod::Heat, 30);
+        plain.smooth(TargetMethod::Heat, 30);
+        assert_eq!(released.values(), plain.values());
+        let mut long = Target::new(&k).unwrap();
+        long.ease_end(false, 20);
+        long.smooth(TargetMethod::Heat, 30);
+        let mut pinned = Target::new(&k).unwrap();
+        pinned.smooth(TargetMethod::Heat, 30);
+        assert_eq!(long.values(), pinned.values());
     }
 
     #[test]
