@@ -673,21 +673,12 @@ fn planar_curve_in_3d_stays_in_its_plane() {
 /// and the clothoid.
 #[test]
 fn eased_g2_curve_ends_keep_the_end_and_fair_the_end_span() {
-    let shapes = [
-        Shape::Circle { r: 1.0, a: 2.0 },
-        Shape::Ellipse {
-            a: 2.0,
-            b: 1.0,
-            th: 2.5,
-        },
-        Shape::Clothoid { a: 1.0, l: 2.0 },
-    ];
     let tol = 3e-3;
     let eased_opts = FairingOptions {
         ease_curve_ends: true,
         ..opts(tol)
     };
-    for shape in shapes {
+    for shape in KNOWN_SHAPES {
         let kmax = shape.dense(200).1.iter().fold(0.0f64, |m, k| m.max(k.abs()));
         let (mut rms, mut ext) = ([0.0; 2], [0; 2]);
         for seed in 1..=8 {

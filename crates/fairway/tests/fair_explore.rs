@@ -5,16 +5,7 @@ use fairway::fair::*;
 #[test]
 #[ignore]
 fn explore() {
-    let shapes = [
-        Shape::Circle { r: 1.0, a: 2.0 },
-        Shape::Ellipse {
-            a: 2.0,
-            b: 1.0,
-            th: 2.5,
-        },
-        Shape::Clothoid { a: 1.0, l: 2.0 },
-    ];
-    for shape in shapes {
+    for shape in KNOWN_SHAPES {
         let c = noisy_curve(shape, 40, 1e-3, 7);
         let (r0, m0) = curvature_error(&c, shape);
         println!(

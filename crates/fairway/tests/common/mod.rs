@@ -49,6 +49,17 @@ impl Rng {
     }
 }
 
+/// The known-answer shapes of the tests: a circle arc, an ellipse arc and a clothoid.
+pub const KNOWN_SHAPES: [Shape; 3] = [
+    Shape::Circle { r: 1.0, a: 2.0 },
+    Shape::Ellipse {
+        a: 2.0,
+        b: 1.0,
+        th: 2.5,
+    },
+    Shape::Clothoid { a: 1.0, l: 2.0 },
+];
+
 /// A known planar shape: point and signed curvature at normalized arc length t ∈ [0, 1].
 #[derive(Clone, Copy, Debug)]
 pub enum Shape {
