@@ -245,13 +245,25 @@ impl App {
                 }
             });
         }
-        ui.checkbox(&mut self.prefs.fair.ease_ends, "Ease G2 curve ends")
-            .on_hover_text(
-                "Where a G2 end is an end of the (open) curve, its own end curvature is kept. On noisy data it \
+        // only a G2 region end at an end of an open curve is eased (the core ignores the rest)
+        let (d0, d1) = self.view.domain;
+        let eps = 1e-12 * (d1 - d0);
+        let ends = self.prefs.fair.ends;
+        let easable = !self.view.closed
+            && self.region().is_some_and(|(u1, u2)| {
+                (u1 <= d0 + eps && ends[0] == EndCondition::G2) || (u2 >= d1 - eps && ends[1] == EndCondition::G2)
+            });
+        ui.add_enabled(
+            easable,
+            egui::Checkbox::new(&mut self.prefs.fair.ease_ends, "Ease G2 curve ends"),
+        )
+        .on_disabled_hover_text("Applies to a G2 region end at an end of an open curve; this region has none")
+        .on_hover_text(
+            "Where a G2 end is an end of the (open) curve, its own end curvature is kept. On noisy data it \
                  is often far off: eased, the target reaches it within the end knot span instead of climbing \
                  to it from far inside (fewer wiggles near noisy ends; where the end curvature is real it can \
                  add some: compare). Region ends inside the curve and closed curves are not affected.",
-            );
+        );
         egui::CollapsingHeader::new("Advanced").show(ui, |ui| {
             ui.horizontal(|ui| {
                 ui.label("Integrator:");

@@ -224,6 +224,11 @@ fn ease_g2_curve_ends_checkbox_re_fairs_a_region_at_the_curve_end() {
     h.run();
     let plain = h.state().preview().unwrap().result.curve.clone();
     assert!(!h.state().prefs.fair.ease_ends);
+    assert!(
+        !h.get_by_role_and_label(Role::CheckBox, "Ease G2 curve ends")
+            .accesskit_node()
+            .is_disabled()
+    );
     h.get_by_role_and_label(Role::CheckBox, "Ease G2 curve ends").click();
     h.run();
     assert!(h.state().prefs.fair.ease_ends);
@@ -240,6 +245,12 @@ fn ease_g2_curve_ends_checkbox_re_fairs_a_region_at_the_curve_end() {
     h.state_mut().apply(fairway_editor::Command::SetRegion(Some(inner)));
     h.run();
     assert_eq!(h.state().preview().unwrap().result.curve.points(), inner_plain.points());
+    // nothing to ease there: the box is greyed out
+    assert!(
+        h.get_by_role_and_label(Role::CheckBox, "Ease G2 curve ends")
+            .accesskit_node()
+            .is_disabled()
+    );
 }
 
 #[test]

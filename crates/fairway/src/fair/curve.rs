@@ -848,20 +848,16 @@ impl FairingSetup {
             }
         }
         // a G0 curve end (tangent and curvature free): the end knot span's curvature is filled in from
-        // the interior before smoothing (Target::extrapolate_end)
+        // the interior before smoothing (Target::extrapolate_end); an eased G2 curve end of an open curve
+        // (FairingOptions::ease_curve_ends): smoothed as a free end, then eased into its kept curvature
+        // over the end knot span (Target::ease_end)
         let per_span = (ns / spans).max(1);
+        let ease = opts.ease_curve_ends && matches!(s.seam, Seam::Open);
         for (last, e, at) in [(false, ends[0], at_start), (true, ends[1], at_end)] {
-            if e == EndCondition::G0 && at {
-                s.target.extrapolate_end(last, per_span);
-            }
-        }
-        // an eased G2 curve end of an open curve (FairingOptions::ease_curve_ends): smoothed as a free
-        // end, then eased into its kept curvature over the end knot span (Target::ease_end)
-        if opts.ease_curve_ends && matches!(s.seam, Seam::Open) {
-            for (last, e, at) in [(false, ends[0], at_start), (true, ends[1], at_end)] {
-                if e == EndCondition::G2 && at {
-                    s.target.ease_end(last, per_span);
-                }
+            match e {
+                EndCondition::G0 if at => s.target.extrapolate_end(last, per_span),
+                EndCondition::G2 if at && ease => s.target.ease_end(last, per_span),
+                _ => {}
             }
         }
         let strength = opts.strength.unwrap_or(match opts.target {
