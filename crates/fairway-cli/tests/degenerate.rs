@@ -60,6 +60,29 @@ fn degenerate_inputs_exit_1_with_the_exact_message_and_keep_the_output() {
             vec!["fair", &c, "--tolerance", "0.01", "--region", "0.5,1.5", "-o", &o],
             "fairing setup: region end: 1.5 is outside the domain [0, 1]".into(),
         ),
+        (
+            vec!["fair", &c, "--tolerance", "0.01", "--samples", "100000000", "-o", &o],
+            "fairing setup: 100000000 samples are too many: at most 2000000 (each million takes about 0.4 GB of \
+             memory); ask for fewer samples, or fair a region of the curve"
+                .into(),
+        ),
+        (
+            vec![
+                "fair",
+                &c,
+                "--tolerance",
+                "0.01",
+                "--method",
+                "iterative",
+                "--samples",
+                "2000001",
+                "-o",
+                &o,
+            ],
+            "fairing setup: 2000001 samples are too many: at most 2000000 (each million takes about 0.4 GB of \
+             memory); ask for fewer samples, or fair a region of the curve"
+                .into(),
+        ),
     ];
     for (args, want) in rows {
         let r = Command::new(env!("CARGO_BIN_EXE_fairway"))

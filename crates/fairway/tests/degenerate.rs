@@ -116,6 +116,18 @@ fn error_table() -> Vec<(&'static str, String, &'static str)> {
             "the curve has only 4 control points: with G2 ends the first and last 3 are held, so fairing needs at least 7 (insert knots to refine the curve)",
         ),
         (
+            "too many samples (memory)",
+            fair_err(
+                &w,
+                FairingOptions {
+                    samples: Some(fairway::fair::curve::MAX_SAMPLES + 1),
+                    ..opts(0.01, None)
+                },
+            ),
+            "2000001 samples are too many: at most 2000000 (each million takes about 0.4 GB of memory); ask for \
+             fewer samples, or fair a region of the curve",
+        ),
+        (
             "non-clamped knots",
             curve(r#"{"degree": 2, "knots": [0,1,2,3,4,5,6], "points": [[0,0],[1,1],[2,0],[3,1]]}"#),
             "knots: not clamped: the first and the last value must each appear 3 times (degree + 1)",

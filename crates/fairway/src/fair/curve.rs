@@ -225,6 +225,11 @@ pub struct FairingResult {
     pub seam: Seam,
 }
 
+/// Most fairing samples a setup takes (explicit or by default): each sample holds about 400 bytes of
+/// rows and integration state, so 2 million are about 0.8 GB. More is refused with a message instead of
+/// running the machine out of memory (`--samples 100000000` was killed at 24 GB).
+pub const MAX_SAMPLES: usize = 2_000_000;
+
 /// Number of arc-length samples used to verify the band (as `measure`).
 pub const CHECK_SAMPLES: usize = 2000;
 
@@ -516,6 +521,12 @@ impl FairingSetup {
             .count()
             + 1;
         let ns = opts.samples.unwrap_or((10 * spans + 1).max(41).max(4 * nf + 1));
+        if ns > MAX_SAMPLES {
+            return Err(Error::InvalidInput(format!(
+                "{ns} samples are too many: at most {MAX_SAMPLES} (each million takes about 0.4 GB of memory); \
+                 ask for fewer samples, or fair a region of the curve"
+            )));
+        }
         if ns < 3 || ns < nf + 1 {
             return Err(Error::InvalidInput(format!(
                 "{ns} samples are too few for {nf} free control points (need more than {nf})"
