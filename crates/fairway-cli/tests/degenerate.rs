@@ -83,6 +83,26 @@ fn degenerate_inputs_exit_1_with_the_exact_message_and_keep_the_output() {
              memory); ask for fewer samples, or fair a region of the curve"
                 .into(),
         ),
+        (
+            vec![
+                "fair",
+                &c,
+                "--tolerance",
+                "0.01",
+                "--samples",
+                "1000",
+                "--target",
+                "average",
+                "--strength",
+                "99999999",
+                "-o",
+                &o,
+            ],
+            "fairing setup: target strength 99999999 is too much work for the average target: its passes cost \
+             strength × samples, and 1000 samples allow at most 1000000 passes; use the heat target (the implicit \
+             heat flow of the averaging), whose cost stays bounded at any strength"
+                .into(),
+        ),
     ];
     for (args, want) in rows {
         let r = Command::new(env!("CARGO_BIN_EXE_fairway"))

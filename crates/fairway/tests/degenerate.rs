@@ -128,6 +128,21 @@ fn error_table() -> Vec<(&'static str, String, &'static str)> {
              fewer samples, or fair a region of the curve",
         ),
         (
+            "pass-based target strength too large for the samples",
+            fair_err(
+                &w,
+                FairingOptions {
+                    samples: Some(1000),
+                    target: fairway::fair::TargetMethod::Binomial,
+                    strength: Some(1_000_001),
+                    ..opts(0.01, None)
+                },
+            ),
+            "target strength 1000001 is too much work for the binomial target: its passes cost strength × samples, \
+             and 1000 samples allow at most 1000000 passes; use the heat target (the implicit heat flow of the \
+             averaging), whose cost stays bounded at any strength",
+        ),
+        (
             "non-clamped knots",
             curve(r#"{"degree": 2, "knots": [0,1,2,3,4,5,6], "points": [[0,0],[1,1],[2,0],[3,1]]}"#),
             "knots: not clamped: the first and the last value must each appear 3 times (degree + 1)",

@@ -230,6 +230,13 @@ pub struct FairingResult {
 /// running the machine out of memory (`--samples 100000000` was killed at 24 GB).
 pub const MAX_SAMPLES: usize = 2_000_000;
 
+/// Most sample updates (passes × samples) the pass-based targets ([`TargetMethod::Average`],
+/// [`TargetMethod::Binomial`]) may do in a setup: about 2 s at 1.9 ns each (`--target average
+/// --strength 1000000` on the 611 samples of assets/car_roof.ron: 1.1 s). A larger strength is refused
+/// (it pointed to the heat target, which takes any strength in O(samples)) instead of running for minutes
+/// (`--strength 99999999`: more than a minute).
+pub const MAX_PASS_WORK: usize = 1_000_000_000;
+
 /// Number of arc-length samples used to verify the band (as `measure`).
 pub const CHECK_SAMPLES: usize = 2000;
 
@@ -875,6 +882,21 @@ impl FairingSetup {
             TargetMethod::Fit => 20,
             _ => default_passes(ns),
         });
+        let passes = match opts.target {
+            TargetMethod::Average => Some("average"),
+            TargetMethod::Binomial => Some("binomial"),
+            TargetMethod::Heat | TargetMethod::Fit => None,
+        };
+        if let Some(name) = passes
+            && strength.saturating_mul(ns) > MAX_PASS_WORK
+        {
+            return Err(Error::InvalidInput(format!(
+                "target strength {strength} is too much work for the {name} target: its passes cost strength × samples, \
+                 and {ns} samples allow at most {} passes; use the heat target (the implicit heat flow of the \
+                 averaging), whose cost stays bounded at any strength",
+                MAX_PASS_WORK / ns
+            )));
+        }
         s.target.smooth(opts.target, strength);
         Ok(s)
     }
