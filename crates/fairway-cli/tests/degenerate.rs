@@ -28,6 +28,12 @@ fn degenerate_inputs_exit_1_with_the_exact_message_and_keep_the_output() {
     let out = dir.join("out.json");
     let o = out.to_str().unwrap().to_string();
     std::fs::write(&out, "previous result").unwrap();
+    let too_many = |n: &str| {
+        format!(
+            "fairing setup: {n} samples are too many: at most 2000000 (each million takes about 0.4 GB of memory); \
+             ask for fewer samples, or fair a region of the curve"
+        )
+    };
     let rows: Vec<(Vec<&str>, String)> = vec![
         (
             vec!["fair", &empty, "--tolerance", "0.01", "-o", &o],
@@ -62,9 +68,7 @@ fn degenerate_inputs_exit_1_with_the_exact_message_and_keep_the_output() {
         ),
         (
             vec!["fair", &c, "--tolerance", "0.01", "--samples", "100000000", "-o", &o],
-            "fairing setup: 100000000 samples are too many: at most 2000000 (each million takes about 0.4 GB of \
-             memory); ask for fewer samples, or fair a region of the curve"
-                .into(),
+            too_many("100000000"),
         ),
         (
             vec![
@@ -79,9 +83,7 @@ fn degenerate_inputs_exit_1_with_the_exact_message_and_keep_the_output() {
                 "-o",
                 &o,
             ],
-            "fairing setup: 2000001 samples are too many: at most 2000000 (each million takes about 0.4 GB of \
-             memory); ask for fewer samples, or fair a region of the curve"
-                .into(),
+            too_many("2000001"),
         ),
         (
             vec![
