@@ -13,7 +13,12 @@
 //!    unchanged and, since the knots are kept, the change joins it with
 //!    `C^{p−1}` continuity across the border (G2 for bicubics with simple
 //!    knots: position, normal and normal curvature). For degree 3 this holds
-//!    the three control rows/columns next to the region border.
+//!    the three control rows/columns next to the region border. A **pole** —
+//!    a boundary row or column whose control points coincide (a surface of
+//!    revolution, a triangular patch) — holds its row and the next two
+//!    ([`POLE_ROWS`]), so it stays one point with its tangent plane and
+//!    curvature; the isocurve through it is a point and is left as it is
+//!    (test `a_pole_stays_one_point_and_the_rest_is_faired`).
 //! 2. **Grid.** Parameters `u_k`, `v_l`: `samples_per_span` per knot span of
 //!    the moving rectangle (ends included).
 //! 3. **Isocurves.** For each `v_l` the u-isocurve `S(·, v_l)` (a B-spline
@@ -324,6 +329,11 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
     } else {
         surface.clone()
     };
+    if !(net_size(&s) > 0.0) {
+        return Err(Error::Degenerate(
+            "all control points of the surface coincide (a single point): there is no shape to fair".into(),
+        ));
+    }
     let ((du0, du1), (dv0, dv1)) = s.domain();
     let ((u1, u2), (v1, v2)) = opts.region.unwrap_or(((du0, du1), (dv0, dv1)));
     for (name, a, b, lo, hi) in [("u", u1, u2, du0, du1), ("v", v1, v2, dv0, dv1)] {
@@ -344,6 +354,7 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
     let (ku, kv) = (s.knots_u().clone(), s.knots_v().clone());
     let free_u = free_range(&ku, u1, u2);
     let free_v = free_range(&kv, v1, v2);
+    let (free_u, free_v) = hold_poles(&s, free_u, free_v);
     if free_u.is_empty() || free_v.is_empty() {
         return Err(Error::InvalidInput(format!(
             "region [{u1}, {u2}] × [{v1}, {v2}] holds no movable control point: it must contain at least \
@@ -578,6 +589,52 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
     })
 }
 
+/// Rows next to a pole that a fair keeps: the pole row and the two after it fix the surface's position,
+/// tangent plane and curvature at the pole.
+pub const POLE_ROWS: usize = 3;
+
+/// Diagonal of the control net's bounding box.
+fn net_size(s: &BSplineSurface) -> f64 {
+    let (lo, hi) = s.points().iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), q| (lo.min(*q), hi.max(*q)),
+    );
+    (hi - lo).length()
+}
+
+/// Whether the control points `pts` all coincide (within 1e-12 of `size`): a collapsed row or column (a
+/// pole, as on a surface of revolution or a triangular patch), whose isocurve is a single point.
+fn collapsed(pts: impl IntoIterator<Item = DVec3>, size: f64) -> bool {
+    let mut it = pts.into_iter();
+    let Some(first) = it.next() else { return false };
+    it.all(|q| q.distance(first) <= 1e-12 * size)
+}
+
+/// Free control rows and columns with the poles held: a boundary row (or column) whose control points all
+/// coincide is a pole; if the free range reaches it, that row and the next [`POLE_ROWS`] − 1 stay, so the
+/// pole stays one point with its tangent plane and curvature (moving its points apart would tear a hole
+/// into the surface, within the tolerance but visible as a crease in the shading).
+fn hold_poles(s: &BSplineSurface, mut fu: Range<usize>, mut fv: Range<usize>) -> (Range<usize>, Range<usize>) {
+    let (nu, nv) = (s.nu(), s.nv());
+    let pts = s.points();
+    let size = net_size(s);
+    let row = |i: usize| collapsed((0..nv).map(|j| pts[i * nv + j]), size);
+    let col = |j: usize| collapsed((0..nu).map(|i| pts[i * nv + j]), size);
+    if !fu.is_empty() && fu.start == 0 && row(0) {
+        fu.start = POLE_ROWS.min(fu.end);
+    }
+    if !fu.is_empty() && fu.end == nu && row(nu - 1) {
+        fu.end = (nu - POLE_ROWS.min(nu)).max(fu.start);
+    }
+    if !fv.is_empty() && fv.start == 0 && col(0) {
+        fv.start = POLE_ROWS.min(fv.end);
+    }
+    if !fv.is_empty() && fv.end == nv && col(nv - 1) {
+        fv.end = (nv - POLE_ROWS.min(nv)).max(fv.start);
+    }
+    (fu, fv)
+}
+
 /// The curve-engine setup for one isocurve `c` over the region `r` (holding
 /// `spans_r` knot spans) with the isocurve tolerance `m_iso`.
 ///
@@ -709,6 +766,7 @@ fn combined_cloud(
         .collect();
     // per isocurve of the block, per level: the faired isocurve at the grid parameters
     type BlockResult = Result<Vec<Vec<Vec<DVec3>>>>;
+    let size = net_size(s);
     let fair_block = |block: &[(bool, usize)]| -> BlockResult {
         let mut hints = vec![None; nl];
         block
@@ -719,6 +777,15 @@ fn combined_cloud(
                 } else {
                     (s.iso_v(us[i]), rv, spans_v, vs, ("v", "u", us[i]))
                 };
+                // an isocurve through a pole (a collapsed row) is a single point: it stays (Δ = 0)
+                if collapsed(iso.points().iter().copied(), size) {
+                    let kept: Vec<DVec3> = if is_u {
+                        (0..mu).map(|k| orig[k * mv + i]).collect()
+                    } else {
+                        (0..mv).map(|l| orig[i * mv + l]).collect()
+                    };
+                    return Ok(vec![kept; nl]);
+                }
                 let err = |e: Error| {
                     Error::InvalidInput(format!("fairing the {}-isocurve at {} = {}: {e}", at.0, at.1, at.2))
                 };
@@ -1571,5 +1638,133 @@ mod tests {
         for t in [2, 3, 7] {
             assert_eq!(run(t).surface.points(), one.surface.points(), "{t} threads");
         }
+    }
+
+    /// A surface of revolution (a paraboloid over 0.8 of a turn) with its pole at u = 0: every control point
+    /// of row 0 is the apex. The pole row and the two after it stay (bit for bit, so the pole stays one point
+    /// with its tangent plane), the isocurve through the pole is left as it is instead of failing, the band
+    /// holds, and the rest is faired. (Before: "fairing the v-isocurve at u = 0: degenerate geometry: the
+    /// region [0, 1] has zero length".) The same with the pole at u = 1, and at v = 0 (transposed net).
+    #[test]
+    fn a_pole_stays_one_point_and_the_rest_is_faired() {
+        let n = 16;
+        let k = KnotVector::uniform(3, n).unwrap();
+        let g = k.greville();
+        let mut rng = Rng(29);
+        let mut exact_pts = Vec::new();
+        let mut noisy_pts = Vec::new();
+        for &r in &g {
+            for &t in &g {
+                let a = 0.8 * std::f64::consts::TAU * t;
+                let p = DVec3::new(r * a.cos(), r * a.sin(), 0.5 * r * r);
+                exact_pts.push(p);
+                let z = if r > 0.0 { 1.5e-3 * rng.normal() } else { 0.0 };
+                noisy_pts.push(p + DVec3::new(0.0, 0.0, z));
+            }
+        }
+        let net = |pts: Vec<DVec3>| {
+            BSplineSurface::try_new(3, 3, k.values().to_vec(), k.values().to_vec(), n, n, pts, None).unwrap()
+        };
+        let (exact, s) = (net(exact_pts), net(noisy_pts));
+        // the pole at u = 0, at u = 1 (rows reversed) and at v = 0 (transposed)
+        let flip_u = |pts: &[DVec3]| {
+            (0..n)
+                .rev()
+                .flat_map(|i| pts[i * n..(i + 1) * n].to_vec())
+                .collect::<Vec<_>>()
+        };
+        let transpose = |pts: &[DVec3]| {
+            (0..n)
+                .flat_map(|j| (0..n).map(move |i| pts[i * n + j]))
+                .collect::<Vec<_>>()
+        };
+        let cases = [
+            ("pole at u = 0", exact.clone(), s.clone()),
+            ("pole at u = 1", net(flip_u(exact.points())), net(flip_u(s.points()))),
+            (
+                "pole at v = 0",
+                net(transpose(exact.points())),
+                net(transpose(s.points())),
+            ),
+        ];
+        let m = 4.5e-3;
+        for (name, exact, s) in cases {
+            let r = fair_surface(
+                &s,
+                SurfaceFairingOptions {
+                    tolerance: m,
+                    ..Default::default()
+                },
+            )
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+            // the held rows (or columns) next to the pole: bit for bit
+            let held = |i: usize, j: usize| match name {
+                "pole at u = 0" => i < POLE_ROWS,
+                "pole at u = 1" => i >= n - POLE_ROWS,
+                _ => j < POLE_ROWS,
+            };
+            let (a, b) = (s.points(), r.surface.points());
+            for i in 0..n {
+                for j in 0..n {
+                    if held(i, j) {
+                        assert_eq!(a[i * n + j], b[i * n + j], "{name}: control point ({i}, {j}) moved");
+                    }
+                }
+            }
+            assert!(a != b, "{name}: nothing was faired");
+            let (dev, _) = deviation(&s, &r.surface, 41);
+            assert!(
+                r.max_deviation <= m && dev <= m * (1.0 + 1e-9),
+                "{name}: {} / {dev} > {m}",
+                r.max_deviation
+            );
+            // RMS principal-curvature error against the noise-free net, 30 × 30 samples with the distance from
+            // the pole (as a parameter of the pole's direction) in [d0, 0.9]: the held rows keep their noise
+            // up to t_6 ≈ 0.23 (like the held strip along a region border), the rest is free
+            let err = |x: &BSplineSurface, d0: f64| {
+                let mut sum = 0.0;
+                for kk in 0..30 {
+                    for ll in 0..30 {
+                        let (d, w) = (d0 + (0.9 - d0) * kk as f64 / 29.0, 0.1 + 0.8 * ll as f64 / 29.0);
+                        let (u, v) = match name {
+                            "pole at u = 0" => (d, w),
+                            "pole at u = 1" => (1.0 - d, w),
+                            _ => (w, d),
+                        };
+                        let (a, b) = (x.curvature(u, v), exact.curvature(u, v));
+                        sum += (a.k_max - b.k_max).powi(2) + (a.k_min - b.k_min).powi(2);
+                    }
+                }
+                (sum / 900.0).sqrt()
+            };
+            let (e0, e1) = (err(&s, 0.1), err(&r.surface, 0.1));
+            let (f0, f1) = (err(&s, 0.3), err(&r.surface, 0.3));
+            eprintln!(
+                "{name}: curvature error {e0:.4} -> {e1:.4}, away from the pole {f0:.4} -> {f1:.4}, dev {dev:.2e}"
+            );
+            assert!(e1 < e0, "{name}: curvature error {e0} -> {e1}");
+            assert!(f1 < 0.6 * f0, "{name}: curvature error away from the pole {f0} -> {f1}");
+        }
+    }
+
+    #[test]
+    fn a_surface_that_is_one_point_is_refused() {
+        let k = KnotVector::uniform(3, 8).unwrap();
+        let s = BSplineSurface::try_new(
+            3,
+            3,
+            k.values().to_vec(),
+            k.values().to_vec(),
+            8,
+            8,
+            vec![DVec3::ONE; 64],
+            None,
+        )
+        .unwrap();
+        let e = fair_surface(&s, SurfaceFairingOptions::default()).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "degenerate geometry: all control points of the surface coincide (a single point): there is no shape to fair"
+        );
     }
 }
