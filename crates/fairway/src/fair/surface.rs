@@ -767,6 +767,7 @@ fn combined_cloud(
     // per isocurve of the block, per level: the faired isocurve at the grid parameters
     type BlockResult = Result<Vec<Vec<Vec<DVec3>>>>;
     let size = net_size(s);
+    let ((du0, du1), (dv0, dv1)) = s.domain();
     let fair_block = |block: &[(bool, usize)]| -> BlockResult {
         let mut hints = vec![None; nl];
         block
@@ -777,8 +778,14 @@ fn combined_cloud(
                 } else {
                     (s.iso_v(us[i]), rv, spans_v, vs, ("v", "u", us[i]))
                 };
-                // an isocurve through a pole (a collapsed row) is a single point: it stays (Δ = 0)
-                if collapsed(iso.points().iter().copied(), size) {
+                // the isocurve along a pole (a collapsed boundary row, held by `hold_poles`) is a single point:
+                // it stays (Δ = 0); a point isocurve inside the domain (a pinch at a p-fold knot) still fails
+                let on_edge = if is_u {
+                    vs[i] == dv0 || vs[i] == dv1
+                } else {
+                    us[i] == du0 || us[i] == du1
+                };
+                if on_edge && collapsed(iso.points().iter().copied(), size) {
                     let kept: Vec<DVec3> = if is_u {
                         (0..mu).map(|k| orig[k * mv + i]).collect()
                     } else {
@@ -822,7 +829,6 @@ fn combined_cloud(
     let t1 = Instant::now();
     tm.isocurves += t1 - t0;
     // normalized distance to the held borders; a side on the domain boundary is no border (its rows are free)
-    let ((du0, du1), (dv0, dv1)) = s.domain();
     let border_dist = |t: f64, a: f64, b: f64, lo: f64, hi: f64| {
         let da = if a > lo { t - a } else { f64::INFINITY };
         let db = if b < hi { b - t } else { f64::INFINITY };
@@ -1765,6 +1771,33 @@ mod tests {
         assert_eq!(
             e.to_string(),
             "degenerate geometry: all control points of the surface coincide (a single point): there is no shape to fair"
+        );
+    }
+
+    /// A pinch inside the domain (a collapsed control row at a triple knot: the isocurve there is a point, but
+    /// its neighbours are free) is refused as before, not faired: only boundary poles are held.
+    #[test]
+    fn a_pinch_inside_the_domain_is_refused() {
+        let ku = vec![0.0, 0.0, 0.0, 0.0, 0.5, 0.5, 0.5, 1.0, 1.0, 1.0, 1.0];
+        let kv = KnotVector::uniform(3, 10).unwrap();
+        let mut rng = Rng(5);
+        let mut pts = Vec::new();
+        for i in 0..7 {
+            let r = (i as f64 - 3.0).abs() / 3.0;
+            for j in 0..10 {
+                let a = 1.5 * j as f64 / 9.0;
+                let z = if i == 3 { 0.0 } else { 1e-3 * rng.normal() };
+                pts.push(DVec3::new(r * a.cos(), r * a.sin(), (i as f64 - 3.0) / 3.0 + z));
+            }
+        }
+        let s = BSplineSurface::try_new(3, 3, ku, kv.values().to_vec(), 7, 10, pts, None).unwrap();
+        let e = fair_surface(&s, SurfaceFairingOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "fairing the v-isocurve at u = 0.5: degenerate geometry: the region [0, 1] has zero length (coincident \
+             control points)"
         );
     }
 }
