@@ -360,7 +360,14 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
     let (ku, kv) = (s.knots_u().clone(), s.knots_v().clone());
     let free_u = free_range(&ku, u1, u2);
     let free_v = free_range(&kv, v1, v2);
+    let had = !free_u.is_empty() && !free_v.is_empty();
     let (free_u, free_v) = hold_poles_and_seams(&s, free_u, free_v);
+    if had && (free_u.is_empty() || free_v.is_empty()) {
+        return Err(Error::InvalidInput(format!(
+            "region [{u1}, {u2}] × [{v1}, {v2}] holds no movable control point: its control rows are all among \
+             the {POLE_ROWS} held next to a pole or the seam of a closed surface (widen the region away from it)"
+        )));
+    }
     if free_u.is_empty() || free_v.is_empty() {
         return Err(Error::InvalidInput(format!(
             "region [{u1}, {u2}] × [{v1}, {v2}] holds no movable control point: it must contain at least \
@@ -1750,6 +1757,23 @@ mod tests {
                 }
             }
             assert!(a != b, "{name}: nothing was faired");
+            // a region of 3 spans at the pole: its 3 movable rows are the held ones
+            if name == "pole at u = 0" {
+                let small = SurfaceFairingOptions {
+                    tolerance: m,
+                    region: Some(((0.0, 3.0 / 13.0), (0.0, 1.0))),
+                    ..Default::default()
+                };
+                assert_eq!(
+                    fair_surface(&s, small).unwrap_err().to_string(),
+                    format!(
+                        "region [0, {}] × [0, 1] holds no movable control point: its control rows are \
+                         all among the 3 held next to a pole or the seam of a closed surface (widen the region away \
+                         from it)",
+                        3.0 / 13.0
+                    )
+                );
+            }
             // RMS principal-curvature error against the noise-free net, 30 × 30 samples with the distance from
             // the pole (as a parameter of the pole's direction) in [d0, 0.9]: the held rows keep their noise
             // up to t_6 ≈ 0.23 (like the held strip along a region border), the rest is free
