@@ -671,14 +671,16 @@ impl BSplineCurve {
 
     /// Axis-aligned bounding box of the control points (contains the curve).
     pub fn control_bounds(&self) -> (DVec3, DVec3) {
-        let mut lo = DVec3::splat(f64::INFINITY);
-        let mut hi = DVec3::splat(f64::NEG_INFINITY);
-        for p in &self.points {
-            lo = lo.min(*p);
-            hi = hi.max(*p);
-        }
-        (lo, hi)
+        point_bounds(&self.points)
     }
+}
+
+/// Axis-aligned bounding box `(min, max)` of `pts` (`(+∞, −∞)` when empty).
+pub(crate) fn point_bounds(pts: &[DVec3]) -> (DVec3, DVec3) {
+    pts.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    )
 }
 
 /// Derivatives of a rational curve from the derivatives of its homogeneous

@@ -156,10 +156,7 @@ impl SurfaceMesh {
 
     /// Axis-aligned bounding box `(min, max)` of the vertices.
     pub fn bounds(&self) -> (DVec3, DVec3) {
-        self.positions.iter().fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), &p| (lo.min(p), hi.max(p)),
-        )
+        crate::curve::point_bounds(&self.positions)
     }
 }
 

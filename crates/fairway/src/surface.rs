@@ -194,6 +194,11 @@ impl BSplineSurface {
     pub fn points(&self) -> &[DVec3] {
         &self.points
     }
+    /// Axis-aligned bounding box of the control points (contains the surface), as
+    /// [`crate::BSplineCurve::control_bounds`].
+    pub fn control_bounds(&self) -> (DVec3, DVec3) {
+        crate::curve::point_bounds(&self.points)
+    }
     /// Control point `d_ij`.
     pub fn point_at(&self, i: usize, j: usize) -> DVec3 {
         self.points[i * self.nv + j]

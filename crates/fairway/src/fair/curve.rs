@@ -232,9 +232,9 @@ pub const MAX_SAMPLES: usize = 2_000_000;
 
 /// Most sample updates (passes × samples) the pass-based targets ([`TargetMethod::Average`],
 /// [`TargetMethod::Binomial`]) may do in a setup: about 2 s at 1.9 ns each (`--target average
-/// --strength 1000000` on the 611 samples of assets/car_roof.ron: 1.1 s). A larger strength is refused
-/// (it pointed to the heat target, which takes any strength in O(samples)) instead of running for minutes
-/// (`--strength 99999999`: more than a minute).
+/// --strength 1000000` on the 611 samples of assets/car_roof.ron: 1.1 s). A larger strength is refused,
+/// with a pointer to the heat target (its cost stays bounded at any strength), instead of running for
+/// minutes (`--strength 99999999`: more than a minute).
 pub const MAX_PASS_WORK: usize = 1_000_000_000;
 
 /// Number of arc-length samples used to verify the band (as `measure`).

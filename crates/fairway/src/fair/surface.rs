@@ -608,10 +608,7 @@ pub const POLE_ROWS: usize = 3;
 
 /// Diagonal of the control net's bounding box.
 fn net_size(s: &BSplineSurface) -> f64 {
-    let (lo, hi) = s.points().iter().fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), q| (lo.min(*q), hi.max(*q)),
-    );
+    let (lo, hi) = s.control_bounds();
     (hi - lo).length()
 }
 
@@ -1215,14 +1212,18 @@ mod tests {
 
     /// RMS over an interior grid of the mean-curvature and Gauss-curvature-root errors against `exact`.
     fn curvature_error(s: &BSplineSurface, exact: &BSplineSurface) -> f64 {
+        curvature_error_on(s, exact, |k, l| {
+            (0.1 + 0.8 * k as f64 / 29.0, 0.1 + 0.8 * l as f64 / 29.0)
+        })
+    }
+
+    /// RMS of the principal-curvature errors against `exact` at the 30 × 30 parameters `uv(k, l)`.
+    fn curvature_error_on(s: &BSplineSurface, exact: &BSplineSurface, uv: impl Fn(usize, usize) -> (f64, f64)) -> f64 {
         let mut sum = 0.0;
         let n = 30;
         for k in 0..n {
             for l in 0..n {
-                let (u, v) = (
-                    0.1 + 0.8 * k as f64 / (n - 1) as f64,
-                    0.1 + 0.8 * l as f64 / (n - 1) as f64,
-                );
+                let (u, v) = uv(k, l);
                 let (a, b) = (s.curvature(u, v), exact.curvature(u, v));
                 sum += (a.k_max - b.k_max).powi(2) + (a.k_min - b.k_min).powi(2);
             }
@@ -1778,20 +1779,14 @@ mod tests {
             // the pole (as a parameter of the pole's direction) in [d0, 0.9]: the held rows keep their noise
             // up to t_6 ≈ 0.23 (like the held strip along a region border), the rest is free
             let err = |x: &BSplineSurface, d0: f64| {
-                let mut sum = 0.0;
-                for kk in 0..30 {
-                    for ll in 0..30 {
-                        let (d, w) = (d0 + (0.9 - d0) * kk as f64 / 29.0, 0.1 + 0.8 * ll as f64 / 29.0);
-                        let (u, v) = match name {
-                            "pole at u = 0" => (d, w),
-                            "pole at u = 1" => (1.0 - d, w),
-                            _ => (w, d),
-                        };
-                        let (a, b) = (x.curvature(u, v), exact.curvature(u, v));
-                        sum += (a.k_max - b.k_max).powi(2) + (a.k_min - b.k_min).powi(2);
+                curvature_error_on(x, &exact, |k, l| {
+                    let (d, w) = (d0 + (0.9 - d0) * k as f64 / 29.0, 0.1 + 0.8 * l as f64 / 29.0);
+                    match name {
+                        "pole at u = 0" => (d, w),
+                        "pole at u = 1" => (1.0 - d, w),
+                        _ => (w, d),
                     }
-                }
-                (sum / 900.0).sqrt()
+                })
             };
             let (e0, e1) = (err(&s, 0.1), err(&r.surface, 0.1));
             let (f0, f1) = (err(&s, 0.3), err(&r.surface, 0.3));
@@ -1909,16 +1904,10 @@ mod tests {
             assert!(a != b, "{name}: nothing was faired");
             // curvature error on the half turn opposite the seam (the seam direction's parameter in [0.25, 0.75])
             let err = |x: &BSplineSurface| {
-                let mut sum = 0.0;
-                for kk in 0..30 {
-                    for ll in 0..30 {
-                        let (d, w) = (0.1 + 0.8 * kk as f64 / 29.0, 0.25 + 0.5 * ll as f64 / 29.0);
-                        let (u, v) = if name == "seam in v" { (d, w) } else { (w, d) };
-                        let (p, q) = (x.curvature(u, v), exact.curvature(u, v));
-                        sum += (p.k_max - q.k_max).powi(2) + (p.k_min - q.k_min).powi(2);
-                    }
-                }
-                (sum / 900.0).sqrt()
+                curvature_error_on(x, &exact, |k, l| {
+                    let (d, w) = (0.1 + 0.8 * k as f64 / 29.0, 0.25 + 0.5 * l as f64 / 29.0);
+                    if name == "seam in v" { (d, w) } else { (w, d) }
+                })
             };
             let (e0, e1) = (err(&s), err(&r.surface));
             eprintln!("{name}: curvature error away from the seam {e0:.4} -> {e1:.4}");

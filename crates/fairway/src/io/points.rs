@@ -220,10 +220,7 @@ pub fn fit_points(set: &PointSet, opts: &FitOptions) -> Result<BSplineCurve> {
             index: i,
         });
     }
-    let (lo, hi) = set.points.iter().fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(a, b), q| (a.min(*q), b.max(*q)),
-    );
+    let (lo, hi) = crate::curve::point_bounds(&set.points);
     let size = (hi - lo).length();
     if !(size > 0.0) || !size.is_finite() {
         return Err(Error::Degenerate(format!(
