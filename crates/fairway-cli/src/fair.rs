@@ -10,8 +10,8 @@ use std::time::Instant;
 use anyhow::{Context, Result, anyhow, bail};
 use fairway::Geometry;
 use fairway::fair::{
-    Combine, EndCondition, FairingOptions, FairingSetup, FitMode, Integrator, IterativeOptions, Seam,
-    SurfaceFairingOptions, TargetMethod, closed, fair_iterative, fair_surface,
+    Combine, CornerFair, EndCondition, FairingOptions, FairingSetup, FitMode, Integrator, IterativeOptions, Seam,
+    SurfaceFairingOptions, TargetMethod, closed, fair_between_corners, fair_iterative, fair_surface,
 };
 use fairway::io::Document;
 use fairway::measure::{Measures, measure};
@@ -128,6 +128,45 @@ pub struct Report {
     pub seam: String,
     /// Measures of the result against the input.
     pub measures: Measures,
+    /// The corners kept inside the region (tangent breaks above 1°, or points where the curve stops),
+    /// whose stretches were faired one by one; absent if none. Then `setup_ms` is 0 (the stretches'
+    /// setups are in `solve_ms`), `energy_before`/`energy`/`solves` are the stretches' sums, `mu`/`alpha`
+    /// their smallest values, and `free_points` spans from the first stretch's first free point to the
+    /// last one's end (the points at the corners between them are held).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub corners: Vec<CornerReport>,
+    /// The stretches between the corners, in order; absent if there are no corners.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub stretches: Vec<StretchReport>,
+}
+
+/// A corner kept (see `fairway::corners`).
+#[derive(Serialize, Debug)]
+pub struct CornerReport {
+    /// Its knot.
+    pub u: f64,
+    /// The angle between the directions arriving and leaving, degrees.
+    pub angle_deg: f64,
+    /// The curve stops there (zero speed).
+    pub stops: bool,
+}
+
+/// One stretch between corners.
+#[derive(Serialize, Debug)]
+pub struct StretchReport {
+    /// Its region [u1, u2] (u1 > u2: across the seam).
+    pub region: [f64; 2],
+    /// Free control points [first, last).
+    pub free_points: [usize; 2],
+    /// E before and after, against the stretch's own target.
+    pub energy_before: f64,
+    /// See `energy_before`.
+    pub energy: f64,
+    /// Its verified deviation bound.
+    pub max_deviation_bound: f64,
+    /// Why it was left as it is, if it was.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub left: Option<String>,
 }
 
 /// The report written by `--report` for a surface.
@@ -220,6 +259,17 @@ fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions) -> R
         ),
     };
     let t0 = Instant::now();
+    let iterative = a.method == "iterative";
+    let pass = |s: &mut FairingSetup| {
+        if iterative {
+            fair_iterative(s, IterativeOptions::default())
+        } else {
+            s.fair()
+        }
+    };
+    if let Some(split) = fair_between_corners(curve, opts, pass).context("fairing")? {
+        return write_corner_fair(a, curve, split, t0);
+    }
     let across_seam = opts.region.is_some_and(|(u1, u2)| u1 > u2) && closed::is_closed_curve(curve);
     // a whole closed curve: faired across the seam (two passes, see fairway::fair::closed)
     let whole_closed = !across_seam && closed::applies(curve, &opts);
@@ -237,7 +287,7 @@ fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions) -> R
     };
     let setup_ms = t0.elapsed().as_secs_f64() * 1e3;
     let t1 = Instant::now();
-    let result = match (a.method == "iterative", whole_closed) {
+    let result = match (iterative, whole_closed) {
         (true, true) => closed::fair_closed_iterative(curve, opts, IterativeOptions::default()),
         (true, false) => fair_iterative(&setup, IterativeOptions::default()),
         (false, true) => closed::fair_closed(curve, opts),
@@ -264,17 +314,79 @@ fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions) -> R
             energy_before: setup.energy(setup.working_curve()),
             energy: result.energy,
             free_points: [setup.free_points().start, setup.free_points().end],
-            seam: match &result.seam {
-                Seam::Open => "open".into(),
-                Seam::Untouched => "untouched".into(),
-                Seam::Faired => "faired".into(),
-                Seam::Held(why) => format!("held: {why}"),
-            },
+            seam: seam_text(&result.seam),
             measures: measure(curve, &result.curve),
+            corners: vec![],
+            stretches: vec![],
         };
         write_report(path, &report, &a.output)?;
     }
     Ok(())
+}
+
+/// Write the result of a curve faired stretch by stretch between its corners, its notes (stretches
+/// left as they are) to stderr, and the report.
+fn write_corner_fair(a: &Args, curve: &BSplineCurve, split: CornerFair, t0: Instant) -> Result<()> {
+    let solve_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let result = &split.result;
+    fairway::io::save(&a.output, &Document::new(Geometry::Curve(result.curve.clone())))?;
+    for n in &result.notes {
+        eprintln!("fairway: {}: {n}", a.input.display());
+    }
+    let Some(path) = &a.report else {
+        return Ok(());
+    };
+    let faired = || split.stretches.iter().filter(|s| s.left.is_none());
+    let report = Report {
+        kind: "curve",
+        method: a.method.clone(),
+        tolerance: a.tolerance,
+        setup_ms: 0.0,
+        solve_ms,
+        max_deviation_bound: result.max_deviation,
+        mu: result.mu,
+        alpha: result.alpha,
+        solves: result.solves,
+        energy_before: faired().map(|s| s.energy_before).sum(),
+        energy: result.energy,
+        free_points: [
+            faired().map(|s| s.free_points.start).min().unwrap_or(0),
+            faired().map(|s| s.free_points.end).max().unwrap_or(0),
+        ],
+        seam: seam_text(&result.seam),
+        measures: measure(curve, &result.curve),
+        corners: split
+            .corners
+            .iter()
+            .map(|c| CornerReport {
+                u: c.u,
+                angle_deg: c.angle_deg,
+                stops: c.stops,
+            })
+            .collect(),
+        stretches: split
+            .stretches
+            .iter()
+            .map(|s| StretchReport {
+                region: [s.region.0, s.region.1],
+                free_points: [s.free_points.start, s.free_points.end],
+                energy_before: s.energy_before,
+                energy: s.energy,
+                max_deviation_bound: s.max_deviation,
+                left: s.left.clone(),
+            })
+            .collect(),
+    };
+    write_report(path, &report, &a.output)
+}
+
+fn seam_text(seam: &Seam) -> String {
+    match seam {
+        Seam::Open => "open".into(),
+        Seam::Untouched => "untouched".into(),
+        Seam::Faired => "faired".into(),
+        Seam::Held(why) => format!("held: {why}"),
+    }
 }
 
 fn fair_surface_cmd(a: &Args, surface: &BSplineSurface, curve: FairingOptions) -> Result<()> {

@@ -300,10 +300,15 @@ impl BSplineCurve {
     /// (the left one at the domain end).
     #[inline]
     pub fn derivs(&self, u: f64) -> CurveDerivs {
+        self.derivs_in_span(self.knots.find_span(u), self.knots.clamp(u))
+    }
+
+    /// [`Self::derivs`] with the polynomial pieces of knot span `span` (`p ≤ span < n`, non-empty):
+    /// at a knot, the span that ends there gives the left-hand limits.
+    #[inline]
+    pub(crate) fn derivs_in_span(&self, span: usize, u: f64) -> CurveDerivs {
         let p = self.degree();
         let kv = self.knots.values();
-        let span = self.knots.find_span(u);
-        let u = self.knots.clamp(u);
         let mut d = [[0.0; MAX_ORDER]; 4];
         ders_basis_funs(kv, span, u, p, &mut d);
         match &self.weights {

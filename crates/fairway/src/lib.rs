@@ -3,7 +3,7 @@
 //! Geometry and fairing of B-spline curves and surfaces, with no GUI
 //! dependencies: knot vectors and basis functions ([`knots`], [`basis`]),
 //! curves and surfaces ([`curve`], [`surface`]), arc length
-//! ([`arclength`]), closest points ([`closest`]), least-squares fitting
+//! ([`arclength`]), closest points ([`closest`]), corners ([`corners`]), least-squares fitting
 //! ([`fit`]), the fairing engine ([`fair`]) and file formats ([`io`]), suggested
 //! fairing regions ([`suggest`]).
 //!
@@ -13,6 +13,7 @@
 pub mod arclength;
 pub mod basis;
 pub mod closest;
+pub mod corners;
 pub mod curve;
 pub mod error;
 pub mod fair;

@@ -663,5 +663,6 @@ fn fair_closed_with(
         solves: r1.solves + r2.solves,
         energy,
         seam: Seam::Faired,
+        notes: vec![],
     })
 }

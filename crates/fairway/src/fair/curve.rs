@@ -88,6 +88,7 @@ use super::target::{Target, TargetMethod};
 use crate::arclength::ArcLengthTable;
 use crate::basis::{MAX_ORDER, basis_funs, ders_basis_funs};
 use crate::closest::CurveProjector;
+use crate::corners::{Corner, corners, stretches_between};
 use crate::curve::{BSplineCurve, CurveDerivs};
 use crate::error::{Error, Result};
 use crate::linalg::BandedSpd;
@@ -223,6 +224,9 @@ pub struct FairingResult {
     /// [`FairingSetup`] holds it; [`fair_curve`] on a whole closed curve fairs across it, or says
     /// why it could not.
     pub seam: Seam,
+    /// What the fair left as it was, and why: one line per stretch between corners whose setup was
+    /// refused (see [`super::split`]). Empty otherwise.
+    pub notes: Vec<String>,
 }
 
 /// Most fairing samples a setup takes (explicit or by default): each sample holds about 400 bytes of
@@ -378,13 +382,13 @@ fn validate_tolerance(m: f64) -> Result<()> {
 impl FairingSetup {
     /// Prepare the fairing of `curve` with `opts` (validates everything).
     pub fn new(curve: &BSplineCurve, opts: FairingOptions) -> Result<Self> {
-        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, [opts.ends; 2], 0, 0.0)
+        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, [opts.ends; 2], 0, 0.0, true)
     }
 
     /// As [`Self::new`], with its own end condition at each region end:
     /// `ends[0]` at `u1`, `ends[1]` at `u2` (`opts.ends` is ignored).
     pub fn new_with_ends(curve: &BSplineCurve, opts: FairingOptions, ends: [EndCondition; 2]) -> Result<Self> {
-        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, ends, 0, 0.0)
+        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, ends, 0, 0.0, true)
     }
 
     /// [`Self::new_with_ends`] with the [`CHECK_SAMPLES`] check samples shifted by `phase` (arc length,
@@ -398,7 +402,7 @@ impl FairingSetup {
         ends: [EndCondition; 2],
         phase: f64,
     ) -> Result<Self> {
-        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, ends, 0, phase)
+        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, ends, 0, phase, true)
     }
 
     /// [`Self::new`] with `check_samples` arc-length samples for the band
@@ -409,13 +413,13 @@ impl FairingSetup {
     /// surface engine uses this for its isocurves: it verifies the band itself
     /// on the surface, and the full setup would dominate its cost.
     pub fn with_check_samples(curve: &BSplineCurve, opts: FairingOptions, check_samples: usize) -> Result<Self> {
-        Self::build(curve, opts, check_samples, 1e-6, [opts.ends; 2], 0, 0.0)
+        Self::build(curve, opts, check_samples, 1e-6, [opts.ends; 2], 0, 0.0, false)
     }
 
     /// [`Self::new`] holding `hold` control points at each curve end (at least what the end condition
     /// holds): a closed curve of degree p ≥ 4 keeps its C^{p−1} seam with `hold = p`.
     pub(crate) fn new_holding(curve: &BSplineCurve, opts: FairingOptions, hold: usize) -> Result<Self> {
-        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, [opts.ends; 2], hold, 0.0)
+        Self::build(curve, opts, CHECK_SAMPLES, 1e-12, [opts.ends; 2], hold, 0.0, true)
     }
 
     fn build(
@@ -426,6 +430,7 @@ impl FairingSetup {
         ends: [EndCondition; 2],
         hold: usize,
         check_phase: f64,
+        keep_corners: bool,
     ) -> Result<Self> {
         let check_samples = if check_samples == 0 { 0 } else { check_samples.max(2) };
         validate_tolerance(opts.tolerance)?;
@@ -520,6 +525,12 @@ impl FairingSetup {
         let i0 = free[0];
         let nf = free.len();
         let range = (kv[i0], kv[free[nf - 1] + p + 1]);
+        if keep_corners {
+            let found = corners(&work, range.0 + eps, range.1 - eps);
+            if !found.is_empty() {
+                return Err(crossed_corners(&work, u1, u2, &found));
+            }
+        }
         let spans = work
             .knots()
             .breakpoints()
@@ -1172,6 +1183,7 @@ impl FairingSetup {
             solves,
             energy,
             seam: self.seam.clone(),
+            notes: vec![],
         })
     }
 
@@ -2023,6 +2035,28 @@ impl Ord for Bound {
     }
 }
 
+/// The error of a region whose moving stretch crosses `found` (not empty): which corners, why they
+/// stay, and the regions to fair instead.
+fn crossed_corners(curve: &BSplineCurve, u1: f64, u2: f64, found: &[Corner]) -> Error {
+    let list: Vec<String> = found.iter().map(Corner::describe).collect();
+    let pieces: Vec<String> = stretches_between(curve, u1, u2, found)
+        .iter()
+        .map(|(a, b)| format!("[{a}, {b}]"))
+        .collect();
+    Error::InvalidInput(format!(
+        "region [{u1}, {u2}] crosses {} of the curve {}: fairing across a corner would round it off inside the \
+         band, a curvature spike; fair the stretches between corners as regions of their own ({}), as \
+         fair_curve and `fairway fair` do by themselves",
+        if found.len() == 1 {
+            "a corner".to_string()
+        } else {
+            format!("{} corners", found.len())
+        },
+        list.join(", "),
+        pieces.join(", ")
+    ))
+}
+
 /// Default number of smoothing passes for `n` samples: a three-point average
 /// repeated P times is close to a Gaussian of variance 2P/3 samples²; the
 /// default aims at σ ≈ 6 % of the stretch (the reference measures' moving
@@ -2032,11 +2066,15 @@ pub fn default_passes(n: usize) -> usize {
     ((1.5 * sigma * sigma).round() as usize).clamp(1, 10000)
 }
 
-/// Fair `curve` with `opts` in one call: setup + [`FairingSetup::fair`], or for a whole closed curve
+/// Fair `curve` with `opts` in one call: setup + [`FairingSetup::fair`]; a region with corners
+/// stretch by stretch between them ([`super::split::fair_between_corners`], the corners kept); for a whole closed curve
 /// (fast method, [`super::closed::applies`]) the two passes of [`super::closed::fair_closed`], which
 /// fair across the seam (the result's [`FairingResult::seam`] says whether they could); a region
 /// across the seam of a closed curve (`u1 > u2`) goes to [`super::closed::fair_closed`] as well.
 pub fn fair_curve(curve: &BSplineCurve, opts: FairingOptions) -> Result<FairingResult> {
+    if let Some(split) = super::split::fair_between_corners(curve, opts, |s| s.fair())? {
+        return Ok(split.result);
+    }
     let across = opts.region.is_some_and(|(u1, u2)| u1 > u2) && super::closed::is_closed_curve(curve);
     if across || super::closed::applies(curve, &opts) {
         return super::closed::fair_closed(curve, opts);

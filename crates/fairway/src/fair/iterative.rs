@@ -198,6 +198,7 @@ pub fn fair_iterative(setup: &FairingSetup, opts: IterativeOptions) -> Result<Fa
         solves: sweeps * free.len(),
         energy,
         seam: setup.seam().clone(),
+        notes: vec![],
     })
 }
 

@@ -8,6 +8,7 @@
 //! * [`curve`] — [`FairingSetup`]: sampling, free control points of the
 //!   region, the constrained fit with a fairness term, the band control;
 //! * [`closed`] — closed curves faired across the seam (re-seaming, two passes);
+//! * [`split`] — curves with corners: the stretches between corners faired one by one;
 //! * [`iterative`] — the downhill-simplex baseline;
 //! * [`surface`] — surfaces (paper §3.2): isocurves faired by the curve engine, combined, fitted.
 //!
@@ -35,6 +36,7 @@ pub mod closed;
 pub mod curve;
 pub mod integrate;
 pub mod iterative;
+pub mod split;
 pub mod surface;
 pub mod target;
 
@@ -42,5 +44,6 @@ pub use closed::{Seam, fair_closed, fair_closed_iterative};
 pub use curve::{EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, fair_curve};
 pub use integrate::Integrator;
 pub use iterative::{IterativeOptions, fair_iterative};
+pub use split::{CornerFair, Stretch, fair_between_corners};
 pub use surface::{Combine, SurfaceFairingOptions, SurfaceFairingResult, SurfaceTimings, fair_surface};
 pub use target::{Target, TargetMethod};

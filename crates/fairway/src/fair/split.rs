@@ -1,0 +1,191 @@
+//! Fairing a curve with corners: the stretches between its corners ([`crate::corners`]) one by one.
+//!
+//! A [`FairingSetup`] refuses a moving stretch that crosses a corner (it would round the corner off
+//! into a curvature spike). [`fair_between_corners`] — which [`super::fair_curve`] and `fairway fair`
+//! call when the region holds corners — fairs each stretch between corners as a region of its own,
+//! with G2 ends at its corners (each side keeps its position, tangent and curvature at the corner, so
+//! the corner stays exactly as it was) and the caller's end conditions at the region's own ends.
+//! The stretches do not interact: each moves only control points whose support lies inside it, so
+//! faring them in turn is the same as faring each on the original, and each verifies its band on
+//! the original's arc-length samples inside it.
+//!
+//! On a whole closed curve with corners the seam ends two stretches like G2 region ends (it is not
+//! faired across, as a closed curve without corners is). A stretch whose setup is refused (too short to have a free control point, say) is
+//! left as it is and said so in [`FairingResult::notes`]; if every stretch is refused, the error
+//! names the corners and each stretch's refusal.
+
+use super::closed::{Seam, is_closed_curve};
+use super::curve::{EndCondition, FairingOptions, FairingResult, FairingSetup};
+use crate::corners::{Corner, corners, stretches_between};
+use crate::curve::BSplineCurve;
+use crate::error::{Error, Result};
+
+/// One stretch between corners as [`fair_between_corners`] faired it.
+#[derive(Clone, Debug)]
+pub struct Stretch {
+    /// Its region.
+    pub region: (f64, f64),
+    /// Its free control points; empty if it was left as it is.
+    pub free_points: std::ops::Range<usize>,
+    /// The paper's E of the original on the stretch's samples, against its target (0 if the stretch
+    /// was left as it is).
+    pub energy_before: f64,
+    /// The same after (0 if left as it is).
+    pub energy: f64,
+    /// Its verified deviation bound (0 if left as it is).
+    pub max_deviation: f64,
+    /// Its fairness weight μ, update scale α and linear solves (0 if left as it is).
+    pub mu: f64,
+    /// See `mu`.
+    pub alpha: f64,
+    /// See `mu`.
+    pub solves: usize,
+    /// Why it was left as it is (its setup's error), if it was.
+    pub left: Option<String>,
+}
+
+/// The outcome of [`fair_between_corners`].
+#[derive(Clone, Debug)]
+pub struct CornerFair {
+    /// The whole result: the curve with every stretch faired; `max_deviation` the largest of the
+    /// stretches', `energy` and `solves` their sums, `mu` and `alpha` the smallest, `notes` one line
+    /// per stretch left as it is.
+    pub result: FairingResult,
+    /// The corners kept (inside the region).
+    pub corners: Vec<Corner>,
+    /// The stretches, in order along the region.
+    pub stretches: Vec<Stretch>,
+}
+
+/// Fair `curve` with `opts` stretch by stretch between the corners inside its region (module docs),
+/// each stretch by `pass` on its setup (`FairingSetup::fair`, or the iterative baseline). `Ok(None)`
+/// if the region holds no corner (or runs across the seam: then the setup says which corner it
+/// crosses), so the caller fairs as usual.
+pub fn fair_between_corners(
+    curve: &BSplineCurve,
+    opts: FairingOptions,
+    pass: impl Fn(&mut FairingSetup) -> Result<FairingResult>,
+) -> Result<Option<CornerFair>> {
+    let input = curve.to_polynomial()?;
+    let (d0, d1) = input.domain();
+    let (u1, u2) = opts.region.unwrap_or((d0, d1));
+    if !(u1 < u2) || input.degree() < 2 {
+        return Ok(None);
+    }
+    let found = corners(&input, u1, u2);
+    if found.is_empty() {
+        return Ok(None);
+    }
+    let eps = 1e-12 * (d1 - d0);
+    let whole_loop = is_closed_curve(&input) && u1 <= d0 + eps && u2 >= d1 - eps;
+    let pieces = stretches_between(&input, u1, u2, &found);
+    // end conditions: the caller's at the region's own ends (a whole loop has none: G2), G2 at corners
+    let end_at = |u: f64| {
+        if !whole_loop && ((u - u1).abs() <= eps || (u - u2).abs() <= eps) {
+            opts.ends
+        } else {
+            EndCondition::G2
+        }
+    };
+    let mut cur = input.clone();
+    let mut stretches = vec![];
+    let fair_one = |cur: &mut BSplineCurve, region: (f64, f64), stretches: &mut Vec<Stretch>| -> Result<()> {
+        let o = FairingOptions {
+            region: Some(region),
+            ..opts
+        };
+        let ends = [end_at(region.0), end_at(region.1)];
+        let mut setup = match FairingSetup::new_with_ends(cur, o, ends) {
+            Ok(s) => s,
+            Err(e) => {
+                let msg = e.to_string();
+                stretches.push(Stretch {
+                    region,
+                    free_points: 0..0,
+                    energy_before: 0.0,
+                    energy: 0.0,
+                    max_deviation: 0.0,
+                    mu: 0.0,
+                    alpha: 0.0,
+                    solves: 0,
+                    left: Some(msg),
+                });
+                return Ok(());
+            }
+        };
+        let energy_before = setup.energy(setup.working_curve());
+        let r = pass(&mut setup)?;
+        stretches.push(Stretch {
+            region,
+            free_points: setup.free_points(),
+            energy_before,
+            energy: r.energy,
+            max_deviation: r.max_deviation,
+            mu: r.mu,
+            alpha: r.alpha,
+            solves: r.solves,
+            left: None,
+        });
+        *cur = r.curve;
+        Ok(())
+    };
+    for &piece in &pieces {
+        fair_one(&mut cur, piece, &mut stretches)?;
+    }
+    let faired: Vec<&Stretch> = stretches.iter().filter(|s| s.left.is_none()).collect();
+    if faired.is_empty() {
+        let list: Vec<String> = found.iter().map(Corner::describe).collect();
+        let why: Vec<String> = stretches
+            .iter()
+            .map(|s| format!("[{}, {}]: {}", s.region.0, s.region.1, s.left.as_deref().unwrap_or("")))
+            .collect();
+        return Err(Error::InvalidInput(format!(
+            "the curve has {} {}, which fairing keeps (across it the band would round it off into a curvature \
+             spike), and no stretch between corners can be faired: {}",
+            if found.len() == 1 {
+                "a corner".to_string()
+            } else {
+                format!("{} corners", found.len())
+            },
+            list.join(", "),
+            why.join("; ")
+        )));
+    }
+    let notes = stretches
+        .iter()
+        .filter_map(|s| {
+            s.left.as_ref().map(|why| {
+                format!(
+                    "the stretch [{}, {}] between corners was left as it is: {why}",
+                    s.region.0, s.region.1
+                )
+            })
+        })
+        .collect();
+    let seam = if !is_closed_curve(&input) {
+        Seam::Open
+    } else if whole_loop || u1 <= d0 + eps || u2 >= d1 - eps {
+        Seam::Held(
+            "the curve has corners: its stretches between them were faired one by one, and the seam \
+             ends two of them like G2 region ends"
+                .into(),
+        )
+    } else {
+        Seam::Untouched
+    };
+    let result = FairingResult {
+        curve: cur,
+        max_deviation: faired.iter().map(|s| s.max_deviation).fold(0.0, f64::max),
+        mu: faired.iter().map(|s| s.mu).fold(f64::INFINITY, f64::min),
+        alpha: faired.iter().map(|s| s.alpha).fold(f64::INFINITY, f64::min),
+        solves: faired.iter().map(|s| s.solves).sum(),
+        energy: stretches.iter().map(|s| s.energy).sum(),
+        seam,
+        notes,
+    };
+    Ok(Some(CornerFair {
+        result,
+        corners: found,
+        stretches,
+    }))
+}
