@@ -539,3 +539,113 @@ fn ease_ends_re_fairs_g2_curve_ends_only() {
     let g1_eased = fair("g1_eased", &["--ends", "g1", "--ease-ends"]);
     assert_eq!(g1.points(), g1_eased.points());
 }
+
+/// A noisy tent: 25 control points on two lines meeting at (2, 1) at a triple knot u = 0.5 (a 53° kink
+/// opening downwards), and the index of that corner point.
+fn noisy_tent() -> (BSplineCurve, usize) {
+    let mut k = vec![0.0; 4];
+    k.extend((1..10).map(|i| 0.05 * i as f64));
+    k.extend([0.5; 3]);
+    k.extend((1..10).map(|i| 0.5 + 0.05 * i as f64));
+    k.extend([1.0; 4]);
+    let n = k.len() - 4;
+    let corner = 12;
+    let pts: Vec<fairway::DVec2> = (0..n)
+        .map(|i| {
+            let x = 2.0 * i as f64 / corner as f64;
+            let noise = if i == 0 || i == corner || i == n - 1 {
+                0.0
+            } else {
+                ((i * 7) % 5) as f64 - 2.0
+            };
+            fairway::DVec2::new(x, 1.0 - 0.5 * (x - 2.0).abs() + 1e-3 * noise)
+        })
+        .collect();
+    (BSplineCurve::new_2d(3, k, &pts).unwrap(), corner)
+}
+
+#[test]
+fn fair_curve_with_a_corner_keeps_it_and_reports_the_stretches() {
+    let dir = temp_dir("corner");
+    let (input, out, rep) = (dir.join("in.json"), dir.join("out.json"), dir.join("report.json"));
+    let (c, j) = noisy_tent();
+    fairway::io::save(&input, &fairway::io::Document::new(Geometry::Curve(c.clone()))).unwrap();
+    let m = 3e-3;
+    for method in ["fast", "iterative"] {
+        let o = fairway(&[
+            "fair",
+            s(&input),
+            "--tolerance",
+            "0.003",
+            "--method",
+            method,
+            "-o",
+            s(&out),
+            "--report",
+            s(&rep),
+        ]);
+        ok(&o);
+        assert!(o.stderr.is_empty(), "{}", String::from_utf8_lossy(&o.stderr));
+        let f = curve(&out);
+        let r = json_file(&rep);
+        assert_eq!(r["corners"].as_array().unwrap().len(), 1, "{method}: {r}");
+        assert_eq!(r["corners"][0]["u"], 0.5);
+        assert_eq!(r["corners"][0]["stops"], false);
+        let angle = r["corners"][0]["angle_deg"].as_f64().unwrap();
+        assert!((angle - 2.0 * 0.5f64.atan().to_degrees()).abs() < 2.0, "{angle}");
+        let st = r["stretches"].as_array().unwrap();
+        assert_eq!(st.len(), 2);
+        assert_eq!(st[0]["region"], serde_json::json!([0.0, 0.5]));
+        assert_eq!(st[1]["region"], serde_json::json!([0.5, 1.0]));
+        assert!(st.iter().all(|x| x.get("left").is_none()));
+        // the kink stays: its point and one neighbour on each side exactly; the band holds; fairer
+        for i in j - 1..=j + 1 {
+            assert_eq!(f.points()[i], c.points()[i], "{method}: control point {i}");
+        }
+        assert_ne!(f.points()[5], c.points()[5], "{method}: faired");
+        let meas = fairway::measure::measure(&c, &f);
+        assert!(meas.dev_max <= m, "{method}: {}", meas.dev_max);
+        assert!(
+            r["energy"].as_f64().unwrap() < r["energy_before"].as_f64().unwrap(),
+            "{method}"
+        );
+    }
+    // a region across the corner is split at it too
+    ok(&fairway(&[
+        "fair",
+        s(&input),
+        "--tolerance",
+        "0.003",
+        "--region",
+        "0.2,0.8",
+        "-o",
+        s(&out),
+        "--report",
+        s(&rep),
+    ]));
+    let st = json_file(&rep)["stretches"].clone();
+    assert_eq!(st[0]["region"], serde_json::json!([0.2, 0.5]));
+    assert_eq!(st[1]["region"], serde_json::json!([0.5, 0.8]));
+    // a stretch too short to fair is left with a note on stderr, the rest is faired
+    let o = fairway(&[
+        "fair",
+        s(&input),
+        "--tolerance",
+        "0.003",
+        "--region",
+        "0.1,0.55",
+        "-o",
+        s(&out),
+        "--report",
+        s(&rep),
+    ]);
+    ok(&o);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("the stretch [0.5, 0.55] between corners was left as it is: region [0.5, 0.55] is too small"),
+        "{err}"
+    );
+    let r = json_file(&rep);
+    assert!(r["stretches"][1]["left"].as_str().unwrap().contains("too small"));
+    assert!(r["stretches"][0].get("left").is_none());
+}
