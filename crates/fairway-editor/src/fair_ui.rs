@@ -93,6 +93,41 @@ impl App {
         }
     }
 
+    /// Under the error of a region that crosses corners: one button per stretch between them, which
+    /// makes that stretch the region (the core keeps corners; `fairway fair` fairs the stretches in
+    /// turn by itself, the live preview one at a time).
+    fn corner_stretches_ui(&mut self, ui: &mut egui::Ui) {
+        let Some((u1, u2)) = self.region().filter(|r| r.0 < r.1) else {
+            return;
+        };
+        let Ok(c) = self.curve().to_polynomial() else {
+            return;
+        };
+        let found = fairway::corners::corners(&c, u1, u2);
+        if found.is_empty() {
+            return;
+        }
+        ui.label(format!(
+            "The region crosses {} (tangent break or stop), which fairing keeps. Fair one stretch:",
+            if found.len() == 1 {
+                "a corner".to_string()
+            } else {
+                format!("{} corners", found.len())
+            }
+        ));
+        ui.horizontal_wrapped(|ui| {
+            for (a, b) in fairway::corners::stretches_between(&c, u1, u2, &found) {
+                if ui
+                    .button(format!("u {a:.4} to {b:.4}"))
+                    .on_hover_text("Make this stretch between corners the region")
+                    .clicked()
+                {
+                    self.push(Command::SetRegion(Some((a, b))));
+                }
+            }
+        });
+    }
+
     /// The fairing section of the side panel.
     pub fn fairing_ui(&mut self, ui: &mut egui::Ui) {
         ui.heading("Fairing");
@@ -103,6 +138,7 @@ impl App {
         match &self.fairing.preview {
             Some(Err(e)) => {
                 ui.label(RichText::new(format!("Error: {e}")).color(Color32::from_rgb(230, 80, 60)));
+                self.corner_stretches_ui(ui);
             }
             Some(Ok(p)) => {
                 let m = self.tolerance();
