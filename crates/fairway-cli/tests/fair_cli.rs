@@ -540,36 +540,14 @@ fn ease_ends_re_fairs_g2_curve_ends_only() {
     assert_eq!(g1.points(), g1_eased.points());
 }
 
-/// A noisy tent: 25 control points on two lines meeting at (2, 1) at a triple knot u = 0.5 (a 53° kink
-/// opening downwards), and the index of that corner point.
-fn noisy_tent() -> (BSplineCurve, usize) {
-    let mut k = vec![0.0; 4];
-    k.extend((1..10).map(|i| 0.05 * i as f64));
-    k.extend([0.5; 3]);
-    k.extend((1..10).map(|i| 0.5 + 0.05 * i as f64));
-    k.extend([1.0; 4]);
-    let n = k.len() - 4;
-    let corner = 12;
-    let pts: Vec<fairway::DVec2> = (0..n)
-        .map(|i| {
-            let x = 2.0 * i as f64 / corner as f64;
-            let noise = if i == 0 || i == corner || i == n - 1 {
-                0.0
-            } else {
-                ((i * 7) % 5) as f64 - 2.0
-            };
-            fairway::DVec2::new(x, 1.0 - 0.5 * (x - 2.0).abs() + 1e-3 * noise)
-        })
-        .collect();
-    (BSplineCurve::new_2d(3, k, &pts).unwrap(), corner)
-}
-
 #[test]
 fn fair_curve_with_a_corner_keeps_it_and_reports_the_stretches() {
     let dir = temp_dir("corner");
-    let (input, out, rep) = (dir.join("in.json"), dir.join("out.json"), dir.join("report.json"));
-    let (c, j) = noisy_tent();
-    fairway::io::save(&input, &fairway::io::Document::new(Geometry::Curve(c.clone()))).unwrap();
+    let (out, rep) = (dir.join("out.json"), dir.join("report.json"));
+    // the bundled profile with a 20° kink at the triple knot u = 0.6 (its control point 23)
+    let input = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/kinked_profile.json"));
+    let c = curve(&input);
+    let j = 23;
     let m = 3e-3;
     for method in ["fast", "iterative"] {
         let o = fairway(&[
@@ -589,20 +567,29 @@ fn fair_curve_with_a_corner_keeps_it_and_reports_the_stretches() {
         let f = curve(&out);
         let r = json_file(&rep);
         assert_eq!(r["corners"].as_array().unwrap().len(), 1, "{method}: {r}");
-        assert_eq!(r["corners"][0]["u"], 0.5);
+        assert_eq!(r["corners"][0]["u"], 0.6);
         assert_eq!(r["corners"][0]["stops"], false);
         let angle = r["corners"][0]["angle_deg"].as_f64().unwrap();
-        assert!((angle - 2.0 * 0.5f64.atan().to_degrees()).abs() < 2.0, "{angle}");
+        assert!((angle - 20.3).abs() < 0.1, "{angle}");
         let st = r["stretches"].as_array().unwrap();
         assert_eq!(st.len(), 2);
-        assert_eq!(st[0]["region"], serde_json::json!([0.0, 0.5]));
-        assert_eq!(st[1]["region"], serde_json::json!([0.5, 1.0]));
+        assert_eq!(st[0]["region"], serde_json::json!([0.0, 0.6]));
+        assert_eq!(st[1]["region"], serde_json::json!([0.6, 1.0]));
         assert!(st.iter().all(|x| x.get("left").is_none()));
-        // the kink stays: its point and one neighbour on each side exactly; the band holds; fairer
-        for i in j - 1..=j + 1 {
-            assert_eq!(f.points()[i], c.points()[i], "{method}: control point {i}");
+        // the kink stays: its point exactly, the tangent direction on each side (its neighbours move
+        // along it only); the band holds; fairer
+        assert_eq!(f.points()[j], c.points()[j], "{method}");
+        for (i, k) in [(j - 1, j), (j + 1, j)] {
+            let (t0, t1) = (
+                (c.points()[k] - c.points()[i]).normalize(),
+                (f.points()[k] - f.points()[i]).normalize(),
+            );
+            assert!(
+                t0.distance(t1) < 1e-12,
+                "{method}: tangent at the kink from {i}: {t0} -> {t1}"
+            );
         }
-        assert_ne!(f.points()[5], c.points()[5], "{method}: faired");
+        assert_ne!(f.points()[10], c.points()[10], "{method}: faired");
         let meas = fairway::measure::measure(&c, &f);
         assert!(meas.dev_max <= m, "{method}: {}", meas.dev_max);
         assert!(
@@ -624,8 +611,8 @@ fn fair_curve_with_a_corner_keeps_it_and_reports_the_stretches() {
         s(&rep),
     ]));
     let st = json_file(&rep)["stretches"].clone();
-    assert_eq!(st[0]["region"], serde_json::json!([0.2, 0.5]));
-    assert_eq!(st[1]["region"], serde_json::json!([0.5, 0.8]));
+    assert_eq!(st[0]["region"], serde_json::json!([0.2, 0.6]));
+    assert_eq!(st[1]["region"], serde_json::json!([0.6, 0.8]));
     // a stretch too short to fair is left with a note on stderr, the rest is faired
     let o = fairway(&[
         "fair",
@@ -633,7 +620,7 @@ fn fair_curve_with_a_corner_keeps_it_and_reports_the_stretches() {
         "--tolerance",
         "0.003",
         "--region",
-        "0.1,0.55",
+        "0.1,0.62",
         "-o",
         s(&out),
         "--report",
@@ -642,7 +629,7 @@ fn fair_curve_with_a_corner_keeps_it_and_reports_the_stretches() {
     ok(&o);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(
-        err.contains("the stretch [0.5, 0.55] between corners was left as it is: region [0.5, 0.55] is too small"),
+        err.contains("the stretch [0.6, 0.62] between corners was left as it is: region [0.6, 0.62] is too small"),
         "{err}"
     );
     let r = json_file(&rep);

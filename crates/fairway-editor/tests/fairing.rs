@@ -157,45 +157,29 @@ fn e_polish_slider_caps_the_polish_of_the_full_fair() {
     );
 }
 
-/// A curve with a kink (a triple knot where the tangent turns by 54°): a region across it shows the
-/// core's error and one button per stretch between corners; a click makes that stretch the region,
-/// whose preview is faired with the kink kept.
+/// The bundled profile with a 20° kink (a triple knot at u = 0.6, its control point 23): a region across
+/// it shows the core's error and one button per stretch between corners; a click makes that stretch the
+/// region, whose preview is faired with the kink kept.
 #[test]
 fn a_region_across_a_corner_offers_the_stretches_on_either_side() {
-    let mut k = vec![0.0; 4];
-    k.extend((1..10).map(|i| 0.05 * i as f64));
-    k.extend([0.5; 3]);
-    k.extend((1..10).map(|i| 0.5 + 0.05 * i as f64));
-    k.extend([1.0; 4]);
-    let n = k.len() - 4;
-    let pts: Vec<fairway::DVec2> = (0..n)
-        .map(|i| {
-            let x = i as f64 / 6.0;
-            let noise = if i == 0 || i == 12 || i == n - 1 {
-                0.0
-            } else {
-                ((i * 7) % 5) as f64 - 2.0
-            };
-            fairway::DVec2::new(x, 1.0 - 0.5 * (x - 2.0).abs() + 1e-3 * noise)
-        })
-        .collect();
-    let c0 = fairway::BSplineCurve::new_2d(3, k, &pts).unwrap();
-    let doc = fairway::io::Document::new(fairway::Geometry::Curve(c0.clone()));
-    let mut h = harness(App::with_document(doc, None));
+    let path = common::asset("kinked_profile.json");
+    let doc = fairway::io::load(&path).expect("kinked sample");
+    let mut h = harness(App::with_document(doc, Some(path)));
+    let c0 = h.state().curve().clone();
     h.state_mut().push(fairway_editor::Command::SetRegion(Some((0.2, 0.8))));
     h.run();
     assert!(h.state().preview().is_none());
-    h.get_by_label_contains("crosses a corner of the curve at u = 0.5");
+    h.get_by_label_contains("crosses a corner of the curve at u = 0.6");
     h.get_by_label_contains("which fairing keeps. Fair one stretch:");
-    h.get_by_role_and_label(Role::Button, "u 0.5000 to 0.8000").click();
+    h.get_by_role_and_label(Role::Button, "u 0.6000 to 0.8000").click();
     h.run();
-    assert_eq!(h.state().region(), Some((0.5, 0.8)));
+    assert_eq!(h.state().region(), Some((0.6, 0.8)));
     let p = h.state().preview().expect("the stretch is faired").clone();
     let m = h.state().tolerance();
     assert!(p.result.max_deviation <= m * (1.0 + 1e-9));
     let f = &p.result.curve;
-    assert_ne!(f.points()[16], c0.points()[16], "faired");
-    for i in 11..=13 {
+    assert_ne!(f.points()[30], c0.points()[30], "faired");
+    for i in 22..=24 {
         assert_eq!(f.points()[i], c0.points()[i], "the kink's control point {i} moved");
     }
 }

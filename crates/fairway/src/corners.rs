@@ -10,7 +10,7 @@
 //! length, so the engine put a loop of size 1e-4 with curvature 3400 into a stop that turned by 40°
 //! (test `degenerate.rs`, before session 12). The fairing engine therefore keeps corners: the
 //! setup refuses a moving stretch across one, and [`crate::fair::fair_curve`] fairs the stretches
-//! between corners one by one, each a region with G2 ends at its corners.
+//! between corners one by one, each a region of its own ([`crate::fair::split`]).
 
 use crate::curve::BSplineCurve;
 use glam::DVec3;

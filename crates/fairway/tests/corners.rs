@@ -76,18 +76,13 @@ fn a_kink_is_kept_and_the_arcs_on_either_side_are_faired() {
     assert!(r.notes.is_empty(), "{:?}", r.notes);
     assert_eq!(r.seam, Seam::Open);
     assert!(r.max_deviation <= m && dev_max(&c, &r.curve) <= m);
-    // the kink stays exactly, G2 on each side: its control point and the next one on each side stay,
-    // the one after those moves along the tangent only (keeps the curvature: see `join_fix`)
+    // the kink stays exactly, G1 on each side (fair_between_corners): its control point stays, the one
+    // next to it on each side moves along the tangent only, so the kink keeps its point and angle
     let j = c.knots().values().partition_point(|&k| k < 1.0) - 1;
-    for i in j - 1..=j + 1 {
-        assert!(
-            c.points()[i].distance(r.curve.points()[i]) < 1e-12,
-            "control point {i} moved"
-        );
-    }
+    assert_eq!(c.points()[j], r.curve.points()[j]);
     for (i, t) in [
-        (j - 2, c.points()[j] - c.points()[j - 1]),
-        (j + 2, c.points()[j + 1] - c.points()[j]),
+        (j - 1, c.points()[j] - c.points()[j - 1]),
+        (j + 1, c.points()[j + 1] - c.points()[j]),
     ] {
         let d = r.curve.points()[i] - c.points()[i];
         assert!(
@@ -95,16 +90,10 @@ fn a_kink_is_kept_and_the_arcs_on_either_side_are_faired() {
             "control point {i} left the tangent: {d:?}"
         );
     }
-    for u in [1.0 - 1e-9, 1.0 + 1e-9] {
-        let (k0, k1) = (c.curvature(u), r.curve.curvature(u));
-        assert!((k0 - k1).abs() < 1e-6 * k0.abs(), "curvature at {u}: {k0} -> {k1}");
-        // 1e-9 away from the kink the tangents may differ by about κ·|c′|·1e-9
-        assert!(c.tangent(u).angle_between(r.curve.tangent(u)) < 1e-7);
-    }
     let kept = corners(&r.curve, 0.0, 2.0);
     assert_eq!(kept.len(), 1);
     assert!((kept[0].angle_deg - kink[0].angle_deg).abs() < 1e-9);
-    // each arc: the curvature error against the true circle drops (measured 4.8× and 3.2×)
+    // each arc: the curvature error against the true circle drops (measured 5.7× and 3.2×)
     for (u1, u2) in [(0.0, 1.0), (1.0, 2.0)] {
         let (before, after) = (unit_circle_error(&c, u1, u2), unit_circle_error(&r.curve, u1, u2));
         println!(
@@ -119,6 +108,41 @@ fn a_kink_is_kept_and_the_arcs_on_either_side_are_faired() {
         m0.E_bend, m1.E_bend, m0.E_var, m1.E_var
     );
     assert!(m1.E_var < m0.E_var && m1.E_bend <= m0.E_bend);
+
+    // a region across the kink with G0 / G1 ends: the outer stretches insert their knots (p − 1 or p at
+    // their region end), the stretches are faired on the original and merged; the reported bound is the
+    // measured deviation, the kink stays, and outside the region nothing moves
+    for (ends, extra) in [
+        (fairway::fair::EndCondition::G0, 6),
+        (fairway::fair::EndCondition::G1, 4),
+    ] {
+        let o = fairway::fair::FairingOptions {
+            region: Some((0.3, 1.7)),
+            ends,
+            ..opts(m)
+        };
+        let r = fair_curve(&c, o).unwrap();
+        assert_eq!(r.curve.n_points() - c.n_points(), extra, "{ends:?}");
+        let measured = measure(&c, &r.curve).dev_max;
+        assert!(
+            r.max_deviation <= m && measured <= r.max_deviation + 1e-12,
+            "{ends:?}: {measured}"
+        );
+        assert!(
+            r.max_deviation - measured <= 1e-6 * m,
+            "{ends:?}: {} vs {measured}",
+            r.max_deviation
+        );
+        let kept = corners(&r.curve, 0.0, 2.0);
+        assert!(
+            kept.len() == 1 && (kept[0].angle_deg - 60.0).abs() < 1e-9,
+            "{ends:?}: {kept:?}"
+        );
+        for u in [0.05, 0.2, 0.29, 1.71, 1.8, 1.95] {
+            assert!(c.point(u).distance(r.curve.point(u)) < 1e-12, "{ends:?}: moved at {u}");
+        }
+        assert!(c.point(0.6).distance(r.curve.point(0.6)) > 1e-6, "{ends:?}: faired");
+    }
 }
 
 /// A noisy unit-circle arc whose control points 19, 20 and 21 are made one (the middle one): the

@@ -121,6 +121,35 @@ pub fn closed_section() -> BSplineCurve {
     fairway::fair::closed::periodic_cubic(&q, 2).unwrap()
 }
 
+/// A 2D rear-deck profile with a kink (a character line): a gentle rise from (0, 0) to (1.8, 0.5)
+/// and a steeper fall to (3, 0), meeting at a 20° tangent break. Each part: 200 samples with σ = 0.6 mm
+/// noise fitted with 24 control points (end points exact); the parts joined at a triple knot u = 0.6, so
+/// the curve is C0 there and the kink is a corner that fairing keeps (the stretches on either side are
+/// faired one by one).
+pub fn kinked_profile() -> BSplineCurve {
+    let mut rng = Rng::new(0x00C0_4E12);
+    let t = uniform(200);
+    let part = |rng: &mut Rng, f: &dyn Fn(f64) -> DVec3| {
+        let mut pts: Vec<DVec3> = t
+            .iter()
+            .map(|&t| f(t) + DVec3::new(0.0, 0.0006 * rng.normal(), 0.0))
+            .collect();
+        pts[0] = f(0.0);
+        *pts.last_mut().unwrap() = f(1.0);
+        fit_curve(&t, &pts, 24, 2)
+    };
+    let a = part(&mut rng, &|s| DVec3::new(1.8 * s, 0.45 * s * (2.0 - s) + 0.05 * s, 0.0));
+    let b = part(&mut rng, &|r| {
+        DVec3::new(1.8 + 1.2 * r, 0.5 - 0.5 * (0.8 * r + 0.2 * r * r), 0.0)
+    });
+    let ka = a.knots().values();
+    let mut knots: Vec<f64> = ka[..ka.len() - 1].iter().map(|k| 0.6 * k).collect();
+    knots.extend(b.knots().values()[4..].iter().map(|k| 0.6 + 0.4 * k));
+    let mut pts = a.points().to_vec();
+    pts.extend_from_slice(&b.points()[1..]);
+    BSplineCurve::try_new(3, knots, pts, None, 2).unwrap()
+}
+
 /// A bumpy bicubic surface over [0, 2] × [0, 1.6]:
 /// z = 0.15·sin(2x)·cos(3y) + 0.05·x·y, sampled on an 80 × 64 grid with
 /// σ = 2 mm noise in z, fitted with 20 × 16 control points. The grid makes
@@ -171,6 +200,7 @@ pub fn generate() -> Vec<(&'static str, String)> {
         ("s_curve_inflections.json", json::to_string(&s_curve().into())),
         ("spatial_curve.json", json::to_string(&spatial_curve().into())),
         ("closed_section.json", json::to_string(&closed_section().into())),
+        ("kinked_profile.json", json::to_string(&kinked_profile().into())),
         ("bumpy_surface.json", json::to_string(&bumpy_surface().into())),
     ]
 }
