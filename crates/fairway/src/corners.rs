@@ -72,6 +72,10 @@ pub fn corners(curve: &BSplineCurve, u1: f64, u2: f64) -> Vec<Corner> {
         let left = kv.partition_point(|&k| k < c) - 1;
         let right = kv.partition_point(|&k| k <= c) - 1;
         let (wl, wr) = (c - kv[left], kv[right + 1] - c);
+        // below multiplicity p the curve is C1 at c: c′ is continuous, so only a stop can be a corner
+        if right - left < p && (curve.d1(c) * wr).length() > 1e-9 * size {
+            continue;
+        }
         if let Some(corner) = turn(curve, (left, c, wl), (right, c, wr), c, size) {
             out.push(corner);
         }
