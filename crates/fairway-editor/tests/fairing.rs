@@ -90,9 +90,7 @@ fn select_fair_edit_target_accept_undo_redo() {
 /// hand-edited target keeps the single pass, whose seam is held.
 #[test]
 fn closed_curve_is_faired_across_the_seam() {
-    let path = common::asset("closed_section.json");
-    let doc = fairway::io::load(&path).expect("closed sample");
-    let mut h = harness(App::with_document(doc, Some(path)));
+    let mut h = common::harness_with_asset("closed_section.json");
     let c0 = h.state().curve().clone();
     h.get_by_role_and_label(Role::Button, "Whole curve").click();
     h.run();
@@ -162,9 +160,7 @@ fn e_polish_slider_caps_the_polish_of_the_full_fair() {
 /// region, whose preview is faired with the kink kept.
 #[test]
 fn a_region_across_a_corner_offers_the_stretches_on_either_side() {
-    let path = common::asset("kinked_profile.json");
-    let doc = fairway::io::load(&path).expect("kinked sample");
-    let mut h = harness(App::with_document(doc, Some(path)));
+    let mut h = common::harness_with_asset("kinked_profile.json");
     let c0 = h.state().curve().clone();
     h.state_mut().push(fairway_editor::Command::SetRegion(Some((0.2, 0.8))));
     h.run();

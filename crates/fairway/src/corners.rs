@@ -49,6 +49,15 @@ impl Corner {
     }
 }
 
+/// "a corner" or "N corners", for messages about `found`.
+pub fn counted(found: &[Corner]) -> String {
+    if found.len() == 1 {
+        "a corner".to_string()
+    } else {
+        format!("{} corners", found.len())
+    }
+}
+
 /// The corners of `curve` strictly inside `(u1, u2)`: interior knots where the directions of travel
 /// arriving and leaving differ by more than [`CORNER_ANGLE_DEG`], or where the curve stops. The
 /// directions are the first one-sided derivative that is not zero (relative to the control net's

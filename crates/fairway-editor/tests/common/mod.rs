@@ -53,6 +53,13 @@ pub fn asset(name: &str) -> PathBuf {
         .join(name)
 }
 
+/// A harness with the asset `name` open (as from the command line), run once.
+pub fn harness_with_asset(name: &str) -> Harness<'static, App> {
+    let path = asset(name);
+    let doc = fairway::io::load(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+    harness(App::with_document(doc, Some(path)))
+}
+
 /// In-memory eframe storage.
 #[derive(Default)]
 pub struct MemStorage(pub HashMap<String, String>);

@@ -88,7 +88,7 @@ use super::target::{Target, TargetMethod};
 use crate::arclength::ArcLengthTable;
 use crate::basis::{MAX_ORDER, basis_funs, ders_basis_funs};
 use crate::closest::CurveProjector;
-use crate::corners::{Corner, corners, stretches_between};
+use crate::corners::{Corner, corners, counted, stretches_between};
 use crate::curve::{BSplineCurve, CurveDerivs};
 use crate::error::{Error, Result};
 use crate::linalg::BandedSpd;
@@ -2067,11 +2067,7 @@ fn crossed_corners(curve: &BSplineCurve, u1: f64, u2: f64, found: &[Corner]) -> 
         "region [{u1}, {u2}] crosses {} of the curve {}: fairing across a corner would round it off inside the \
          band, a curvature spike; fair the stretches between corners as regions of their own ({}), as \
          fair_curve and `fairway fair` do by themselves",
-        if found.len() == 1 {
-            "a corner".to_string()
-        } else {
-            format!("{} corners", found.len())
-        },
+        counted(found),
         list.join(", "),
         pieces.join(", ")
     ))

@@ -18,7 +18,7 @@
 
 use super::closed::{Seam, is_closed_curve};
 use super::curve::{EndCondition, FairingOptions, FairingResult, FairingSetup};
-use crate::corners::{Corner, corners, stretches_between};
+use crate::corners::{Corner, corners, counted, stretches_between};
 use crate::curve::BSplineCurve;
 use crate::error::{Error, Result};
 
@@ -195,11 +195,7 @@ pub fn fair_between_corners(
         return Err(Error::InvalidInput(format!(
             "the curve has {} {}, which fairing keeps (across it the band would round it off into a curvature \
              spike), and no stretch between corners can be faired: {}",
-            if found.len() == 1 {
-                "a corner".to_string()
-            } else {
-                format!("{} corners", found.len())
-            },
+            counted(&found),
             list.join(", "),
             why.join("; ")
         )));
