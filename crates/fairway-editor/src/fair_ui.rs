@@ -93,32 +93,36 @@ impl App {
         }
     }
 
-    /// Under the error of a region that crosses corners: one button per stretch between them, which
-    /// makes that stretch the region (the core keeps corners; `fairway fair` fairs the stretches in
-    /// turn by itself, the live preview one at a time).
+    /// Under a preview of a region with corners: what was kept, the stretches left as they are, and one
+    /// button per stretch between corners that makes it the region (to shape that stretch's target
+    /// alone).
     fn corner_stretches_ui(&mut self, ui: &mut egui::Ui) {
-        let Some((u1, u2)) = self.region().filter(|r| r.0 < r.1) else {
+        let Some(Ok(p)) = &self.fairing.preview else {
             return;
         };
-        let Ok(c) = self.curve().to_polynomial() else {
-            return;
-        };
-        let found = fairway::corners::corners(&c, u1, u2);
-        if found.is_empty() {
+        if p.corners.is_empty() {
             return;
         }
-        ui.label(format!(
-            "The region crosses {} (tangent break or stop), which fairing keeps. Fair one stretch:",
-            if found.len() == 1 {
-                "a corner".to_string()
-            } else {
-                format!("{} corners", found.len())
-            }
+        let (corners, stretches, notes) = (p.corners.clone(), p.stretches.clone(), p.result.notes.clone());
+        let list: Vec<String> = corners.iter().map(fairway::corners::Corner::describe).collect();
+        ui.weak(format!(
+            "{} kept (tangent break or stop): the {} stretches between them faired one by one",
+            fairway::corners::counted(&corners),
+            stretches.len()
+        ))
+        .on_hover_text(format!(
+            "Fairing across a corner would round it off into a curvature spike, so the region is faired \
+             stretch by stretch, G1 at a kink (its point and angle stay exactly). Corners {}.",
+            list.join(", ")
         ));
+        for note in &notes {
+            ui.colored_label(Color32::YELLOW, note);
+        }
         ui.horizontal_wrapped(|ui| {
-            for (a, b) in fairway::corners::stretches_between(&c, u1, u2, &found) {
+            ui.weak("Fair one stretch only:");
+            for &(a, b) in &stretches {
                 if ui
-                    .button(format!("u {a:.4} to {b:.4}"))
+                    .small_button(format!("u {a:.4} to {b:.4}"))
                     .on_hover_text("Make this stretch between corners the region")
                     .clicked()
                 {
@@ -138,7 +142,6 @@ impl App {
         match &self.fairing.preview {
             Some(Err(e)) => {
                 ui.label(RichText::new(format!("Error: {e}")).color(Color32::from_rgb(230, 80, 60)));
-                self.corner_stretches_ui(ui);
             }
             Some(Ok(p)) => {
                 let m = self.tolerance();
@@ -191,6 +194,7 @@ impl App {
             }
             None => {}
         }
+        self.corner_stretches_ui(ui);
         if self.fairing.target_mismatch {
             ui.colored_label(
                 Color32::YELLOW,
@@ -496,9 +500,8 @@ impl App {
         };
         if resp.dragged_by(egui::PointerButton::Primary)
             && let Some(q) = resp.interact_pointer_pos()
-            && let Some(setup) = self.fairing.setup()
+            && let Some(mut t) = self.fairing.target()
         {
-            let mut t = setup.target().clone();
             for (k, &g) in d.start.iter().enumerate() {
                 t.set(k, g);
             }

@@ -11,13 +11,20 @@
 //! like any other. Its sample parameters are the re-seamed curve's: past the
 //! old seam `b` they are the original's `u − L`, and [`Preview::params`] holds
 //! them so mapped.
+//!
+//! A region that holds corners of the curve (tangent breaks, stops: [`fairway::corners`]) is set up with
+//! the core's [`CornerSetups`], one setup per stretch between corners, faired together and merged
+//! exactly as `fairway fair` does; the preview's target, samples and pins are the stretches' ones
+//! end to end, and a hand-edited target is split back among them.
 
 use std::time::Instant;
 
 use fairway::BSplineCurve;
+use fairway::corners::Corner;
 use fairway::fair::closed::{AcrossSeam, setup_across_seam_with_ends};
 use fairway::fair::{
-    EndCondition, FairingOptions, FairingResult, FairingSetup, Integrator, Target, TargetMethod, fair_closed,
+    CornerSetups, EndCondition, FairingOptions, FairingResult, FairingSetup, Integrator, Target, TargetMethod,
+    fair_closed,
 };
 use fairway::io::DocumentSettings;
 use fairway::measure::{Measures, arc_params, deviations, measure};
@@ -97,6 +104,11 @@ pub struct Preview {
     pub original: Vec<f64>,
     /// Pin flags.
     pub pinned: Vec<bool>,
+    /// The corners kept inside the region (empty if it has none) and the stretches between them,
+    /// each faired as a region of its own.
+    pub corners: Vec<Corner>,
+    /// See `corners`.
+    pub stretches: Vec<(f64, f64)>,
     /// Wall time of the last re-fair, milliseconds.
     pub fair_ms: f64,
     /// A draft made while a drag is in progress: the band-holding fit without
@@ -105,10 +117,43 @@ pub struct Preview {
     pub draft: bool,
 }
 
+/// What the preview re-fairs: one setup, or one per stretch between the corners in the region.
+#[derive(Debug, Clone)]
+enum Prepared {
+    One(Box<FairingSetup>),
+    Corners(CornerSetups),
+}
+
+impl Prepared {
+    /// The curve being faired (for a region across the seam: the re-seamed one).
+    fn original(&self) -> &BSplineCurve {
+        match self {
+            Self::One(s) => s.original(),
+            Self::Corners(c) => c.original(),
+        }
+    }
+
+    /// The setups, in order along the region.
+    fn setups(&self) -> Vec<&FairingSetup> {
+        match self {
+            Self::One(s) => vec![s],
+            Self::Corners(c) => c.setups().collect(),
+        }
+    }
+
+    /// The target of the whole region: the stretches' targets end to end.
+    fn target(&self) -> Target {
+        match self {
+            Self::One(s) => s.target().clone(),
+            Self::Corners(c) => Target::concat(&c.setups().map(FairingSetup::target).collect::<Vec<_>>()),
+        }
+    }
+}
+
 /// Live fairing state.
 #[derive(Debug, Default)]
 pub struct Fairing {
-    setup: Option<FairingSetup>,
+    setup: Option<Prepared>,
     /// For a region across the seam: the rotation that maps the setup's results back.
     across: Option<AcrossSeam>,
     setup_key: Option<SetupKey>,
@@ -166,10 +211,11 @@ impl Fairing {
         })
     }
 
-    /// The prepared setup (for target edits: clone its target). For a region across the seam it is
-    /// the re-seamed curve's setup ([`Fairing::across_seam`]).
-    pub fn setup(&self) -> Option<&FairingSetup> {
-        self.setup.as_ref()
+    /// The prepared target of the region (for target edits: a copy to change and push back): the
+    /// setup's, or the stretches' between corners end to end. For a region across the seam it is the
+    /// re-seamed curve's setup's ([`Fairing::across_seam`]).
+    pub fn target(&self) -> Option<Target> {
+        self.setup.as_ref().map(Prepared::target)
     }
 
     /// The setup fairs a region across the seam of a closed curve (on the re-seamed curve; results
@@ -228,9 +274,15 @@ impl Fairing {
             let res = self
                 .guarded("fairing setup", || {
                     if region.0 > region.1 {
-                        setup_across_seam_with_ends(curve, fo, opts.ends).map(|(s, a)| (s, Some(a)))
+                        setup_across_seam_with_ends(curve, fo, opts.ends).map(|(s, a)| (Prepared::One(Box::new(s)), Some(a)))
                     } else {
-                        FairingSetup::new_with_ends(curve, fo, opts.ends).map(|s| (s, None))
+                        match CornerSetups::new(curve, fo, opts.ends) {
+                            Ok(Some(c)) => Ok((Prepared::Corners(c), None)),
+                            Ok(None) => {
+                                FairingSetup::new_with_ends(curve, fo, opts.ends).map(|s| (Prepared::One(Box::new(s)), None))
+                            }
+                            Err(e) => Err(e),
+                        }
                     }
                 })
                 .and_then(|r| r.map_err(|e| e.to_string()));
@@ -322,7 +374,7 @@ impl Fairing {
         // the curve being faired: the original, also for a region across the seam (not the re-seamed one)
         let orig = match &self.across {
             Some(a) => Some(a.original()),
-            None => self.setup.as_ref().map(|s| s.original()),
+            None => self.setup.as_ref().map(Prepared::original),
         };
         let (Some(orig), Some(Ok(p))) = (orig, self.preview.as_ref()) else {
             return;
@@ -344,53 +396,70 @@ impl Fairing {
     }
 }
 
-/// Put the automatic or hand-edited target into `setup`; false if the
-/// hand-edited target does not fit the samples (then it is ignored).
-fn prepare(setup: &mut FairingSetup, rk: &RunKey) -> bool {
-    setup.set_integrator(rk.opts.integrator);
-    setup.set_polish_iterations(rk.opts.polish_iterations);
-    let t: &mut Target = setup.target_mut();
-    t.reset();
-    let n = t.len();
-    let strength = rk.opts.strength.unwrap_or(default_strength(rk.opts.method, n));
-    for &k in &rk.pinned {
-        t.pin(k);
-    }
-    match &rk.target {
-        Some(v) if v.len() == n => {
-            for (k, &g) in v.iter().enumerate() {
-                t.set(k, g);
+/// Put the automatic or hand-edited target into the setup(s) (a hand-edited target of a region with
+/// corners is the stretches' targets end to end: split back among them); false if the hand-edited
+/// target does not fit the samples (then it is ignored).
+fn prepare(prepared: &mut Prepared, rk: &RunKey) -> bool {
+    let mut setups: Vec<&mut FairingSetup> = match prepared {
+        Prepared::One(s) => vec![s],
+        Prepared::Corners(c) => c.setups_mut().collect(),
+    };
+    let total: usize = setups.iter().map(|s| s.target().len()).sum();
+    let fits = rk.target.as_ref().is_none_or(|v| v.len() == total);
+    let mut offset = 0;
+    for setup in &mut setups {
+        setup.set_integrator(rk.opts.integrator);
+        setup.set_polish_iterations(rk.opts.polish_iterations);
+        let t: &mut Target = setup.target_mut();
+        t.reset();
+        let n = t.len();
+        let strength = rk.opts.strength.unwrap_or(default_strength(rk.opts.method, n));
+        for &k in &rk.pinned {
+            if (offset..offset + n).contains(&k) {
+                t.pin(k - offset);
             }
-            true
         }
-        Some(_) => {
-            t.smooth(rk.opts.method, strength);
-            false
+        match &rk.target {
+            Some(v) if fits => {
+                for (k, &g) in v[offset..offset + n].iter().enumerate() {
+                    t.set(k, g);
+                }
+            }
+            _ => t.smooth(rk.opts.method, strength),
         }
-        None => {
-            t.smooth(rk.opts.method, strength);
-            true
-        }
+        offset += n;
     }
+    fits
 }
 
-/// Fair with the setup (or, with `seam`, the whole closed curve across its seam: [`across_the_seam`]);
-/// with `across` (a region across the seam) the result is mapped back onto the original.
+/// Fair with the setup (or, with `seam`, the whole closed curve across its seam: [`across_the_seam`];
+/// a region with corners: every stretch between them, merged); with `across` (a region across the
+/// seam) the result is mapped back onto the original.
 fn run(
-    setup: &mut FairingSetup,
+    prepared: &mut Prepared,
     tolerance: f64,
     draft: bool,
     seam: bool,
     across: Option<&AcrossSeam>,
 ) -> Result<Preview, String> {
     let t0 = Instant::now();
-    setup.set_tolerance(tolerance).map_err(|e| e.to_string())?;
-    let result = if seam {
-        fair_closed(setup.original(), *setup.options())
-    } else {
-        setup.fair()
-    }
-    .map_err(|e| e.to_string())?;
+    let (result, corners, stretches) = match prepared {
+        Prepared::One(setup) => {
+            setup.set_tolerance(tolerance).map_err(|e| e.to_string())?;
+            let r = if seam {
+                fair_closed(setup.original(), *setup.options())
+            } else {
+                setup.fair()
+            }
+            .map_err(|e| e.to_string())?;
+            (r, vec![], vec![])
+        }
+        Prepared::Corners(c) => {
+            c.set_tolerance(tolerance).map_err(|e| e.to_string())?;
+            let f = c.fair().map_err(|e| e.to_string())?;
+            (f.result, f.corners, f.stretches.iter().map(|s| s.region).collect())
+        }
+    };
     let result = match across {
         Some(a) => a.back(result).map_err(|e| e.to_string())?,
         None => result,
@@ -398,18 +467,22 @@ fn run(
     let fair_ms = t0.elapsed().as_secs_f64() * 1e3;
     let spans = result.curve.knots().breakpoints().len().saturating_sub(1).max(1);
     let sampled = Sampled::new(&result.curve, (spans * 24).clamp(400, 4000));
-    let t = setup.target();
+    let t = prepared.target();
+    let setups = prepared.setups();
     // the re-seamed setup's parameters past the old seam b, back on the original (u − L)
-    let params = match across {
-        Some(a) => setup.params().iter().map(|&u| a.to_original(u)).collect(),
-        None => setup.params().to_vec(),
-    };
+    let params = setups
+        .iter()
+        .flat_map(|s| s.params())
+        .map(|&u| across.map_or(u, |a| a.to_original(u)))
+        .collect();
     Ok(Preview {
         sampled,
         params,
         target: t.values().to_vec(),
         original: t.original().to_vec(),
         pinned: t.pinned().to_vec(),
+        corners,
+        stretches,
         result,
         fair_ms,
         draft,
@@ -420,7 +493,11 @@ fn run(
 /// [`fair_closed`] (two passes, about 4× a single fair) instead of the setup's single pass, which
 /// holds the seam: not for a draft, and not with a hand-edited target or pins (they belong to the
 /// setup's samples). The target plot keeps showing the setup's samples.
-fn across_the_seam(setup: &FairingSetup, rk: &RunKey, draft: bool) -> bool {
+fn across_the_seam(prepared: &Prepared, rk: &RunKey, draft: bool) -> bool {
+    let Prepared::One(setup) = prepared else {
+        // with corners the seam ends two stretches (the core holds it)
+        return false;
+    };
     !draft
         && rk.target.is_none()
         && rk.pinned.is_empty()

@@ -156,26 +156,91 @@ fn e_polish_slider_caps_the_polish_of_the_full_fair() {
 }
 
 /// The bundled profile with a 20° kink (a triple knot at u = 0.6, its control point 23): a region across
-/// it shows the core's error and one button per stretch between corners; a click makes that stretch the
-/// region, whose preview is faired with the kink kept.
+/// it is faired stretch by stretch as `fairway fair` does, the kink kept (G1: its control points stay);
+/// the κ plot's target is the stretches' targets end to end, and a hand edit of it reaches the stretch
+/// it was made on; one button per stretch makes that stretch the region.
 #[test]
-fn a_region_across_a_corner_offers_the_stretches_on_either_side() {
+fn a_region_across_a_corner_is_faired_stretch_by_stretch_with_the_corner_kept() {
     let mut h = common::harness_with_asset("kinked_profile.json");
     let c0 = h.state().curve().clone();
     h.state_mut().push(fairway_editor::Command::SetRegion(Some((0.2, 0.8))));
     h.run();
-    assert!(h.state().preview().is_none());
-    h.get_by_label_contains("crosses a corner of the curve at u = 0.6");
-    h.get_by_label_contains("which fairing keeps. Fair one stretch:");
+    let p = h.state().preview().expect("faired stretch by stretch").clone();
+    h.get_by_label_contains("a corner kept (tangent break or stop): the 2 stretches between them");
+    let m = h.state().tolerance();
+    assert!(p.result.max_deviation <= m * (1.0 + 1e-9));
+    assert_eq!(p.corners.len(), 1);
+    assert!((p.corners[0].u - 0.6).abs() < 1e-12 && (p.corners[0].angle_deg - 20.0).abs() < 0.5);
+    assert_eq!(p.stretches, vec![(0.2, 0.6), (0.6, 0.8)]);
+    let f = &p.result.curve;
+    for i in [12, 30] {
+        assert_ne!(
+            f.points()[i],
+            c0.points()[i],
+            "control point {i} on either side is faired"
+        );
+    }
+    // G1 at the kink: its control point stays, its neighbours only slide along the tangents
+    assert_eq!(f.points()[23], c0.points()[23], "the kink's control point moved");
+    for i in [22, 24] {
+        let dir = |c: &fairway::BSplineCurve| (c.points()[i] - c.points()[23]).normalize();
+        assert!(
+            (dir(f) - dir(&c0)).length() < 1e-9,
+            "the tangent at the kink turned (control point {i})"
+        );
+    }
+    // the target: both stretches' samples end to end, increasing along the region, and both sides faired
+    assert_eq!(p.params.len(), p.target.len());
+    assert!(p.params.windows(2).all(|w| w[0] <= w[1]));
+    assert!(p.params[0] >= 0.2 - 1e-12 && *p.params.last().unwrap() <= 0.8 + 1e-12);
+    let split = p.params.partition_point(|&u| u < 0.6);
+    assert!(split > 3 && p.params.len() - split > 3);
+
+    // raise the target over the second stretch (not its pinned end samples): that stretch bends more
+    let mut values = p.target.clone();
+    let n = values.len();
+    for v in &mut values[split + 2..n - 2] {
+        *v += 0.5;
+    }
+    let pinned: Vec<usize> = p
+        .pinned
+        .iter()
+        .enumerate()
+        .filter(|(_, b)| **b)
+        .map(|(k, _)| k)
+        .collect();
+    h.state_mut().push(fairway_editor::Command::SetTarget {
+        values: Some(values.clone()),
+        pinned,
+    });
+    h.run();
+    assert!(
+        !h.state().fairing.target_mismatch,
+        "the edited target fits the stretches' samples"
+    );
+    let q = h.state().preview().expect("re-faired").clone();
+    assert_eq!(q.target, values, "the edited target is the one faired");
+    let g = &q.result.curve;
+    for i in 0..=23 {
+        assert_eq!(
+            g.points()[i],
+            f.points()[i],
+            "control point {i} of the first stretch or the kink moved"
+        );
+    }
+    assert_ne!(g.points()[30], f.points()[30], "the edited stretch changed");
+    assert!(q.result.max_deviation <= m * (1.0 + 1e-9));
+
     h.get_by_role_and_label(Role::Button, "u 0.6000 to 0.8000").click();
     h.run();
     assert_eq!(h.state().region(), Some((0.6, 0.8)));
-    let p = h.state().preview().expect("the stretch is faired").clone();
-    let m = h.state().tolerance();
-    assert!(p.result.max_deviation <= m * (1.0 + 1e-9));
-    let f = &p.result.curve;
-    assert_ne!(f.points()[30], c0.points()[30], "faired");
-    for i in 22..=24 {
-        assert_eq!(f.points()[i], c0.points()[i], "the kink's control point {i} moved");
+    let r = h.state().preview().expect("the stretch is faired").clone();
+    assert!(r.corners.is_empty(), "the stretch holds no corner");
+    for i in 0..=23 {
+        assert_eq!(
+            r.result.curve.points()[i],
+            c0.points()[i],
+            "control point {i} outside the stretch moved"
+        );
     }
 }

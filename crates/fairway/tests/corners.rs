@@ -7,7 +7,7 @@ mod common;
 
 use common::{Rng, Shape, dev_max, noisy_curve, opts};
 use fairway::corners::{Corner, corners};
-use fairway::fair::{FairingSetup, Seam, fair_curve};
+use fairway::fair::{CornerSetups, EndCondition, FairingSetup, Seam, Target, fair_curve};
 use fairway::measure::measure;
 use fairway::{BSplineCurve, DVec3};
 
@@ -232,4 +232,53 @@ fn a_region_on_one_side_of_a_corner_is_faired_as_usual_and_a_short_stretch_is_le
         r.curve.point(0.25).distance(c.point(0.25)) > 1e-6,
         "the stretch before the stop moved"
     );
+}
+
+/// The editor's live preview of a region with corners: [`CornerSetups`] prepared once and re-faired.
+/// Its first fair is `fair_curve`'s; a tighter tolerance re-fairs every stretch inside the new band;
+/// an edit of one stretch's target moves that stretch only (the other keeps its result bit for bit);
+/// the stretches' targets end to end ([`Target::concat`]) are theirs, in order.
+#[test]
+fn corner_setups_refair_like_a_fresh_fair_and_an_edit_stays_in_its_stretch() {
+    let m = 3e-3;
+    let arc = |seed| noisy_curve(Shape::Circle { r: 1.0, a: 2.0 }, 30, 1e-3, seed);
+    let c = joined(&arc(5), &arc(6), -40f64.to_radians());
+    let mut cs = CornerSetups::new(&c, opts(m), [EndCondition::G2; 2])
+        .unwrap()
+        .expect("a corner at u = 1");
+    assert_eq!(cs.corners().len(), 1);
+    let regions: Vec<(f64, f64)> = cs.stretches().map(|(r, _)| r).collect();
+    assert_eq!(regions, vec![(0.0, 1.0), (1.0, 2.0)]);
+
+    let first = cs.fair().unwrap().result;
+    let fresh = fair_curve(&c, opts(m)).unwrap();
+    assert_eq!(first.curve, fresh.curve, "the first fair is fair_curve's");
+    assert_eq!(first.max_deviation, fresh.max_deviation);
+
+    // the targets end to end
+    let cat = Target::concat(&cs.setups().map(FairingSetup::target).collect::<Vec<_>>());
+    let lens: Vec<usize> = cs.setups().map(|s| s.target().len()).collect();
+    assert_eq!(cat.len(), lens.iter().sum::<usize>());
+    assert_eq!(&cat.values()[lens[0]..], cs.setups().nth(1).unwrap().target().values());
+    assert_eq!(&cat.pinned()[..lens[0]], cs.setups().next().unwrap().target().pinned());
+
+    // a tighter band: every stretch re-faired inside it
+    cs.set_tolerance(m / 4.0).unwrap();
+    let tight = cs.fair().unwrap().result;
+    assert!(tight.max_deviation <= m / 4.0 && dev_max(&c, &tight.curve) <= m / 4.0 * (1.0 + 1e-6));
+    assert_ne!(tight.curve, first.curve);
+
+    // raise the second stretch's target: the first stretch keeps its result bit for bit
+    let second = cs.setups_mut().nth(1).unwrap();
+    let n = second.target().len();
+    for k in 2..n - 2 {
+        let g = second.target().values()[k];
+        second.target_mut().set(k, g + 0.3);
+    }
+    let edited = cs.fair().unwrap().result;
+    let free = cs.setups().next().unwrap().free_points();
+    let p = |r: &fairway::fair::FairingResult| r.curve.points().to_vec();
+    assert_eq!(p(&edited)[..free.end], p(&tight)[..free.end], "the first stretch moved");
+    assert_ne!(p(&edited), p(&tight), "the edited stretch did not change");
+    assert!(edited.max_deviation <= m / 4.0);
 }

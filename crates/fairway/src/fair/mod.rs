@@ -44,6 +44,6 @@ pub use closed::{Seam, fair_closed, fair_closed_iterative};
 pub use curve::{EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, fair_curve};
 pub use integrate::Integrator;
 pub use iterative::{IterativeOptions, fair_iterative};
-pub use split::{CornerFair, Stretch, fair_between_corners};
+pub use split::{CornerFair, CornerSetups, Stretch, fair_between_corners};
 pub use surface::{Combine, SurfaceFairingOptions, SurfaceFairingResult, SurfaceTimings, fair_surface};
 pub use target::{Target, TargetMethod};

@@ -18,6 +18,7 @@
 
 use super::closed::{Seam, is_closed_curve};
 use super::curve::{EndCondition, FairingOptions, FairingResult, FairingSetup};
+use super::target::Target;
 use crate::corners::{Corner, corners, counted, stretches_between};
 use crate::curve::BSplineCurve;
 use crate::error::{Error, Result};
@@ -69,11 +70,12 @@ fn merged(original: &BSplineCurve, faired: &[BSplineCurve]) -> Result<BSplineCur
     let all: Vec<f64> = extras.iter().flatten().copied().collect();
     let base = original.refine(&all)?;
     let mut pts = base.points().to_vec();
-    for (c, own) in faired.iter().zip(&extras) {
+    for (i, c) in faired.iter().enumerate() {
         let others: Vec<f64> = extras
             .iter()
-            .filter(|e| !std::ptr::eq(*e, own))
-            .flatten()
+            .enumerate()
+            .filter(|&(j, _)| j != i)
+            .flat_map(|(_, e)| e)
             .copied()
             .collect();
         let c = c.refine(&others)?;
@@ -104,6 +106,236 @@ pub struct CornerFair {
     pub stretches: Vec<Stretch>,
 }
 
+/// The setups of the stretches between the corners inside a region ([`crate::corners`]), prepared
+/// once and faired together as often as wanted: what [`fair_between_corners`] runs once, and what the
+/// editor keeps for its live preview of a region with corners (set each stretch's target or the
+/// tolerance, fair again). A stretch whose setup is refused (too short to have a free control point,
+/// say) is kept with its reason and left as it is.
+#[derive(Clone, Debug)]
+pub struct CornerSetups {
+    input: BSplineCurve,
+    corners: Vec<Corner>,
+    /// Each stretch's region and its setup, or why it has none.
+    stretches: Vec<((f64, f64), std::result::Result<FairingSetup, String>)>,
+    seam: Seam,
+    /// Each faired stretch's last [`FairingSetup::fair`] and what it was run with (options, target):
+    /// [`Self::fair`] reuses it while they are unchanged, so a re-fair after an edit of one stretch's
+    /// target leaves the other stretches bit for bit (a fresh fair would warm-start its band search
+    /// at the last μ and could land elsewhere within the search's resolution).
+    last: Vec<Option<(FairingOptions, Target, FairingResult)>>,
+}
+
+impl CornerSetups {
+    /// The setups of the stretches between the corners inside `opts.region` (the whole curve if
+    /// none) of `curve`, with `ends` at the region's own ends (module docs for the ends between
+    /// stretches). `Ok(None)` if the region holds no corner, runs across the seam (`u1 > u2`: then
+    /// the setup says which corner it crosses) or the curve is of degree 1, so the caller fairs as
+    /// usual.
+    pub fn new(curve: &BSplineCurve, opts: FairingOptions, ends: [EndCondition; 2]) -> Result<Option<Self>> {
+        let input = curve.to_polynomial()?;
+        let (d0, d1) = input.domain();
+        let (u1, u2) = opts.region.unwrap_or((d0, d1));
+        if !(u1 < u2) || input.degree() < 2 {
+            return Ok(None);
+        }
+        let found = corners(&input, u1, u2);
+        if found.is_empty() {
+            return Ok(None);
+        }
+        let eps = 1e-12 * (d1 - d0);
+        let whole_loop = is_closed_curve(&input) && u1 <= d0 + eps && u2 >= d1 - eps;
+        // end conditions: the caller's at the region's own ends (a whole loop has none: G2); G1 at a
+        // kink (its point and both tangent directions stay, so the kink keeps its angle exactly, and
+        // the curvature on each side is faired: on the kinked_profile asset ∫(dκ/ds)² 53.9 with G2
+        // there, 36.5 with G1); G2 at the knots next to a stop (smooth points of the curve)
+        let end_at = |u: f64| {
+            if !whole_loop && (u - u1).abs() <= eps {
+                ends[0]
+            } else if !whole_loop && (u - u2).abs() <= eps {
+                ends[1]
+            } else if found.iter().any(|c| !c.stops && c.u == u) {
+                EndCondition::G1
+            } else {
+                EndCondition::G2
+            }
+        };
+        let stretches = stretches_between(&input, u1, u2, &found)
+            .into_iter()
+            .map(|region| {
+                let o = FairingOptions {
+                    region: Some(region),
+                    ..opts
+                };
+                let setup = FairingSetup::new_with_ends(&input, o, [end_at(region.0), end_at(region.1)])
+                    .map_err(|e| e.to_string());
+                (region, setup)
+            })
+            .collect();
+        let seam = if !is_closed_curve(&input) {
+            Seam::Open
+        } else if whole_loop || u1 <= d0 + eps || u2 >= d1 - eps {
+            Seam::Held(
+                "the curve has corners: its stretches between them were faired one by one, and the seam \
+                 ends two of them like G2 region ends"
+                    .into(),
+            )
+        } else {
+            Seam::Untouched
+        };
+        Ok(Some(Self {
+            input,
+            corners: found,
+            stretches,
+            seam,
+            last: vec![],
+        }))
+    }
+
+    /// The curve being faired (polynomial).
+    pub fn original(&self) -> &BSplineCurve {
+        &self.input
+    }
+
+    /// The corners kept (inside the region).
+    pub fn corners(&self) -> &[Corner] {
+        &self.corners
+    }
+
+    /// The stretches in order along the region: each one's region and its setup, or why it has none
+    /// (it is then left as it is).
+    pub fn stretches(&self) -> impl Iterator<Item = ((f64, f64), std::result::Result<&FairingSetup, &str>)> {
+        self.stretches
+            .iter()
+            .map(|(r, s)| (*r, s.as_ref().map_err(String::as_str)))
+    }
+
+    /// The stretches' setups (the ones that have one), in order, to change their targets or options.
+    pub fn setups_mut(&mut self) -> impl Iterator<Item = &mut FairingSetup> {
+        self.stretches.iter_mut().filter_map(|(_, s)| s.as_mut().ok())
+    }
+
+    /// The stretches' setups (the ones that have one), in order.
+    pub fn setups(&self) -> impl Iterator<Item = &FairingSetup> {
+        self.stretches.iter().filter_map(|(_, s)| s.as_ref().ok())
+    }
+
+    /// Set every stretch's tolerance.
+    pub fn set_tolerance(&mut self, m: f64) -> Result<()> {
+        self.setups_mut().try_for_each(|s| s.set_tolerance(m))
+    }
+
+    /// Fair every stretch with [`FairingSetup::fair`] and merge the results; a stretch whose options
+    /// and target are those of its last fair keeps that fair's result.
+    pub fn fair(&mut self) -> Result<CornerFair> {
+        let mut last = std::mem::take(&mut self.last);
+        let mut k = 0;
+        let out = self.fair_with(|s| {
+            if last.len() <= k {
+                last.push(None);
+            }
+            let slot = &mut last[k];
+            k += 1;
+            if let Some((o, t, r)) = slot.as_ref()
+                && o == s.options()
+                && t == s.target()
+            {
+                return Ok(r.clone());
+            }
+            *slot = None;
+            let r = s.fair()?;
+            *slot = Some((*s.options(), s.target().clone(), r.clone()));
+            Ok(r)
+        });
+        self.last = last;
+        out
+    }
+
+    /// Fair every stretch by `pass` on its setup (`FairingSetup::fair`, or the iterative baseline) and
+    /// merge the results (module docs).
+    pub fn fair_with(
+        &mut self,
+        mut pass: impl FnMut(&mut FairingSetup) -> Result<FairingResult>,
+    ) -> Result<CornerFair> {
+        let mut stretches = vec![];
+        let mut curves = vec![];
+        for (region, setup) in &mut self.stretches {
+            let setup = match setup {
+                Ok(s) => s,
+                Err(msg) => {
+                    stretches.push(Stretch {
+                        region: *region,
+                        free_points: 0..0,
+                        energy_before: 0.0,
+                        energy: 0.0,
+                        max_deviation: 0.0,
+                        mu: 0.0,
+                        alpha: 0.0,
+                        solves: 0,
+                        left: Some(msg.clone()),
+                    });
+                    continue;
+                }
+            };
+            let energy_before = setup.energy(setup.working_curve());
+            let r = pass(setup)?;
+            stretches.push(Stretch {
+                region: *region,
+                free_points: setup.free_points(),
+                energy_before,
+                energy: r.energy,
+                max_deviation: r.max_deviation,
+                mu: r.mu,
+                alpha: r.alpha,
+                solves: r.solves,
+                left: None,
+            });
+            curves.push(r.curve);
+        }
+        let cur = merged(&self.input, &curves)?;
+        let faired: Vec<&Stretch> = stretches.iter().filter(|s| s.left.is_none()).collect();
+        if faired.is_empty() {
+            let list: Vec<String> = self.corners.iter().map(Corner::describe).collect();
+            let why: Vec<String> = stretches
+                .iter()
+                .map(|s| format!("[{}, {}]: {}", s.region.0, s.region.1, s.left.as_deref().unwrap_or("")))
+                .collect();
+            return Err(Error::InvalidInput(format!(
+                "the curve has {} {}, which fairing keeps (across it the band would round it off into a \
+                 curvature spike), and no stretch between corners can be faired: {}",
+                counted(&self.corners),
+                list.join(", "),
+                why.join("; ")
+            )));
+        }
+        let notes = stretches
+            .iter()
+            .filter_map(|s| {
+                s.left.as_ref().map(|why| {
+                    format!(
+                        "the stretch [{}, {}] between corners was left as it is: {why}",
+                        s.region.0, s.region.1
+                    )
+                })
+            })
+            .collect();
+        let result = FairingResult {
+            curve: cur,
+            max_deviation: faired.iter().map(|s| s.max_deviation).fold(0.0, f64::max),
+            mu: faired.iter().map(|s| s.mu).fold(f64::INFINITY, f64::min),
+            alpha: faired.iter().map(|s| s.alpha).fold(f64::INFINITY, f64::min),
+            solves: faired.iter().map(|s| s.solves).sum(),
+            energy: stretches.iter().map(|s| s.energy).sum(),
+            seam: self.seam.clone(),
+            notes,
+        };
+        Ok(CornerFair {
+            result,
+            corners: self.corners.clone(),
+            stretches,
+        })
+    }
+}
+
 /// Fair `curve` with `opts` stretch by stretch between the corners inside its region (module docs),
 /// each stretch by `pass` on its setup (`FairingSetup::fair`, or the iterative baseline). `Ok(None)`
 /// if the region holds no corner (or runs across the seam: then the setup says which corner it
@@ -111,130 +343,10 @@ pub struct CornerFair {
 pub fn fair_between_corners(
     curve: &BSplineCurve,
     opts: FairingOptions,
-    pass: impl Fn(&mut FairingSetup) -> Result<FairingResult>,
+    pass: impl FnMut(&mut FairingSetup) -> Result<FairingResult>,
 ) -> Result<Option<CornerFair>> {
-    let input = curve.to_polynomial()?;
-    let (d0, d1) = input.domain();
-    let (u1, u2) = opts.region.unwrap_or((d0, d1));
-    if !(u1 < u2) || input.degree() < 2 {
-        return Ok(None);
+    match CornerSetups::new(curve, opts, [opts.ends; 2])? {
+        Some(mut s) => s.fair_with(pass).map(Some),
+        None => Ok(None),
     }
-    let found = corners(&input, u1, u2);
-    if found.is_empty() {
-        return Ok(None);
-    }
-    let eps = 1e-12 * (d1 - d0);
-    let whole_loop = is_closed_curve(&input) && u1 <= d0 + eps && u2 >= d1 - eps;
-    let pieces = stretches_between(&input, u1, u2, &found);
-    // end conditions: the caller's at the region's own ends (a whole loop has none: G2); G1 at a kink
-    // (its point and both tangent directions stay, so the kink keeps its angle exactly, and the
-    // curvature on each side is faired: on the kinked_profile asset ∫(dκ/ds)² 53.9 with G2 there,
-    // 36.5 with G1); G2 at the knots next to a stop (smooth points of the curve)
-    let end_at = |u: f64| {
-        if !whole_loop && ((u - u1).abs() <= eps || (u - u2).abs() <= eps) {
-            opts.ends
-        } else if found.iter().any(|c| !c.stops && c.u == u) {
-            EndCondition::G1
-        } else {
-            EndCondition::G2
-        }
-    };
-    let mut stretches = vec![];
-    let mut curves = vec![];
-    let mut fair_one = |region: (f64, f64)| -> Result<()> {
-        let o = FairingOptions {
-            region: Some(region),
-            ..opts
-        };
-        let ends = [end_at(region.0), end_at(region.1)];
-        let mut setup = match FairingSetup::new_with_ends(&input, o, ends) {
-            Ok(s) => s,
-            Err(e) => {
-                let msg = e.to_string();
-                stretches.push(Stretch {
-                    region,
-                    free_points: 0..0,
-                    energy_before: 0.0,
-                    energy: 0.0,
-                    max_deviation: 0.0,
-                    mu: 0.0,
-                    alpha: 0.0,
-                    solves: 0,
-                    left: Some(msg),
-                });
-                return Ok(());
-            }
-        };
-        let energy_before = setup.energy(setup.working_curve());
-        let r = pass(&mut setup)?;
-        stretches.push(Stretch {
-            region,
-            free_points: setup.free_points(),
-            energy_before,
-            energy: r.energy,
-            max_deviation: r.max_deviation,
-            mu: r.mu,
-            alpha: r.alpha,
-            solves: r.solves,
-            left: None,
-        });
-        curves.push(r.curve);
-        Ok(())
-    };
-    for &piece in &pieces {
-        fair_one(piece)?;
-    }
-    let cur = merged(&input, &curves)?;
-    let faired: Vec<&Stretch> = stretches.iter().filter(|s| s.left.is_none()).collect();
-    if faired.is_empty() {
-        let list: Vec<String> = found.iter().map(Corner::describe).collect();
-        let why: Vec<String> = stretches
-            .iter()
-            .map(|s| format!("[{}, {}]: {}", s.region.0, s.region.1, s.left.as_deref().unwrap_or("")))
-            .collect();
-        return Err(Error::InvalidInput(format!(
-            "the curve has {} {}, which fairing keeps (across it the band would round it off into a curvature \
-             spike), and no stretch between corners can be faired: {}",
-            counted(&found),
-            list.join(", "),
-            why.join("; ")
-        )));
-    }
-    let notes = stretches
-        .iter()
-        .filter_map(|s| {
-            s.left.as_ref().map(|why| {
-                format!(
-                    "the stretch [{}, {}] between corners was left as it is: {why}",
-                    s.region.0, s.region.1
-                )
-            })
-        })
-        .collect();
-    let seam = if !is_closed_curve(&input) {
-        Seam::Open
-    } else if whole_loop || u1 <= d0 + eps || u2 >= d1 - eps {
-        Seam::Held(
-            "the curve has corners: its stretches between them were faired one by one, and the seam \
-             ends two of them like G2 region ends"
-                .into(),
-        )
-    } else {
-        Seam::Untouched
-    };
-    let result = FairingResult {
-        curve: cur,
-        max_deviation: faired.iter().map(|s| s.max_deviation).fold(0.0, f64::max),
-        mu: faired.iter().map(|s| s.mu).fold(f64::INFINITY, f64::min),
-        alpha: faired.iter().map(|s| s.alpha).fold(f64::INFINITY, f64::min),
-        solves: faired.iter().map(|s| s.solves).sum(),
-        energy: stretches.iter().map(|s| s.energy).sum(),
-        seam,
-        notes,
-    };
-    Ok(Some(CornerFair {
-        result,
-        corners: found,
-        stretches,
-    }))
 }

@@ -111,6 +111,23 @@ impl Target {
         })
     }
 
+    /// The targets `parts` end to end (the stretches between the corners of a region,
+    /// [`super::CornerSetups`]): values, original curvature and pins as they are; the first part's
+    /// start and the last part's end stay released if they were. Empty for no parts.
+    pub fn concat(parts: &[&Target]) -> Self {
+        Self {
+            original: parts.iter().flat_map(|t| t.original.iter().copied()).collect(),
+            values: parts.iter().flat_map(|t| t.values.iter().copied()).collect(),
+            pinned: parts.iter().flat_map(|t| t.pinned.iter().copied()).collect(),
+            free_ends: [
+                parts.first().is_some_and(|t| t.free_ends[0]),
+                parts.last().is_some_and(|t| t.free_ends[1]),
+            ],
+            extrapolated: [0; 2],
+            eased: [0; 2],
+        }
+    }
+
     /// Release the first (`last = false`) or the last end sample: its curvature is not a join
     /// condition (G1 or G0 end), so it is unpinned and smoothing treats it as a free end.
     pub fn release_end(&mut self, last: bool) {
