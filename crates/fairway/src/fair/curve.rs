@@ -1145,13 +1145,14 @@ impl FairingSetup {
             }
         }
         let mut solves = 0;
-        let (mu, alpha, dev) = match self.opts.mode {
+        // E of the result, when already known
+        let (mu, alpha, dev, e_best) = match self.opts.mode {
             FitMode::Paper => {
                 self.solve(0.0)?;
                 solves += 1;
                 self.best.copy_from_slice(&self.sol);
                 let dev = self.deviation(&self.best.clone(), f64::INFINITY);
-                (0.0, 1.0, dev)
+                (0.0, 1.0, dev, None)
             }
             FitMode::Fairway => {
                 let accept = band_accept(m, &self.work);
@@ -1172,7 +1173,9 @@ impl FairingSetup {
                 let zero = vec![DVec3::ZERO; self.nf];
                 let ns = self.params.len() as f64;
                 let floor = ns * (1e-10 / (self.h * (ns - 1.0))).powi(2);
-                if self.energy_of_update(&self.best) > self.energy_of_update(&zero) + floor {
+                let mut e_best = Some(self.energy_of_update(&self.best));
+                if e_best.is_some_and(|e| e > self.energy_of_update(&zero) + floor) {
+                    e_best = None;
                     self.best.copy_from_slice(&zero);
                     alpha = 0.0;
                     dev = if self.opts.polish {
@@ -1190,11 +1193,11 @@ impl FairingSetup {
                 } else {
                     dev
                 };
-                (mu, alpha, dev)
+                (mu, alpha, dev, e_best)
             }
         };
         let curve = self.updated_curve(&self.best)?;
-        let energy = self.energy_of_update(&self.best);
+        let energy = e_best.unwrap_or_else(|| self.energy_of_update(&self.best));
         Ok(FairingResult {
             curve,
             max_deviation: dev,
