@@ -170,6 +170,15 @@ impl App {
                     ui.weak(format!("re-fair {:.2} ms", p.fair_ms));
                 }
                 match &p.result.seam {
+                    Seam::Faired if !p.corners.is_empty() => {
+                        ui.weak("closed curve: faired across the seam, its corners kept")
+                            .on_hover_text(
+                                "The curve was re-seamed exactly (at a kink for the whole curve, in the untouched \
+                                 rest for a region across the seam), faired stretch by stretch between its \
+                                 corners and mapped back onto the original knots: as smooth at the old seam as \
+                                 the original.",
+                            );
+                    }
                     Seam::Faired if self.fairing.across_seam() => {
                         ui.weak("closed curve: region faired through the seam (as smooth there as the original)")
                             .on_hover_text(

@@ -14,8 +14,10 @@
 //!
 //! A region that holds corners of the curve (tangent breaks, stops: [`fairway::corners`]) is set up with
 //! the core's [`CornerSetups`], one setup per stretch between corners, faired together and merged
-//! exactly as `fairway fair` does; the preview's target, samples and pins are the stretches' ones
-//! end to end, and a hand-edited target is split back among them.
+//! exactly as `fairway fair` does (a closed curve re-seamed at a kink or, for a region across the
+//! seam, in the untouched rest; [`CornerSetups::to_original`] maps its sample parameters back); the
+//! preview's target, samples and pins are the stretches' ones end to end, and a hand-edited target is
+//! split back among them.
 
 use std::time::Instant;
 
@@ -121,7 +123,7 @@ pub struct Preview {
 #[derive(Debug, Clone)]
 enum Prepared {
     One(Box<FairingSetup>),
-    Corners(CornerSetups),
+    Corners(Box<CornerSetups>),
 }
 
 impl Prepared {
@@ -272,18 +274,14 @@ impl Fairing {
             // u1 > u2: the region runs across the seam (the core says so clearly if the curve is open
             // or its seam cannot be re-seamed)
             let res = self
-                .guarded("fairing setup", || {
-                    if region.0 > region.1 {
-                        setup_across_seam_with_ends(curve, fo, opts.ends).map(|(s, a)| (Prepared::One(Box::new(s)), Some(a)))
-                    } else {
-                        match CornerSetups::new(curve, fo, opts.ends) {
-                            Ok(Some(c)) => Ok((Prepared::Corners(c), None)),
-                            Ok(None) => {
-                                FairingSetup::new_with_ends(curve, fo, opts.ends).map(|s| (Prepared::One(Box::new(s)), None))
-                            }
-                            Err(e) => Err(e),
-                        }
+                .guarded("fairing setup", || match CornerSetups::new(curve, fo, opts.ends) {
+                    Ok(Some(c)) => Ok((Prepared::Corners(Box::new(c)), None)),
+                    Ok(None) if region.0 > region.1 => setup_across_seam_with_ends(curve, fo, opts.ends)
+                        .map(|(s, a)| (Prepared::One(Box::new(s)), Some(a))),
+                    Ok(None) => {
+                        FairingSetup::new_with_ends(curve, fo, opts.ends).map(|s| (Prepared::One(Box::new(s)), None))
                     }
+                    Err(e) => Err(e),
                 })
                 .and_then(|r| r.map_err(|e| e.to_string()));
             self.setup_ms = t0.elapsed().as_secs_f64() * 1e3;
@@ -468,12 +466,16 @@ fn run(
     let spans = result.curve.knots().breakpoints().len().saturating_sub(1).max(1);
     let sampled = Sampled::new(&result.curve, (spans * 24).clamp(400, 4000));
     let t = prepared.target();
-    let setups = prepared.setups();
-    // the re-seamed setup's parameters past the old seam b, back on the original (u − L)
-    let params = setups
+    // a re-seamed setup's parameters past the old seam b, back on the original (u − L)
+    let params = prepared
+        .setups()
         .iter()
         .flat_map(|s| s.params())
-        .map(|&u| across.map_or(u, |a| a.to_original(u)))
+        .map(|&u| match (&*prepared, across) {
+            (Prepared::Corners(c), _) => c.to_original(u),
+            (_, Some(a)) => a.to_original(u),
+            _ => u,
+        })
         .collect();
     Ok(Preview {
         sampled,

@@ -313,3 +313,69 @@ fn the_whole_closed_curve_shrinks_from_the_side_the_seam_point_is_dragged_to() {
     let (u1, u2) = h.state().region().unwrap();
     assert!((u1 - 0.1).abs() < 0.01 && u2 == 1.0, "{u1} {u2}");
 }
+
+/// `closed_section.json` with a kink at the interior knot nearest u = 0.1: the knot tripled (exact) and
+/// its control point, on the curve, pulled away from the centroid by 5 %. Returns the curve, the kink's
+/// parameter and its control point index.
+fn closed_with_a_kink() -> (BSplineCurve, f64, usize) {
+    let fairway::Geometry::Curve(c) = fairway::io::load(&asset("closed_section.json")).unwrap().geometry else {
+        panic!("a curve")
+    };
+    let bp = c.knots().breakpoints();
+    let u0 = *bp
+        .iter()
+        .min_by(|a, b| (*a - 0.1).abs().total_cmp(&(*b - 0.1).abs()))
+        .unwrap();
+    let s = c.knots().multiplicity(u0);
+    let c = c.insert_knot(u0, 3 - s).unwrap();
+    let k = c.points().iter().position(|p| p.distance(c.point(u0)) < 1e-12).unwrap();
+    let centroid = c.points().iter().copied().sum::<fairway::DVec3>() / c.n_points() as f64;
+    let mut q = c.points().to_vec();
+    q[k] = centroid + (q[k] - centroid) * 1.05;
+    (c.with_points(q).unwrap(), u0, k)
+}
+
+/// A closed curve with a kink: the whole curve is faired across its seam (re-seamed at the kink), the
+/// kink kept; a region across the seam that holds the kink is faired stretch by stretch (before: the
+/// whole curve's seam was held, and the region was refused), its first stretch shown running across the
+/// seam.
+#[test]
+fn a_closed_curve_with_a_kink_is_faired_across_its_seam_with_the_kink_kept() {
+    let (c, u0, k) = closed_with_a_kink();
+    let mut doc = Document::new(fairway::Geometry::Curve(c.clone()));
+    let (a, b) = c.domain();
+    doc.settings.region = Some((a, b));
+    let mut h = harness(App::with_document(doc, None));
+    let p = h.state().preview().expect("the whole curve is faired").clone();
+    assert_eq!(p.result.seam, fairway::fair::Seam::Faired);
+    assert_eq!(p.corners.len(), 1);
+    assert_eq!(p.corners[0].u, u0);
+    h.get_by_label_contains("closed curve: faired across the seam, its corners kept");
+    let f = &p.result.curve;
+    assert_eq!(f.points()[k], c.points()[k], "the kink moved");
+    assert_eq!(f.points()[0], *f.points().last().unwrap(), "closed");
+    assert_ne!(f.points()[0], c.points()[0], "the seam is faired, not held");
+    assert!(p.result.max_deviation <= h.state().tolerance() * (1.0 + 1e-9));
+    // the κ plot's samples are the original's parameters
+    assert!(
+        p.params.iter().all(|&u| (a..=b).contains(&u)),
+        "sample parameters outside the domain"
+    );
+
+    // a region across the seam holding the kink
+    h.state_mut().push(Command::SetRegion(Some((0.8, 0.3))));
+    h.run();
+    let p = h.state().preview().expect("faired stretch by stretch").clone();
+    assert_eq!(p.stretches.len(), 2, "{:?}", p.stretches);
+    assert_eq!(p.stretches[0].0, 0.8);
+    assert!((p.stretches[0].1 - u0).abs() < 1e-12, "{:?}", p.stretches);
+    let f = &p.result.curve;
+    for i in supported_in(&c, 0.3, 0.8) {
+        assert!(
+            f.points()[i].distance(c.points()[i]) <= 1e-12,
+            "control point {i} outside the region moved"
+        );
+    }
+    assert_eq!(f.points()[k], c.points()[k], "the kink moved");
+    h.get_by_role_and_label(Role::Button, &format!("u 0.8000 to {u0:.4}"));
+}

@@ -120,7 +120,7 @@ pub fn is_closed_curve(c: &BSplineCurve) -> bool {
 }
 
 /// Knot removal tolerance of the re-seaming: `1e-9 ×` the control bounding-box diagonal.
-fn removal_tolerance(c: &BSplineCurve) -> f64 {
+pub(crate) fn removal_tolerance(c: &BSplineCurve) -> f64 {
     let (lo, hi) = c.control_bounds();
     1e-9 * (hi - lo).length()
 }
