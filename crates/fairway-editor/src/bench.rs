@@ -158,13 +158,7 @@ impl App {
                     }
                 })
                 .collect();
-            let pinned = p
-                .pinned
-                .iter()
-                .enumerate()
-                .filter(|(_, b)| **b)
-                .map(|(k, _)| k)
-                .collect();
+            let pinned = crate::fairing::pinned_indices(&p.pinned);
             self.apply(Command::SetTarget {
                 values: Some(values),
                 pinned,

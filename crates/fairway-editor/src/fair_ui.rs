@@ -8,7 +8,7 @@ use fairway::DVec2;
 use fairway::fair::{EndCondition, Integrator, Seam, TargetMethod};
 
 use crate::canvas::colors;
-use crate::fairing::{MAX_POLISH, Preview, default_strength};
+use crate::fairing::{MAX_POLISH, Preview, default_strength, pinned_indices};
 use crate::region;
 use crate::{App, Command};
 
@@ -472,15 +472,12 @@ impl App {
             }
             (best.1 < if need_y { 10.0 } else { 8.0 }).then_some(best.0)
         };
-        let pinned_idx = |pinned: &[bool]| -> Vec<usize> {
-            pinned.iter().enumerate().filter(|(_, b)| **b).map(|(k, _)| k).collect()
-        };
         if self.tool == TargetTool::Pin {
             if resp.clicked()
                 && let Some(q) = resp.interact_pointer_pos()
                 && let Some(k) = near(&*self, q, false)
             {
-                let mut pins = pinned_idx(&p.pinned);
+                let mut pins = pinned_indices(&p.pinned);
                 if let Some(i) = pins.iter().position(|&j| j == k) {
                     pins.remove(i);
                 } else {
@@ -552,7 +549,7 @@ impl App {
             }
             self.push(Command::SetTarget {
                 values: Some(t.values().to_vec()),
-                pinned: pinned_idx(t.pinned()),
+                pinned: pinned_indices(t.pinned()),
             });
         }
         if resp.drag_stopped() {

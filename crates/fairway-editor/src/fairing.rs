@@ -506,6 +506,11 @@ fn across_the_seam(prepared: &Prepared, rk: &RunKey, draft: bool) -> bool {
         && fairway::fair::closed::applies(setup.original(), setup.options())
 }
 
+/// The indices of the pinned target samples (`pinned[k]` true), as [`crate::Command::SetTarget`] takes them.
+pub fn pinned_indices(pinned: &[bool]) -> Vec<usize> {
+    pinned.iter().enumerate().filter(|(_, b)| **b).map(|(k, _)| k).collect()
+}
+
 /// The default smoothing strength for `n` samples: the core's own default
 /// (20 for `Fit`, else [`fairway::fair::curve::default_passes`]), so the
 /// editor's automatic target is the CLI's.

@@ -202,13 +202,7 @@ fn a_region_across_a_corner_is_faired_stretch_by_stretch_with_the_corner_kept() 
     for v in &mut values[split + 2..n - 2] {
         *v += 0.5;
     }
-    let pinned: Vec<usize> = p
-        .pinned
-        .iter()
-        .enumerate()
-        .filter(|(_, b)| **b)
-        .map(|(k, _)| k)
-        .collect();
+    let pinned = fairway_editor::fairing::pinned_indices(&p.pinned);
     h.state_mut().push(fairway_editor::Command::SetTarget {
         values: Some(values.clone()),
         pinned,
