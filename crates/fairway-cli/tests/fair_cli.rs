@@ -636,3 +636,65 @@ fn fair_curve_with_a_corner_keeps_it_and_reports_the_stretches() {
     assert!(r["stretches"][1]["left"].as_str().unwrap().contains("too small"));
     assert!(r["stretches"][0].get("left").is_none());
 }
+
+/// The bundled closed section with two chines: `fairway fair` keeps both, fairs the section across its
+/// seam (re-seamed at the first chine: the report says `faired`, the stretch between the chines through
+/// the seam is given as u1 > u2), the result is closed, on the original knots, inside the band and
+/// fairer; a region across the seam holding the second chine is split at it.
+#[test]
+fn fair_a_closed_curve_with_chines_across_its_seam() {
+    let dir = temp_dir("chines");
+    let (out, rep) = (dir.join("out.json"), dir.join("report.json"));
+    let input = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/chined_section.json"));
+    let c = curve(&input);
+    let m = 3e-3;
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "fair",
+            s(&input),
+            "--tolerance",
+            "0.003",
+            "-o",
+            s(&out),
+            "--report",
+            s(&rep),
+        ];
+        args.extend_from_slice(extra);
+        let o = fairway(&args);
+        ok(&o);
+        (curve(&out), json_file(&rep))
+    };
+    let (f, r) = run(&[]);
+    assert_eq!(r["seam"], "faired", "{r}");
+    let us: Vec<f64> = r["corners"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|k| k["u"].as_f64().unwrap())
+        .collect();
+    assert_eq!(us, vec![0.375, 0.875]);
+    let st = r["stretches"].as_array().unwrap();
+    assert_eq!(st[0]["region"], serde_json::json!([0.375, 0.875]));
+    assert_eq!(
+        st[1]["region"],
+        serde_json::json!([0.875, 0.375]),
+        "the stretch through the seam"
+    );
+    assert_eq!(f.knots().values(), c.knots().values());
+    assert_eq!(f.points()[0], *f.points().last().unwrap(), "closed");
+    assert_ne!(f.points()[0], c.points()[0], "the seam is faired, not held");
+    for u in [0.375, 0.875] {
+        assert!(f.point(u).distance(c.point(u)) == 0.0, "the chine at {u} moved");
+    }
+    let (before, after) = (fairway::measure::measure(&c, &c), fairway::measure::measure(&c, &f));
+    assert!(after.dev_max <= m, "{}", after.dev_max);
+    assert!(after.E_var < 0.5 * before.E_var, "{} -> {}", before.E_var, after.E_var);
+    assert!(after.n_curv_extrema < before.n_curv_extrema);
+    // a region across the seam that holds the chine at 0.875
+    let (f, r) = run(&["--region", "0.8,0.2"]);
+    let st = r["stretches"].as_array().unwrap();
+    assert_eq!(st[0]["region"], serde_json::json!([0.8, 0.875]));
+    assert_eq!(st[1]["region"], serde_json::json!([0.875, 0.2]));
+    assert!(fairway::measure::measure(&c, &f).dev_max <= m);
+    assert!(f.point(0.5).distance(c.point(0.5)) <= 1e-12, "outside the region");
+}

@@ -121,6 +121,42 @@ pub fn closed_section() -> BSplineCurve {
     fairway::fair::closed::periodic_cubic(&q, 2).unwrap()
 }
 
+/// A closed 2D section with two chines: 48 noisy cyclic points as in [`closed_section`] (another seed)
+/// written as a closed cubic (C2 seam at u = 0), its knots u = 0.375 and 0.875 tripled (exact) and a tent
+/// of outward displacement raised on each: two chines (kinks of about 20°), corners that fairing keeps
+/// (the whole section is re-seamed at the first one and faired across its seam).
+pub fn chined_section() -> BSplineCurve {
+    let mut rng = Rng::new(0x00C4_14ED);
+    let n = 48;
+    let q: Vec<DVec3> = (0..n)
+        .map(|j| {
+            let t = 2.0 * PI * j as f64 / n as f64;
+            let noise = DVec3::new(rng.normal(), rng.normal(), 0.0) * 0.001;
+            DVec3::new(1.2 * t.cos(), 0.6 * t.sin() + 0.08 * (2.0 * t).sin(), 0.0) + noise
+        })
+        .collect();
+    let mut c = fairway::fair::closed::periodic_cubic(&q, 2).unwrap();
+    for u in [0.375, 0.875] {
+        c = c.insert_knot(u, 2).unwrap();
+    }
+    // a tent of outward displacement on each chine (6 cm high, 0.06 of the parameter wide on each side),
+    // on the control points by their Greville abscissae: C0 at the chine's triple knot, smooth around it
+    let g = c.knots().greville();
+    let pts: Vec<DVec3> = c
+        .points()
+        .iter()
+        .zip(&g)
+        .map(|(p, &x)| {
+            let tent: f64 = [0.375, 0.875]
+                .iter()
+                .map(|u| (1.0 - (x - u).abs() / 0.06).max(0.0))
+                .sum();
+            *p + p.normalize() * 0.06 * tent
+        })
+        .collect();
+    c.with_points(pts).unwrap()
+}
+
 /// A 2D rear-deck profile with a kink (a character line): a gentle rise from (0, 0) to (1.8, 0.5)
 /// and a steeper fall to (3, 0), meeting at a 20° tangent break. Each part: 200 samples with σ = 0.6 mm
 /// noise fitted with 24 control points (end points exact); the parts joined at a triple knot u = 0.6, so
@@ -201,6 +237,7 @@ pub fn generate() -> Vec<(&'static str, String)> {
         ("spatial_curve.json", json::to_string(&spatial_curve().into())),
         ("closed_section.json", json::to_string(&closed_section().into())),
         ("kinked_profile.json", json::to_string(&kinked_profile().into())),
+        ("chined_section.json", json::to_string(&chined_section().into())),
         ("bumpy_surface.json", json::to_string(&bumpy_surface().into())),
     ]
 }

@@ -146,6 +146,9 @@ pub struct CornerSetups {
 struct Rotation {
     /// The domain length L: a parameter `u > b` of the re-seamed curve is the input's `u − L`.
     length: f64,
+    /// The region's ends on the re-seamed curve and on the input (`u1`, `u2` for a region across the seam;
+    /// the kink for a whole loop): reported as the input's own values, not `(u2 + L) − L`.
+    ends: [(f64, f64); 2],
     /// The removal tolerance of the re-seaming and of the rotation back.
     tol: f64,
 }
@@ -229,7 +232,15 @@ impl CornerSetups {
                 (r, setup)
             })
             .collect();
-        let rotation = at.map(|_| Rotation { length: len, tol });
+        let rotation = at.map(|at| Rotation {
+            length: len,
+            ends: if u1 > u2 {
+                [(region.0, u1), (region.1, u2)]
+            } else {
+                [(region.0, at), (region.1, at)]
+            },
+            tol,
+        });
         let back = |u: f64| if u > d1 { u - len } else { u };
         let mut kept: Vec<Corner> = found.into_iter().map(|c| Corner { u: back(c.u), ..c }).collect();
         if rotated_loop && let Some(k) = corners(&input, d0, d1).into_iter().find(|c| !c.stops) {
@@ -336,8 +347,15 @@ impl CornerSetups {
         &mut self,
         mut pass: impl FnMut(&mut FairingSetup) -> Result<FairingResult>,
     ) -> Result<CornerFair> {
-        let (b, length) = (self.input.domain().1, self.rotation.as_ref().map_or(0.0, |r| r.length));
-        let back = |u: f64| if length > 0.0 && u > b { u - length } else { u };
+        let (rotation, b) = (self.rotation.clone(), self.input.domain().1);
+        let back = |u: f64| match &rotation {
+            Some(r) => r
+                .ends
+                .iter()
+                .find(|e| e.0 == u)
+                .map_or(if u > b { u - r.length } else { u }, |e| e.1),
+            None => u,
+        };
         let mut stretches = vec![];
         let mut curves = vec![];
         for (region, setup) in &mut self.stretches {
