@@ -194,6 +194,10 @@ impl App {
                                  and mapped back onto the original knots: C^(p-1) across the seam (C2 for a cubic)",
                             );
                     }
+                    Seam::Held(why) if p.corners.iter().any(|c| c.u == p.result.curve.domain().0) => {
+                        ui.weak("closed curve: its seam is a corner, kept (G1 on both sides)")
+                            .on_hover_text(why.as_str());
+                    }
                     Seam::Held(why) => {
                         ui.weak("closed curve: seam held (G2, unchanged there)")
                             .on_hover_text(why.as_str());

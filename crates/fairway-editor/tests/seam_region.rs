@@ -379,3 +379,27 @@ fn a_closed_curve_with_a_kink_is_faired_across_its_seam_with_the_kink_kept() {
     assert_eq!(f.points()[k], c.points()[k], "the kink moved");
     h.get_by_role_and_label(Role::Button, &format!("u 0.8000 to {u0:.4}"));
 }
+
+/// A closed curve whose seam is a kink (a sharp trailing edge), faired whole: the seam is kept as a corner
+/// with G1 on both sides (its point and tangents stay), and the panel says so.
+#[test]
+fn a_kink_at_the_seam_is_kept_as_a_corner_when_the_whole_curve_is_faired() {
+    let (c, u0, _) = closed_with_a_kink();
+    // re-seamed at the kink (exact), the domain back to [0, 1]
+    let r = fairway::fair::closed::rotate(&c, u0).unwrap();
+    let (a, b) = r.domain();
+    let knots = r.knots().values().iter().map(|u| (u - a) / (b - a)).collect();
+    let c = BSplineCurve::try_new(3, knots, r.points().to_vec(), None, 2).unwrap();
+    let mut doc = Document::new(fairway::Geometry::Curve(c.clone()));
+    doc.settings.region = Some((0.0, 1.0));
+    let h = harness(App::with_document(doc, None));
+    let p = h.state().preview().expect("faired").clone();
+    h.get_by_label_contains("closed curve: its seam is a corner, kept (G1 on both sides)");
+    assert_eq!(p.corners.len(), 1);
+    assert_eq!(p.corners[0].u, 0.0);
+    let (q0, q1) = (c.points(), p.result.curve.points());
+    let n = q0.len();
+    assert_eq!(q1[0], q0[0]);
+    assert_eq!(q1[n - 1], q0[n - 1]);
+    assert!(q1[1..n - 1].iter().zip(&q0[1..n - 1]).any(|(x, y)| x != y), "faired");
+}

@@ -92,6 +92,26 @@ pub fn corners(curve: &BSplineCurve, u1: f64, u2: f64) -> Vec<Corner> {
     out
 }
 
+/// The corner at the seam of a closed curve (first point = last point): the direction it arrives by at
+/// its end `b` against the one it leaves by at its start `a` (as [`corners`] compares the two sides of a
+/// knot), reported at `u = a`; `None` if the curve is smooth there to [`CORNER_ANGLE_DEG`] (or stops
+/// at an end: an end is never a stop here).
+pub fn seam_corner(curve: &BSplineCurve) -> Option<Corner> {
+    let (lo, hi) = curve.control_bounds();
+    let size = (hi - lo).length();
+    let kv = curve.knots().values();
+    let p = curve.degree();
+    let (a, b) = curve.domain();
+    if size == 0.0 || p < 1 {
+        return None;
+    }
+    // the last and the first non-empty span
+    let last = kv.partition_point(|&k| k < b) - 1;
+    let first = kv.partition_point(|&k| k <= a) - 1;
+    let c = turn(curve, (last, b, b - kv[last]), (first, a, kv[first + 1] - a), a, size)?;
+    (!c.stops).then_some(c)
+}
+
 /// The corner at `u` between the span `left = (span, u_end, width)` that the curve arrives by and the
 /// span `right = (span, u_start, width)` it leaves by, if the turn is one ([`corners`]).
 fn turn(curve: &BSplineCurve, left: (usize, f64, f64), right: (usize, f64, f64), u: f64, size: f64) -> Option<Corner> {

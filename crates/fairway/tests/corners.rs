@@ -434,3 +434,64 @@ fn a_region_across_the_seam_with_a_kink_is_faired_stretch_by_stretch() {
     assert!(moved_in[0] && moved_in[1], "both stretches faired");
     assert!(FairingSetup::new(&c, o).is_err(), "a single setup still refuses it");
 }
+
+/// A closed curve whose seam is itself a kink (a sharp trailing edge): the seam is kept as a corner, G1
+/// on both sides (its point and both tangent directions stay, the curvature next to it is faired), not
+/// held G2 as `fair_closed` holds a seam it cannot re-seam (the first and last three control points
+/// fixed, the wiggles next to the edge kept).
+#[test]
+fn a_kink_at_the_seam_is_kept_with_g1_and_the_curve_next_to_it_is_faired() {
+    let m = 3e-3;
+    for seed in [1, 2] {
+        // the kinked circle re-seamed at its kink (exact), domain scaled back to [0, 1]
+        let (c, _) = closed_circle_with_a_kink(seed);
+        let r = fairway::fair::closed::rotate(&c, 0.5).unwrap();
+        let (a, b) = r.domain();
+        let c = BSplineCurve::try_new(
+            3,
+            r.knots().values().iter().map(|u| (u - a) / (b - a)).collect(),
+            r.points().to_vec(),
+            None,
+            2,
+        )
+        .unwrap();
+        assert!(corners(&c, 0.0, 1.0).is_empty(), "no interior corner");
+        let k = fairway::corners::seam_corner(&c).expect("the seam is a kink");
+        assert!(k.u == 0.0 && k.angle_deg > 20.0, "{k:?}");
+
+        let f = fair_curve(&c, opts(m)).unwrap();
+        assert!(
+            matches!(&f.seam, Seam::Held(why) if why.contains("the seam is a corner")),
+            "{:?}",
+            f.seam
+        );
+        let (p0, p1) = (c.points(), f.curve.points());
+        let n = p0.len();
+        assert_eq!(p1[0], p0[0]);
+        assert_eq!(p1[n - 1], p0[n - 1]);
+        for (end, next) in [(0, 1), (n - 1, n - 2)] {
+            let dir = |p: &[DVec3]| (p[next] - p[end]).normalize();
+            assert!(
+                (dir(p1) - dir(p0)).length() < 1e-9,
+                "seed {seed}: the tangent at the seam turned"
+            );
+        }
+        assert!(
+            p1[2] != p0[2] || p1[n - 3] != p0[n - 3],
+            "G1, not G2: the curvature next to the seam is faired"
+        );
+        let measured = dev_max(&c, &f.curve);
+        assert!(measured <= m * (1.0 + 1e-9), "seed {seed}: {measured}");
+
+        // fairer than the seam held G2 (fair_closed's fallback when the seam cannot be re-seamed)
+        let held = fairway::fair::fair_closed(&c, opts(m)).unwrap();
+        assert!(matches!(held.seam, Seam::Held(_)));
+        let (e0, e_g1, e_held) = (
+            measure(&c, &c).E_var,
+            measure(&c, &f.curve).E_var,
+            measure(&c, &held.curve).E_var,
+        );
+        println!("seed {seed}: ∫(dκ/ds)² {e0:.1} -> {e_g1:.1} (G1 at the seam), {e_held:.1} (held G2)");
+        assert!(e_g1 < e_held, "seed {seed}: {e_g1} vs held {e_held}");
+    }
+}

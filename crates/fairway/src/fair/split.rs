@@ -17,7 +17,10 @@
 //! first and last stretch; on a noisy closed circle with a 30° kink the curvature error within 10 % of
 //! the length of the seam dropped 3.2× instead of 1.5× with the seam held, `tests/corners.rs`), a
 //! region across the seam (`u1 > u2`) in the middle of the untouched rest, as
-//! [`super::closed::setup_across_seam`] does. If the seam cannot be re-seamed (it is not
+//! [`super::closed::setup_across_seam`] does. A seam that is itself a kink (a sharp
+//! trailing edge, [`crate::corners::seam_corner`]) is a corner like the others: it ends the first and
+//! the last stretch with G1 (before, the whole loop went to `fair_closed`, which holds such a seam G2:
+//! the first and last three control points fixed). If the seam cannot be re-seamed otherwise (not
 //! parametrically C2), a whole loop's seam ends two stretches like G2 region ends, and a region across
 //! it is left to `setup_across_seam`, which says why. A stretch whose setup is refused (too short
 //! to have a free control point, say) is left as it is and said so in [`FairingResult::notes`]; if
@@ -27,7 +30,7 @@ use super::closed::{Seam, is_closed_curve, removal_tolerance, reseam, unrotate};
 use super::curve::{EndCondition, FairingOptions, FairingResult, FairingSetup};
 use super::target::Target;
 use crate::arclength::ArcLengthTable;
-use crate::corners::{Corner, corners, counted, stretches_between};
+use crate::corners::{Corner, corners, counted, seam_corner, stretches_between};
 use crate::curve::BSplineCurve;
 use crate::error::{Error, Result};
 
@@ -156,7 +159,8 @@ struct Rotation {
 impl CornerSetups {
     /// The setups of the stretches between the corners inside `opts.region` (the whole curve if
     /// none) of `curve`, with `ends` at the region's own ends (module docs for the ends between
-    /// stretches). A closed curve is set up re-seamed where that keeps every stretch off the seam
+    /// stretches). A whole loop whose seam is a kink keeps it as a corner (G1 at the curve ends). A
+    /// closed curve is set up re-seamed where that keeps every stretch off the seam
     /// ([`Rotation`]): a whole loop at its first kink (if its seam can be re-seamed exactly; else the
     /// seam ends two stretches like G2 region ends), a region across the seam (`u1 > u2`) in the
     /// middle of the untouched rest. `Ok(None)` if the region holds no corner (for a whole loop
@@ -175,6 +179,7 @@ impl CornerSetups {
         let closed = is_closed_curve(&input);
         let tol = removal_tolerance(&input);
         let whole_loop = closed && u1 <= d0 + eps && u2 >= d1 - eps;
+        let seam_kink = if whole_loop { seam_corner(&input) } else { None };
         // the curve to set up on, the region on it, where it was re-seamed, the region's own ends
         let (work, region, at, region_ends) = if u1 > u2 {
             if !closed {
@@ -187,6 +192,9 @@ impl CornerSetups {
             }
         } else if !(u1 < u2) {
             return Ok(None);
+        } else if whole_loop && seam_kink.is_some() {
+            // the seam is a kink (a sharp trailing edge): it ends the first and the last stretch, G1
+            (input.clone(), (u1, u2), None, [EndCondition::G1; 2])
         } else if whole_loop {
             // a loop has no ends: G2 where the seam ends two stretches
             let kink = corners(&input, d0, d1).into_iter().find(|c| !c.stops);
@@ -199,7 +207,7 @@ impl CornerSetups {
         };
         let found = corners(&work, region.0, region.1);
         let rotated_loop = whole_loop && at.is_some();
-        if found.is_empty() && !rotated_loop {
+        if found.is_empty() && !rotated_loop && seam_kink.is_none() {
             return Ok(None);
         }
         // end conditions: the region's own at its ends (a loop re-seamed at a kink: G1, the kink); G1 at a
@@ -246,8 +254,15 @@ impl CornerSetups {
         if rotated_loop && let Some(k) = corners(&input, d0, d1).into_iter().find(|c| !c.stops) {
             kept.push(k);
         }
+        kept.extend(seam_kink);
         kept.sort_by(|x, y| x.u.total_cmp(&y.u));
-        let seam = if rotation.is_some() {
+        let seam = if let Some(k) = seam_kink {
+            Seam::Held(format!(
+                "the seam is a corner ({}): kept as a corner, G1 on both sides (its point and both tangent \
+                 directions stay, the curvature next to it is faired)",
+                k.describe()
+            ))
+        } else if rotation.is_some() {
             Seam::Faired
         } else if !closed {
             Seam::Open
