@@ -191,16 +191,25 @@ fn a_region_across_the_seam_round_trips_through_a_saved_document() {
 
 #[test]
 fn a_seam_that_cannot_be_re_seamed_is_an_error_message() {
-    // a corner at the seam: the region across it cannot be faired as one stretch
     let c = fairway::io::load(&asset("closed_section.json")).unwrap();
     let fairway::Geometry::Curve(c) = c.geometry else {
         panic!("a curve")
     };
+    let last = c.n_points() - 1;
+    // a kink at the seam is a corner: a region across it is faired as its two sides, G1 at the seam
     let mut q = c.points().to_vec();
-    let last = q.len() - 1;
     let d = q[1] - q[0];
     q[1] += fairway::DVec3::new(-d.y, d.x, 0.0) * 0.5;
     q[last - 1] -= fairway::DVec3::new(-d.y, d.x, 0.0) * 0.3;
+    let mut doc = Document::new(fairway::Geometry::Curve(c.with_points(q).unwrap()));
+    doc.settings.region = Some((0.8, 0.2));
+    let h = harness(App::with_document(doc, None));
+    let p = h.state().preview().expect("faired as the two sides of the seam");
+    assert_eq!(p.stretches, vec![(0.8, 1.0), (0.0, 0.2)]);
+    assert_eq!(p.corners[0].u, 0.0);
+    // a seam that is smooth (G1) but not parametrically C2 (the speed jumps) cannot be re-seamed: an error
+    let mut q = c.points().to_vec();
+    q[1] = q[0] + (q[1] - q[0]) * 1.5;
     let mut doc = Document::new(fairway::Geometry::Curve(c.with_points(q).unwrap()));
     doc.settings.region = Some((0.8, 0.2));
     let h = harness(App::with_document(doc, None));

@@ -20,7 +20,8 @@
 //! [`super::closed::setup_across_seam`] does. A seam that is itself a kink (a sharp
 //! trailing edge, [`crate::corners::seam_corner`]) is a corner like the others: it ends the first and
 //! the last stretch with G1 (before, the whole loop went to `fair_closed`, which holds such a seam G2:
-//! the first and last three control points fixed). If the seam cannot be re-seamed otherwise (not
+//! the first and last three control points fixed), and a region across it is faired as its two sides
+//! `[u1, b]` and `[a, u2]` (before: refused, the seam cannot be re-seamed). If the seam cannot be re-seamed otherwise (not
 //! parametrically C2), a whole loop's seam ends two stretches like G2 region ends, and a region across
 //! it is left to `setup_across_seam`, which says why. A stretch whose setup is refused (too short
 //! to have a free control point, say) is left as it is and said so in [`FairingResult::notes`]; if
@@ -179,16 +180,25 @@ impl CornerSetups {
         let closed = is_closed_curve(&input);
         let tol = removal_tolerance(&input);
         let whole_loop = closed && u1 <= d0 + eps && u2 >= d1 - eps;
-        let seam_kink = if whole_loop { seam_corner(&input) } else { None };
+        let seam_kink = if whole_loop || (closed && u1 > u2) {
+            seam_corner(&input)
+        } else {
+            None
+        };
         // the curve to set up on, the region on it, where it was re-seamed, the region's own ends
         let (work, region, at, region_ends) = if u1 > u2 {
             if !closed {
                 return Ok(None);
             }
-            let at = 0.5 * (u1 + u2);
-            match reseam(&input, at, tol) {
-                Ok((r, _)) => (r, (u1, u2 + len), Some(at), ends),
-                Err(_) => return Ok(None),
+            if seam_kink.is_some() {
+                // across a seam that is a kink: [u1, b] and [a, u2] (the segments below), G1 at the seam
+                (input.clone(), (u1, u2), None, ends)
+            } else {
+                let at = 0.5 * (u1 + u2);
+                match reseam(&input, at, tol) {
+                    Ok((r, _)) => (r, (u1, u2 + len), Some(at), ends),
+                    Err(_) => return Ok(None),
+                }
             }
         } else if !(u1 < u2) {
             return Ok(None);
@@ -205,7 +215,13 @@ impl CornerSetups {
         } else {
             (input.clone(), (u1, u2), None, ends)
         };
-        let found = corners(&work, region.0, region.1);
+        // the stretches of `work` to cut at corners: the region, or its two sides of a seam that is a kink
+        let segments = if region.0 > region.1 {
+            vec![(region.0, d1), (d0, region.1)]
+        } else {
+            vec![region]
+        };
+        let found: Vec<Corner> = segments.iter().flat_map(|&(a, b)| corners(&work, a, b)).collect();
         let rotated_loop = whole_loop && at.is_some();
         if found.is_empty() && !rotated_loop && seam_kink.is_none() {
             return Ok(None);
@@ -219,7 +235,7 @@ impl CornerSetups {
                 region_ends[0]
             } else if (u - region.1).abs() <= eps {
                 region_ends[1]
-            } else if found.iter().any(|c| !c.stops && c.u == u) {
+            } else if found.iter().any(|c| !c.stops && c.u == u) || (seam_kink.is_some() && (u == d0 || u == d1)) {
                 EndCondition::G1
             } else {
                 EndCondition::G2
@@ -228,8 +244,12 @@ impl CornerSetups {
         // on a re-seamed curve the band is verified on the input's arc-length samples (measure's): they
         // sit at −s(at) modulo their spacing
         let phase = at.map_or(0.0, |at| -ArcLengthTable::new(&input, 1e-12).length_at(&input, at));
-        let stretches = stretches_between(&work, region.0, region.1, &found)
-            .into_iter()
+        let stretches = segments
+            .iter()
+            .flat_map(|&(a, b)| {
+                let inside: Vec<Corner> = found.iter().filter(|c| c.u > a && c.u < b).cloned().collect();
+                stretches_between(&work, a, b, &inside)
+            })
             .map(|r| {
                 let o = FairingOptions {
                     region: Some(r),
