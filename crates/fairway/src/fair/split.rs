@@ -162,7 +162,7 @@ impl CornerSetups {
     /// none) of `curve`, with `ends` at the region's own ends (module docs for the ends between
     /// stretches). A whole loop whose seam is a kink keeps it as a corner (G1 at the curve ends). A
     /// closed curve is set up re-seamed where that keeps every stretch off the seam
-    /// ([`Rotation`]): a whole loop at its first kink (if its seam can be re-seamed exactly; else the
+    /// (exactly, `closed::reseam`): a whole loop at its first kink (if its seam can be re-seamed exactly; else the
     /// seam ends two stretches like G2 region ends), a region across the seam (`u1 > u2`) in the
     /// middle of the untouched rest. `Ok(None)` if the region holds no corner (for a whole loop
     /// re-seamed at its only kink: one stretch, the kink its ends), or runs across the seam of a curve
