@@ -288,27 +288,22 @@ fn corner_setups_refair_like_a_fresh_fair_and_an_edit_stays_in_its_stretch() {
 /// kink at u = 0.5: the knot there tripled (exact) and its control point, on the curve, pulled out by
 /// 0.1 (a tangent break of about 30°). Returns the curve and the kink's control point index.
 fn closed_circle_with_a_kink(seed: u64) -> (BSplineCurve, usize) {
-    let n = 40;
-    let mut rng = Rng::new(seed);
-    let shrink = (4.0 + 2.0 * (std::f64::consts::TAU / n as f64).cos()) / 6.0;
-    let q: Vec<DVec3> = (0..n)
-        .map(|j| {
-            let t = std::f64::consts::TAU * j as f64 / n as f64;
-            DVec3::new(t.cos(), t.sin(), 0.0) / shrink + DVec3::new(rng.gauss(), rng.gauss(), 0.0) * 2e-3
-        })
-        .collect();
-    let c = fairway::fair::closed::periodic_cubic(&q, 2)
-        .unwrap()
-        .insert_knot(0.5, 2)
-        .unwrap();
+    let c = closed_circle_with_kinks(seed, &[0.5], 0.1, 0.0);
     let k = c
         .points()
         .iter()
         .position(|p| p.distance(c.point(0.5)) < 1e-12)
         .unwrap();
-    let mut pts = c.points().to_vec();
-    pts[k] *= 1.1;
-    (c.with_points(pts).unwrap(), k)
+    (c, k)
+}
+
+/// `c` (closed, on [0, 1]) re-seamed at `at` (exact, [`fairway::fair::closed::rotate`]) and its domain
+/// scaled back to [0, 1].
+fn reseamed(c: &BSplineCurve, at: f64) -> BSplineCurve {
+    let r = fairway::fair::closed::rotate(c, at).unwrap();
+    let (a, b) = r.domain();
+    let knots = r.knots().values().iter().map(|u| (u - a) / (b - a)).collect();
+    BSplineCurve::try_new(3, knots, r.points().to_vec(), None, 2).unwrap()
 }
 
 /// RMS of κ − 1 over the arc-length samples of `c` within `w` (a fraction of the length) of its seam.
@@ -381,16 +376,7 @@ fn a_region_across_the_seam_with_a_kink_is_faired_stretch_by_stretch() {
     let m = 3e-3;
     let (c, _) = closed_circle_with_a_kink(4);
     // bring the kink next to the seam: the curve re-seamed at 0.25 (exact), its domain scaled to [0, 1]
-    let c = fairway::fair::closed::rotate(&c, 0.25).unwrap();
-    let (a, b) = c.domain();
-    let c = BSplineCurve::try_new(
-        3,
-        c.knots().values().iter().map(|u| (u - a) / (b - a)).collect(),
-        c.points().to_vec(),
-        None,
-        2,
-    )
-    .unwrap();
+    let c = reseamed(&c, 0.25);
     // now the kink is at u = 0.25, the old seam (a knot of multiplicity 3, smooth) at 0.75
     let found = corners(&c, 0.0, 1.0);
     assert_eq!(found.len(), 1, "{found:?}");
@@ -445,16 +431,7 @@ fn a_kink_at_the_seam_is_kept_with_g1_and_the_curve_next_to_it_is_faired() {
     for seed in [1, 2] {
         // the kinked circle re-seamed at its kink (exact), domain scaled back to [0, 1]
         let (c, _) = closed_circle_with_a_kink(seed);
-        let r = fairway::fair::closed::rotate(&c, 0.5).unwrap();
-        let (a, b) = r.domain();
-        let c = BSplineCurve::try_new(
-            3,
-            r.knots().values().iter().map(|u| (u - a) / (b - a)).collect(),
-            r.points().to_vec(),
-            None,
-            2,
-        )
-        .unwrap();
+        let c = reseamed(&c, 0.5);
         assert!(corners(&c, 0.0, 1.0).is_empty(), "no interior corner");
         let k = fairway::corners::seam_corner(&c).expect("the seam is a kink");
         assert!(k.u == 0.0 && k.angle_deg > 20.0, "{k:?}");
@@ -517,13 +494,7 @@ fn closed_circle_with_kinks(seed: u64, at: &[f64], pull: f64, seam: f64) -> BSpl
         pts[k] *= 1.0 + pull;
         c = c.with_points(pts).unwrap();
     }
-    if seam == 0.0 {
-        return c;
-    }
-    let r = fairway::fair::closed::rotate(&c, seam).unwrap();
-    let (a, b) = r.domain();
-    let knots = r.knots().values().iter().map(|u| (u - a) / (b - a)).collect();
-    BSplineCurve::try_new(3, knots, r.points().to_vec(), None, 2).unwrap()
+    if seam == 0.0 { c } else { reseamed(&c, seam) }
 }
 
 proptest::proptest! {
