@@ -605,10 +605,10 @@ impl App {
             .map(|k| Pos2::new(pl.x(self.target_s(p, k), len), pl.y(p.target[k])))
             .collect();
         // one polyline per run of increasing parameters (the target of a region across the seam jumps
-        // from the plot's right edge to its left one)
+        // from the plot's right edge to its left one) and per stretch between corners
         let mut start = 0;
         for k in 1..=tpts.len() {
-            if k == tpts.len() || p.params[k] < p.params[k - 1] {
+            if k == tpts.len() || p.params[k] < p.params[k - 1] || p.breaks.contains(&k) {
                 painter.add(Shape::line(tpts[start..k].to_vec(), Stroke::new(1.8, colors::TARGET)));
                 start = k;
             }

@@ -111,6 +111,9 @@ pub struct Preview {
     pub corners: Vec<Corner>,
     /// See `corners`.
     pub stretches: Vec<(f64, f64)>,
+    /// The target samples that start a stretch after the first (the κ plot draws each stretch's target
+    /// as a line of its own, not one line through the jump at a corner).
+    pub breaks: Vec<usize>,
     /// Wall time of the last re-fair, milliseconds.
     pub fair_ms: f64,
     /// A draft made while a drag is in progress: the band-holding fit without
@@ -466,6 +469,16 @@ fn run(
     let spans = result.curve.knots().breakpoints().len().saturating_sub(1).max(1);
     let sampled = Sampled::new(&result.curve, (spans * 24).clamp(400, 4000));
     let t = prepared.target();
+    let breaks = prepared
+        .setups()
+        .iter()
+        .scan(0, |start, s| {
+            let k = *start;
+            *start += s.params().len();
+            Some(k)
+        })
+        .skip(1)
+        .collect();
     // a re-seamed setup's parameters past the old seam b, back on the original (u − L)
     let params = prepared
         .setups()
@@ -485,6 +498,7 @@ fn run(
         pinned: t.pinned().to_vec(),
         corners,
         stretches,
+        breaks,
         result,
         fair_ms,
         draft,

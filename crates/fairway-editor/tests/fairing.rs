@@ -195,6 +195,13 @@ fn a_region_across_a_corner_is_faired_stretch_by_stretch_with_the_corner_kept() 
     assert!(p.params[0] >= 0.2 - 1e-12 && *p.params.last().unwrap() <= 0.8 + 1e-12);
     let split = p.params.partition_point(|&u| u < 0.6);
     assert!(split > 3 && p.params.len() - split > 3);
+    // the second stretch's target starts a line of its own on the κ plot, at the kink
+    assert_eq!(p.breaks.len(), 1);
+    let b = p.breaks[0];
+    assert!(
+        (p.params[b - 1] - 0.6).abs() < 1e-12 && (p.params[b] - 0.6).abs() < 1e-12,
+        "{b}"
+    );
 
     // raise the target over the second stretch (not its pinned end samples): that stretch bends more
     let mut values = p.target.clone();
