@@ -103,33 +103,36 @@ impl App {
         if p.corners.is_empty() {
             return;
         }
-        let (corners, stretches, notes) = (p.corners.clone(), p.stretches.clone(), p.result.notes.clone());
-        let list: Vec<String> = corners.iter().map(fairway::corners::Corner::describe).collect();
+        let list: Vec<String> = p.corners.iter().map(fairway::corners::Corner::describe).collect();
         ui.weak(format!(
             "{} kept (tangent break or stop): the {} stretches between them faired one by one",
-            fairway::corners::counted(&corners),
-            stretches.len()
+            fairway::corners::counted(&p.corners),
+            p.stretches.len()
         ))
         .on_hover_text(format!(
             "Fairing across a corner would round it off into a curvature spike, so the region is faired \
              stretch by stretch, G1 at a kink (its point and angle stay exactly). Corners {}.",
             list.join(", ")
         ));
-        for note in &notes {
+        for note in &p.result.notes {
             ui.colored_label(Color32::YELLOW, note);
         }
+        let mut picked = None;
         ui.horizontal_wrapped(|ui| {
             ui.weak("Fair one stretch only:");
-            for &(a, b) in &stretches {
+            for &(a, b) in &p.stretches {
                 if ui
                     .small_button(format!("u {a:.4} to {b:.4}"))
                     .on_hover_text("Make this stretch between corners the region")
                     .clicked()
                 {
-                    self.push(Command::SetRegion(Some((a, b))));
+                    picked = Some((a, b));
                 }
             }
         });
+        if let Some(r) = picked {
+            self.push(Command::SetRegion(Some(r)));
+        }
     }
 
     /// The fairing section of the side panel.

@@ -220,7 +220,7 @@ impl Fairing {
     /// setup's, or the stretches' between corners end to end. For a region across the seam it is the
     /// re-seamed curve's setup's ([`Fairing::across_seam`]).
     pub fn target(&self) -> Option<Target> {
-        self.setup.as_ref().map(Prepared::target)
+        self.setup.as_ref().map(Prepared::target).filter(|t| !t.is_empty())
     }
 
     /// The setup fairs a region across the seam of a closed curve (on the re-seamed curve; results
@@ -468,9 +468,9 @@ fn run(
     let fair_ms = t0.elapsed().as_secs_f64() * 1e3;
     let spans = result.curve.knots().breakpoints().len().saturating_sub(1).max(1);
     let sampled = Sampled::new(&result.curve, (spans * 24).clamp(400, 4000));
-    let t = prepared.target();
-    let breaks = prepared
-        .setups()
+    // the setups' samples end to end (one setup unless the region has corners)
+    let setups = prepared.setups();
+    let breaks = setups
         .iter()
         .scan(0, |start, s| {
             let k = *start;
@@ -480,8 +480,7 @@ fn run(
         .skip(1)
         .collect();
     // a re-seamed setup's parameters past the old seam b, back on the original (u − L)
-    let params = prepared
-        .setups()
+    let params = setups
         .iter()
         .flat_map(|s| s.params())
         .map(|&u| match (&*prepared, across) {
@@ -490,12 +489,13 @@ fn run(
             _ => u,
         })
         .collect();
+    let cat = |f: fn(&Target) -> &[f64]| setups.iter().flat_map(|s| f(s.target())).copied().collect();
     Ok(Preview {
         sampled,
         params,
-        target: t.values().to_vec(),
-        original: t.original().to_vec(),
-        pinned: t.pinned().to_vec(),
+        target: cat(Target::values),
+        original: cat(Target::original),
+        pinned: setups.iter().flat_map(|s| s.target().pinned()).copied().collect(),
         corners,
         stretches,
         breaks,
@@ -511,7 +511,7 @@ fn run(
 /// setup's samples). The target plot keeps showing the setup's samples.
 fn across_the_seam(prepared: &Prepared, rk: &RunKey, draft: bool) -> bool {
     let Prepared::One(setup) = prepared else {
-        // with corners the seam ends two stretches (the core holds it)
+        // with corners the core's CornerSetups handles the seam (re-seamed at a kink, or kept as one)
         return false;
     };
     !draft

@@ -146,7 +146,7 @@ pub struct CornerSetups {
 /// `[at, at + L]`), so that no stretch runs across the seam: at a kink for a whole loop (the seam is then
 /// faired like any other point, and the kink ends the first and last stretch), in the middle of the
 /// untouched rest for a region across the seam. The merged result is rotated back ([`unrotate`]).
-#[derive(Clone, Debug)]
+#[derive(Clone, Copy, Debug)]
 struct Rotation {
     /// The domain length L: a parameter `u > b` of the re-seamed curve is the input's `u − L`.
     length: f64,
@@ -155,6 +155,18 @@ struct Rotation {
     ends: [(f64, f64); 2],
     /// The removal tolerance of the re-seaming and of the rotation back.
     tol: f64,
+}
+
+impl Rotation {
+    /// A parameter `u` of the re-seamed curve as the input's (domain end `b`): a region end as the
+    /// input's own value, past `b` it is `u − L`, else unchanged (the same point on both curves).
+    fn to_input(self, u: f64, b: f64) -> f64 {
+        match self.ends.iter().find(|e| e.0 == u) {
+            Some(e) => e.1,
+            None if u > b => u - self.length,
+            None => u,
+        }
+    }
 }
 
 impl CornerSetups {
@@ -185,6 +197,8 @@ impl CornerSetups {
         } else {
             None
         };
+        // the kink a whole loop is re-seamed at (kept as a corner: it ends the first and last stretch)
+        let mut loop_kink = None;
         // the curve to set up on, the region on it, where it was re-seamed, the region's own ends
         let (work, region, at, region_ends) = if u1 > u2 {
             if !closed {
@@ -208,8 +222,11 @@ impl CornerSetups {
         } else if whole_loop {
             // a loop has no ends: G2 where the seam ends two stretches
             let kink = corners(&input, d0, d1).into_iter().find(|c| !c.stops);
-            match kink.and_then(|k| reseam(&input, k.u, tol).ok().map(|r| (k.u, r.0))) {
-                Some((at, r)) => (r, (at, at + len), Some(at), [EndCondition::G1; 2]),
+            match kink.and_then(|k| reseam(&input, k.u, tol).ok().map(|r| (k, r.0))) {
+                Some((k, r)) => {
+                    loop_kink = Some(k);
+                    (r, (k.u, k.u + len), Some(k.u), [EndCondition::G1; 2])
+                }
                 None => (input.clone(), (u1, u2), None, [EndCondition::G2; 2]),
             }
         } else {
@@ -222,8 +239,7 @@ impl CornerSetups {
             vec![region]
         };
         let found: Vec<Corner> = segments.iter().flat_map(|&(a, b)| corners(&work, a, b)).collect();
-        let rotated_loop = whole_loop && at.is_some();
-        if found.is_empty() && !rotated_loop && seam_kink.is_none() {
+        if found.is_empty() && loop_kink.is_none() && seam_kink.is_none() {
             return Ok(None);
         }
         // end conditions: the region's own at its ends (a loop re-seamed at a kink: G1, the kink); G1 at a
@@ -269,11 +285,14 @@ impl CornerSetups {
             },
             tol,
         });
-        let back = |u: f64| if u > d1 { u - len } else { u };
-        let mut kept: Vec<Corner> = found.into_iter().map(|c| Corner { u: back(c.u), ..c }).collect();
-        if rotated_loop && let Some(k) = corners(&input, d0, d1).into_iter().find(|c| !c.stops) {
-            kept.push(k);
-        }
+        let mut kept: Vec<Corner> = found
+            .into_iter()
+            .map(|c| Corner {
+                u: rotation.map_or(c.u, |r| r.to_input(c.u, d1)),
+                ..c
+            })
+            .collect();
+        kept.extend(loop_kink);
         kept.extend(seam_kink);
         kept.sort_by(|x, y| x.u.total_cmp(&y.u));
         let seam = if let Some(k) = seam_kink {
@@ -310,10 +329,7 @@ impl CornerSetups {
     /// samples) as the input's: past the input's domain end `b` (a re-seamed closed curve) it is
     /// `u − L`, else unchanged (the same point on both curves).
     pub fn to_original(&self, u: f64) -> f64 {
-        match &self.rotation {
-            Some(r) if u > self.input.domain().1 => u - r.length,
-            _ => u,
-        }
+        self.rotation.map_or(u, |r| r.to_input(u, self.input.domain().1))
     }
 
     /// The curve being faired (polynomial).
@@ -382,15 +398,8 @@ impl CornerSetups {
         &mut self,
         mut pass: impl FnMut(&mut FairingSetup) -> Result<FairingResult>,
     ) -> Result<CornerFair> {
-        let (rotation, b) = (self.rotation.clone(), self.input.domain().1);
-        let back = |u: f64| match &rotation {
-            Some(r) => r
-                .ends
-                .iter()
-                .find(|e| e.0 == u)
-                .map_or(if u > b { u - r.length } else { u }, |e| e.1),
-            None => u,
-        };
+        let (rotation, b) = (self.rotation, self.input.domain().1);
+        let back = |u: f64| rotation.map_or(u, |r| r.to_input(u, b));
         let mut stretches = vec![];
         let mut curves = vec![];
         for (region, setup) in &mut self.stretches {
@@ -426,17 +435,6 @@ impl CornerSetups {
             });
             curves.push(r.curve);
         }
-        let cur = merged(&self.work, &curves)?;
-        let cur = match &self.rotation {
-            // back onto the input's domain and knots, plus the knots the stretches inserted (G1 / G0
-            // region ends), mapped back
-            Some(rot) => {
-                let mut extra: Vec<f64> = extra_knots(&cur, &self.work).into_iter().map(back).collect();
-                extra.sort_by(f64::total_cmp);
-                unrotate(&cur, &self.input.refine(&extra)?, rot.tol)?
-            }
-            None => cur,
-        };
         let faired: Vec<&Stretch> = stretches.iter().filter(|s| s.left.is_none()).collect();
         if faired.is_empty() {
             let list: Vec<String> = self.corners.iter().map(Corner::describe).collect();
@@ -452,6 +450,17 @@ impl CornerSetups {
                 why.join("; ")
             )));
         }
+        let cur = merged(&self.work, &curves)?;
+        let cur = match &self.rotation {
+            // back onto the input's domain and knots, plus the knots the stretches inserted (G1 / G0
+            // region ends), mapped back
+            Some(rot) => {
+                let mut extra: Vec<f64> = extra_knots(&cur, &self.work).into_iter().map(back).collect();
+                extra.sort_by(f64::total_cmp);
+                unrotate(&cur, &self.input.refine(&extra)?, rot.tol)?
+            }
+            None => cur,
+        };
         let notes = stretches
             .iter()
             .filter_map(|s| {
