@@ -523,7 +523,12 @@ impl App {
                     let dk = self.plot.k(q.y) - d.k_start;
                     let s0 = self.target_s(&p, d.k0);
                     let radius = (self.falloff * self.region_s_length()).max(1e-12);
-                    for k in 0..d.start.len() {
+                    // a corner bounds the falloff: the other stretch's target is its own
+                    let n = d.start.len();
+                    let own = stretch_pieces(&p.breaks, n, 0, n - 1)
+                        .find(|r| r.contains(&d.k0))
+                        .unwrap_or(0..n);
+                    for k in own {
                         if p.pinned[k] {
                             continue;
                         }
@@ -545,11 +550,16 @@ impl App {
                         }
                     }
                     let (a, b) = (d.k0.min(k1), d.k0.max(k1));
-                    if self.tool == TargetTool::Smooth {
-                        let strength = default_strength(self.prefs.fair.method, p.target.len()).max(4);
-                        t.smooth_range(a, b, self.prefs.fair.method, strength);
-                    } else {
-                        t.flatten_range(a, b);
+                    // stretch by stretch: smoothing or flattening across a corner would blend the
+                    // curvature of its two sides (which the corner keeps apart)
+                    for r in stretch_pieces(&p.breaks, d.start.len(), a, b) {
+                        let (a, b) = (r.start, r.end - 1);
+                        if self.tool == TargetTool::Smooth {
+                            let strength = default_strength(self.prefs.fair.method, p.target.len()).max(4);
+                            t.smooth_range(a, b, self.prefs.fair.method, strength);
+                        } else {
+                            t.flatten_range(a, b);
+                        }
                     }
                 }
                 TargetTool::Pin => {}
@@ -732,4 +742,32 @@ fn region_counts(s: &crate::Sampled, region: Option<(f64, f64)>) -> (usize, usiz
     let ex = s.extrema.iter().filter(|&&i| region::contains(r, s.u[i])).count();
     let inf = s.inflections.iter().filter(|&&u| region::contains(r, u)).count();
     (ex, inf)
+}
+
+/// The parts of the target samples `a..=b` in each stretch between corners: `breaks` are the first
+/// samples of the second, third, … stretch of a target of `n` samples (the preview's `breaks`).
+/// One range `a..b + 1` without corners.
+pub fn stretch_pieces(breaks: &[usize], n: usize, a: usize, b: usize) -> impl Iterator<Item = std::ops::Range<usize>> {
+    let starts = std::iter::once(0).chain(breaks.iter().copied());
+    let ends = breaks.iter().copied().chain(std::iter::once(n));
+    starts
+        .zip(ends)
+        .map(move |(lo, hi)| lo.max(a)..hi.min(b + 1))
+        .filter(|r| r.start < r.end)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::stretch_pieces;
+
+    #[test]
+    fn stretch_pieces_split_a_range_at_the_corners() {
+        let v = |breaks: &[usize], a, b| stretch_pieces(breaks, 10, a, b).collect::<Vec<_>>();
+        assert_eq!(v(&[], 2, 7), vec![2..8]);
+        assert_eq!(v(&[4], 2, 7), vec![2..4, 4..8]);
+        assert_eq!(v(&[4], 4, 7), vec![4..8]);
+        assert_eq!(v(&[4], 1, 3), vec![1..4]);
+        assert_eq!(v(&[3, 6], 0, 9), vec![0..3, 3..6, 6..10]);
+        assert_eq!(v(&[3, 6], 5, 5), vec![5..6]);
+    }
 }

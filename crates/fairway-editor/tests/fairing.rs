@@ -159,6 +159,79 @@ fn e_polish_slider_caps_the_polish_of_the_full_fair() {
 /// it is faired stretch by stretch as `fairway fair` does, the kink kept (G1: its control points stay);
 /// the κ plot's target is the stretches' targets end to end, and a hand edit of it reaches the stretch
 /// it was made on; one button per stretch makes that stretch the region.
+/// The κ plot's target tools respect a corner: flattening across it makes each stretch constant on its
+/// own (the mean of its own dragged samples), and a drag's falloff stops at it.
+#[test]
+fn target_tools_keep_the_two_sides_of_a_corner_apart() {
+    let mut h = common::harness_with_asset("kinked_profile.json");
+    h.state_mut().push(fairway_editor::Command::SetRegion(Some((0.2, 0.8))));
+    h.run();
+    let p = h.state().preview().expect("faired stretch by stretch").clone();
+    assert_eq!(p.breaks.len(), 1);
+    let (b, n) = (p.breaks[0], p.target.len());
+    let xy = |h: &egui_kittest::Harness<'static, App>, k: usize, on_target: bool| {
+        let app = h.state();
+        let len = app.view.sampled.length;
+        let y = if on_target {
+            app.plot.y(p.target[k])
+        } else {
+            app.plot.rect.unwrap().center().y
+        };
+        Pos2::new(app.plot.x(app.target_s(&p, k), len), y)
+    };
+    // flatten from 15 samples before the kink to 15 after it
+    h.get_by_label("Flatten").click();
+    h.run();
+    let (a, c) = (b - 15, b + 15);
+    let (qa, qc) = (xy(&h, a, false), xy(&h, c, false));
+    drag(&mut h, &[qa, Pos2::new(0.5 * (qa.x + qc.x), qa.y), qc]);
+    let t = h.state().doc.settings.target.clone().expect("hand-edited target");
+    let (ka, kc) = (
+        h.state()
+            .plot
+            .x(h.state().target_s(&p, a), h.state().view.sampled.length),
+        h.state()
+            .plot
+            .x(h.state().target_s(&p, c), h.state().view.sampled.length),
+    );
+    assert_eq!((ka, kc), (qa.x, qc.x));
+    for (lo, hi) in [(a, b - 1), (b, c)] {
+        let mean = p.target[lo..=hi].iter().sum::<f64>() / (hi - lo + 1) as f64;
+        for k in lo..=hi {
+            if !p.pinned[k] {
+                assert!(
+                    (t[k] - mean).abs() < 1e-12,
+                    "sample {k}: {} vs its stretch's mean {mean}",
+                    t[k]
+                );
+            }
+        }
+    }
+    assert_eq!(t[..a], p.target[..a], "before the dragged stretch");
+    assert_eq!(t[c + 1..], p.target[c + 1..], "after the dragged stretch");
+    h.get_by_role_and_label(Role::Button, "Undo").click();
+    h.run();
+    assert!(h.state().doc.settings.target.is_none());
+
+    // drag a target point 3 samples before the kink up: its falloff (8 % of the region) would reach
+    // past the kink, but the second stretch's target stays as it was
+    h.get_by_label("Drag").click();
+    h.run();
+    let k0 = b - 3;
+    let q0 = xy(&h, k0, true);
+    drag(&mut h, &[q0, q0 - egui::vec2(0.0, 15.0), q0 - egui::vec2(0.0, 30.0)]);
+    let t = h.state().doc.settings.target.clone().expect("hand-edited target");
+    assert!(
+        t[k0] > p.target[k0],
+        "the dragged point rose: {} -> {}",
+        p.target[k0],
+        t[k0]
+    );
+    assert!(t[k0 - 10] > p.target[k0 - 10], "its falloff reaches its neighbours");
+    assert_eq!(t[b..], p.target[b..], "the falloff crossed the corner");
+    assert!(n > b + 10);
+}
+
 #[test]
 fn a_region_across_a_corner_is_faired_stretch_by_stretch_with_the_corner_kept() {
     let mut h = common::harness_with_asset("kinked_profile.json");
