@@ -592,10 +592,22 @@ impl App {
             let r = self.falloff * self.region_s_length();
             let y = pl.rect.unwrap_or(Rect::NOTHING).y_range();
             let shifts: &[f64] = if wraps { &[-len, 0.0, len] } else { &[0.0] };
+            // a corner bounds the reach (the drag stays in its stretch); drawn for a region that does
+            // not run across the seam, where the stretches are intervals of the plot
+            let (lo, hi) = if wraps {
+                (0.0, len)
+            } else {
+                p.breaks
+                    .iter()
+                    .map(|&b| self.target_s(p, b))
+                    .fold((0.0f64, len), |(lo, hi), sb| {
+                        if sb <= hs { (lo.max(sb), hi) } else { (lo, hi.min(sb)) }
+                    })
+            };
             for &sh in shifts {
                 let (x1, x2) = (
-                    pl.x((hs - r + sh).clamp(0.0, len), len),
-                    pl.x((hs + r + sh).clamp(0.0, len), len),
+                    pl.x((hs - r + sh).clamp(lo, hi), len),
+                    pl.x((hs + r + sh).clamp(lo, hi), len),
                 );
                 if x2 > x1 {
                     painter.rect_filled(
