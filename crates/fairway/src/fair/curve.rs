@@ -310,6 +310,8 @@ pub struct FairingSetup {
     /// The unit normal of the plane of a planar 3D curve (control points within 1e-12 of its size of
     /// one plane): the update stays in that plane ([`Self::constrain_update`]).
     plane: Option<DVec3>,
+    /// The original's signed curvature at the samples ([`Self::original_energy`]).
+    kappa0: Vec<f64>,
 }
 
 /// Polyline points per knot span of the reported deviation's searches ([`FairingSetup::sharp_deviation`]),
@@ -627,6 +629,7 @@ impl FairingSetup {
             scan_from: 0,
             join_fix: Vec::new(),
             plane: None,
+            kappa0: Vec::new(),
         };
         s.seam = if !super::closed::is_closed_curve(&s.input) {
             Seam::Open
@@ -870,6 +873,7 @@ impl FairingSetup {
             }
         }
         s.target = Target::new(&kappa)?;
+        s.kappa0 = kappa;
         // a G1 / G0 end does not keep its curvature: the target is free there (smoothed like the interior)
         for (last, e) in [(false, ends[0]), (true, ends[1])] {
             if e != EndCondition::G2 {
@@ -1040,6 +1044,21 @@ impl FairingSetup {
         }
     }
 
+    /// E of the original (the zero update) against the current target, from the original's signed
+    /// curvature at the samples (kept by the setup): Σ (κ_k − g_k)², the same numbers as
+    /// [`Self::energy_of_update`] of zero (the same sums of the same rows), without the curvatures.
+    fn original_energy(&self) -> f64 {
+        let g = self.target.values();
+        self.kappa0
+            .iter()
+            .zip(g)
+            .map(|(k, g)| {
+                let e = k - g;
+                e * e
+            })
+            .sum()
+    }
+
     /// [`Self::energy_of_update`] with `N` = p + 1 known at compile time (0: read p from the curve):
     /// samples whose p + 1 rows are all free take an unrolled path (the same sums in the same order).
     fn energy_rows<const N: usize>(&self, d: &[DVec3]) -> f64 {
@@ -1145,13 +1164,13 @@ impl FairingSetup {
             }
         }
         let mut solves = 0;
-        let (mu, alpha, dev) = match self.opts.mode {
+        let (mu, alpha, dev, energy) = match self.opts.mode {
             FitMode::Paper => {
                 self.solve(0.0)?;
                 solves += 1;
                 self.best.copy_from_slice(&self.sol);
                 let dev = self.deviation(&self.best.clone(), f64::INFINITY);
-                (0.0, 1.0, dev)
+                (0.0, 1.0, dev, self.energy_of_update(&self.best))
             }
             FitMode::Fairway => {
                 let accept = band_accept(m, &self.work);
@@ -1166,18 +1185,22 @@ impl FairingSetup {
                 // 60 % more time: 339 instead of ≈ 210 ms).
                 // (E of a straight stretch is rounding on both sides: a floor of (1e-10 / length)² per
                 // sample keeps such ties as they are)
-                let zero = vec![DVec3::ZERO; self.nf];
+                // (each E is evaluated once: the fit's, the original's — kept while the target stays —, and
+                // the polish's last; an isocurve of a surface fair pays 1–2 instead of 3)
                 let ns = self.params.len() as f64;
                 let floor = ns * (1e-10 / (self.h * (ns - 1.0))).powi(2);
-                if self.energy_of_update(&self.best) > self.energy_of_update(&zero) + floor {
-                    self.best.copy_from_slice(&zero);
+                let mut e = self.energy_of_update(&self.best);
+                let e0 = self.original_energy();
+                if e > e0 + floor {
+                    self.best.fill(DVec3::ZERO);
                     alpha = 0.0;
                     dev = 0.0;
+                    e = e0;
                 }
-                let dev = if self.opts.polish {
-                    self.polish(accept, dev, &mut solves)
+                let (dev, e) = if self.opts.polish {
+                    self.polish(accept, dev, e, &mut solves)
                 } else {
-                    dev
+                    (dev, e)
                 };
                 // the band checks stop at the first point within the band: report the sharpest bound
                 let dev = if self.sharp_report {
@@ -1188,11 +1211,10 @@ impl FairingSetup {
                 } else {
                     dev
                 };
-                (mu, alpha, dev)
+                (mu, alpha, dev, e)
             }
         };
         let curve = self.updated_curve(&self.best)?;
-        let energy = self.energy_of_update(&self.best);
         Ok(FairingResult {
             curve,
             max_deviation: dev,
@@ -1211,13 +1233,13 @@ impl FairingSetup {
     /// and the band check still holds. The fairness-weighted fit is the linearized E with the
     /// original speed profile; this removes what that linearization leaves (the fast result's E
     /// was ≈ 11 % above the iterative baseline's). Returns the deviation of the accepted update.
-    fn polish(&mut self, accept: f64, dev: f64, solves: &mut usize) -> f64 {
+    fn polish(&mut self, accept: f64, dev: f64, e: f64, solves: &mut usize) -> (f64, f64) {
         let p = self.work.degree();
         let dim = self.work.dim();
         let nu = dim * self.nf;
         let bw = dim * (p + 1) - 1;
         let g = self.target.values().to_vec();
-        let mut e = self.energy_of_update(&self.best);
+        let mut e = e;
         let mut dev = dev;
         let mut lambda = 1e-3;
         let mut h = BandedSpd::zeros(nu, bw);
@@ -1329,7 +1351,7 @@ impl FairingSetup {
                 break;
             }
         }
-        dev
+        (dev, e)
     }
 
     /// The polish's Gauss–Newton system at the update `self.best`: `h += JᵀJ`, `rhs −= Jᵀr` with
@@ -2129,6 +2151,53 @@ mod tests {
                     / (2.0 * h);
                 assert!((f1 - g1[c]).abs() < 1e-7, "dim {dim} d1[{c}]: {f1} vs {}", g1[c]);
                 assert!((f2 - g2[c]).abs() < 1e-7, "dim {dim} d2[{c}]: {f2} vs {}", g2[c]);
+            }
+        }
+    }
+
+    /// The E guard compares the fit's E with the original's, which the setup sums from the original's
+    /// curvature at the samples instead of evaluating the zero update's rows: the same number bit for bit
+    /// (2D and a twisted 3D curve, cubic and quartic, whole and over a region, default and edited
+    /// target), and E of the original curve evaluated afresh agrees to rounding.
+    #[test]
+    fn original_energy_is_the_zero_updates_energy_bit_for_bit() {
+        for (p, dim) in [(3usize, 2usize), (3, 3), (4, 2), (4, 3)] {
+            let n = 14;
+            let mut knots = vec![0.0; p + 1];
+            knots.extend((1..n - p).map(|i| i as f64 / (n - p) as f64));
+            knots.extend(vec![1.0; p + 1]);
+            let pts: Vec<DVec3> = (0..n)
+                .map(|i| {
+                    let t = i as f64 / (n - 1) as f64;
+                    let z = if dim == 3 { 0.3 * (5.0 * t).cos() } else { 0.0 };
+                    DVec3::new(2.0 * t, (4.0 * t).sin() + 0.02 * ((i * 7 % 5) as f64 - 2.0), z)
+                })
+                .collect();
+            let c = BSplineCurve::try_new(p, knots, pts, None, dim).unwrap();
+            for region in [None, Some((0.2, 0.75))] {
+                let o = FairingOptions {
+                    tolerance: 1e-2,
+                    region,
+                    ..Default::default()
+                };
+                let mut s = FairingSetup::new(&c, o).unwrap();
+                for edit in [false, true] {
+                    if edit {
+                        let k = s.target().len() / 2;
+                        s.target_mut().set(k, 3.0);
+                        s.target_mut().flatten_range(k + 2, k + 9);
+                    }
+                    let zero = vec![DVec3::ZERO; s.nf];
+                    let (a, b) = (s.original_energy(), s.energy_of_update(&zero));
+                    assert_eq!(
+                        a.to_bits(),
+                        b.to_bits(),
+                        "p {p} dim {dim} {region:?} edit {edit}: {a} vs {b}"
+                    );
+                    let fresh = s.energy(&c);
+                    assert!((a - fresh).abs() <= 1e-9 * fresh.max(1.0), "{a} vs {fresh}");
+                    assert!(a > 0.0);
+                }
             }
         }
     }
