@@ -311,7 +311,7 @@ fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions) -> R
             mu: result.mu,
             alpha: result.alpha,
             solves: result.solves,
-            energy_before: setup.energy(setup.working_curve()),
+            energy_before: setup.original_energy(),
             energy: result.energy,
             free_points: [setup.free_points().start, setup.free_points().end],
             seam: seam_text(&result.seam),

@@ -1044,10 +1044,10 @@ impl FairingSetup {
         }
     }
 
-    /// E of the original (the zero update) against the current target, from the original's signed
-    /// curvature at the samples (kept by the setup): Σ (κ_k − g_k)², the same numbers as
-    /// [`Self::energy_of_update`] of zero (the same sums of the same rows), without the curvatures.
-    fn original_energy(&self) -> f64 {
+    /// The paper's E of the original against the current target: Σ (κ_k − g_k)² from the original's
+    /// signed curvature at the samples, which the setup keeps (no curve evaluation; [`Self::energy`] of
+    /// the original to rounding, and bit for bit the E of the zero update the E guard compares with).
+    pub fn original_energy(&self) -> f64 {
         let g = self.target.values();
         self.kappa0
             .iter()

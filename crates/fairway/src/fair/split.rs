@@ -420,7 +420,7 @@ impl CornerSetups {
                     continue;
                 }
             };
-            let energy_before = setup.energy(setup.working_curve());
+            let energy_before = setup.original_energy();
             let r = pass(setup)?;
             stretches.push(Stretch {
                 region: (back(region.0), back(region.1)),
