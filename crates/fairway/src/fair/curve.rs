@@ -2163,9 +2163,7 @@ mod tests {
     fn original_energy_is_the_zero_updates_energy_bit_for_bit() {
         for (p, dim) in [(3usize, 2usize), (3, 3), (4, 2), (4, 3)] {
             let n = 14;
-            let mut knots = vec![0.0; p + 1];
-            knots.extend((1..n - p).map(|i| i as f64 / (n - p) as f64));
-            knots.extend(vec![1.0; p + 1]);
+            let knots = crate::knots::KnotVector::uniform(p, n).unwrap().values().to_vec();
             let pts: Vec<DVec3> = (0..n)
                 .map(|i| {
                     let t = i as f64 / (n - 1) as f64;
