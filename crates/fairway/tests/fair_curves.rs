@@ -772,3 +772,81 @@ fn fairing_never_raises_e_above_the_original() {
     // and the polish did lower it (not merely the original returned)
     assert!(r.energy < 0.5 * e0, "E {e0} -> {}", r.energy);
 }
+
+/// A helix x = cos t, y = sin t, z = 0.3 t over 1.5 turns (curvature 1/1.09 everywhere, torsion 0.3/1.09)
+/// sampled with noise σ = `sigma` on all three coordinates and fitted by a cubic with 40 control points.
+fn noisy_helix(sigma: f64, seed: u64) -> BSplineCurve {
+    let (ncp, nsamp) = (40, 480);
+    let mut rng = common::Rng::new(seed);
+    let data: Vec<DVec3> = (0..nsamp)
+        .map(|k| {
+            let t = 3.0 * std::f64::consts::PI * k as f64 / (nsamp - 1) as f64;
+            let noise = if k == 0 || k + 1 == nsamp {
+                DVec3::ZERO
+            } else {
+                DVec3::new(rng.gauss(), rng.gauss(), rng.gauss()) * sigma
+            };
+            DVec3::new(t.cos(), t.sin(), 0.3 * t) + noise
+        })
+        .collect();
+    let params: Vec<f64> = (0..nsamp).map(|k| k as f64 / (nsamp - 1) as f64).collect();
+    let knots = fairway::KnotVector::uniform(3, ncp).unwrap();
+    let cp = fairway::fit::fit_curve_points(&knots, &params, &data, None, fairway::fit::Smoothing::NONE, &[]).unwrap();
+    BSplineCurve::try_new(3, knots.values().to_vec(), cp, None, 3).unwrap()
+}
+
+/// RMS of κ − 1/1.09 (the helix's) at 900 equal-arc samples over the middle 90 % of `c`.
+fn helix_curvature_error(c: &BSplineCurve) -> f64 {
+    let table = fairway::ArcLengthTable::new(c, 1e-10);
+    let us = table.equal_arc_params(c, 1001);
+    let e2: f64 = us[50..=950]
+        .iter()
+        .map(|&u| (c.curvature(u) - 1.0 / 1.09).powi(2))
+        .sum();
+    (e2 / 901.0).sqrt()
+}
+
+/// Regression (session 14): in 3D the polish followed the target only along the setup's normal, so it
+/// could turn the curvature vector out of the osculating plane for free. A looser tolerance then gave a
+/// *less* fair curve than a tight one: on this helix (seed 1) at m = 0.02 ∫(dκ/ds)² 1.99 → 2.24 against
+/// m = 5e-3 and 50 curvature extrema where the input had 34; on `assets/spatial_curve.json`, region
+/// [0.2, 0.8], m = 0.02: ∫(dκ/ds)² 9.1 → 33, extrema 36 → 50. E now also counts the curvature along the
+/// binormal: at every tolerance the result is fairer than the input (∫(dκ/ds)²), loosening the tolerance
+/// never makes it less fair, and at the tight one the curvature error against the true helix drops
+/// (measured 3.7× and 6.7×). (The extrema count is not asserted: the helix's curvature is constant, so
+/// it counts ripples of any size.) (Looser tolerances take the curve further from the
+/// noisy input and from the exact helix: the error to it rises again, 0.0095 → 0.016 → 0.025 on seed 1.)
+#[test]
+fn a_spatial_curve_is_fairer_at_a_looser_tolerance() {
+    for seed in [1, 2] {
+        let c = noisy_helix(2e-3, seed);
+        let before = helix_curvature_error(&c);
+        let m0 = measure(&c, &c);
+        let mut e_var = vec![];
+        for m in [5e-3, 2e-2, 5e-2] {
+            let r = fair_curve(&c, opts(m)).unwrap();
+            assert!(dev_max(&c, &r.curve) <= m * (1.0 + 1e-9));
+            let m1 = measure(&c, &r.curve);
+            let after = helix_curvature_error(&r.curve);
+            println!(
+                "seed {seed}, m = {m}: κ RMS error {before:.4} -> {after:.4} ({:.1}×), ∫(dκ/ds)² {:.3} -> {:.3}, extrema {} -> {}",
+                before / after,
+                m0.E_var,
+                m1.E_var,
+                m0.n_curv_extrema,
+                m1.n_curv_extrema
+            );
+            assert!(m1.E_var < m0.E_var, "seed {seed}, m = {m}");
+            if m == 5e-3 {
+                assert!(after < 0.5 * before, "seed {seed}: κ error {before} -> {after}");
+            }
+            e_var.push(m1.E_var);
+        }
+        for w in e_var.windows(2) {
+            assert!(
+                w[1] <= 1.05 * w[0],
+                "seed {seed}: a looser tolerance is less fair: {e_var:?}"
+            );
+        }
+    }
+}
