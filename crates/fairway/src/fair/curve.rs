@@ -39,7 +39,10 @@
 //!    curvature is signed along a sign-consistent principal normal: the
 //!    normal is flipped whenever it would turn by more than 90° from the
 //!    previous sample, and carried over (projected on the normal plane)
-//!    where κ ≈ 0, so the target does not fold at inflections.
+//!    where κ ≈ 0, so the target does not fold at inflections. The paper's
+//!    E = Σ (κ_k − g_k)² then reads Σ (κN·n_k − g_k)² + (κN·b_k)² in 3D
+//!    (b = t × n): the curvature that leaves the osculating plane counts too
+//!    (`FairingSetup::residual_sq`).
 //! 3. **Target** g ([`Target`]), ends pinned to the original κ at G2 ends and
 //!    free (smoothed like the interior) at G1 / G0 ends, whose curvature is not kept.
 //! 4. **Integration** from both ends, blended ([`super::integrate`]), with
