@@ -669,8 +669,8 @@ fn planar_curve_in_3d_stays_in_its_plane() {
 
 /// `FairingOptions::ease_curve_ends`: G2 curve ends still keep position, tangent and curvature, the band
 /// holds, and on the known-answer arcs (8 seeds each) the extra extrema drop against the default target,
-/// which climbs to the noisy end curvature from far inside, and so does the curvature error of the circle
-/// and the clothoid.
+/// which climbs to the noisy end curvature from far inside (on the ellipse they do not rise), and so does
+/// the curvature error of the circle and the clothoid.
 #[test]
 fn eased_g2_curve_ends_keep_the_end_and_fair_the_end_span() {
     let tol = 3e-3;
@@ -704,7 +704,13 @@ fn eased_g2_curve_ends_keep_the_end_and_fair_the_end_span() {
             "{shape:?}, 8 seeds: Σ κ RMS error {:.3} -> {:.3} eased, Σ extrema {} -> {}",
             rms[0], rms[1], ext[0], ext[1]
         );
-        assert!(ext[1] < ext[0], "{shape:?}: {ext:?}");
+        // the ellipse's default target gained from the polish's roughness cap (session 14: Σ extrema 15 → 13,
+        // the eased target's 13): easing no longer adds to that there, and must not lose it
+        if matches!(shape, Shape::Ellipse { .. }) {
+            assert!(ext[1] <= ext[0], "{shape:?}: {ext:?}");
+        } else {
+            assert!(ext[1] < ext[0], "{shape:?}: {ext:?}");
+        }
         // the ellipse's ends are not the arc's worst error: its κ RMS error stays about the same
         // (measured 0.152 -> 0.156); the circle's and the clothoid's drop
         if !matches!(shape, Shape::Ellipse { .. }) {
