@@ -18,7 +18,7 @@ use glam::DVec3;
 use super::curve::{CHECK_SAMPLES, FairingResult, FairingSetup, band_accept};
 use crate::arclength::ArcLengthTable;
 use crate::basis::{MAX_ORDER, basis_funs, ders_basis_funs};
-use crate::curve::BSplineCurve;
+use crate::curve::{BSplineCurve, CurveDerivs};
 use crate::error::Result;
 
 /// Options of the iterative baseline.
@@ -42,7 +42,6 @@ impl Default for IterativeOptions {
 struct Local<'a> {
     setup: &'a FairingSetup,
     p: usize,
-    dim: usize,
     pts: Vec<DVec3>,
     orig: Vec<DVec3>,
     span: Vec<usize>,
@@ -53,20 +52,23 @@ struct Local<'a> {
 }
 
 impl Local<'_> {
-    fn kappa(&self, k: usize) -> f64 {
+    /// The setup's E term of sample `k` at the current points: (κ − g)² along the setup's normal, and in 3D
+    /// the curvature that leaves the osculating plane too ([`FairingSetup::residual_sq`]), so the baseline
+    /// minimizes the E it is compared on.
+    fn residual_sq(&self, k: usize, g: f64) -> f64 {
         let s = self.span[k] - self.p;
         let (mut d1, mut d2) = (DVec3::ZERO, DVec3::ZERO);
         for j in 0..=self.p {
             d1 += self.pts[s + j] * self.ders[k][1][j];
             d2 += self.pts[s + j] * self.ders[k][2][j];
         }
-        let v = d1.length();
-        if self.dim == 2 {
-            (d1.x * d2.y - d1.y * d2.x) / (v * v * v)
-        } else {
-            let t = d1 / v;
-            ((d2 - t * d2.dot(t)) / (v * v)).dot(self.setup.normal(k))
-        }
+        let d = CurveDerivs {
+            p: DVec3::ZERO,
+            d1,
+            d2,
+            d3: DVec3::ZERO,
+        };
+        self.setup.residual_sq(&d, k, g)
     }
 
     /// E over samples `ks` and the band over check samples `js`, with P_i displaced to `x`.
@@ -89,8 +91,7 @@ impl Local<'_> {
         if ok {
             let g = self.setup.target().values();
             for k in ks.0..ks.1 {
-                let r = self.kappa(k) - g[k];
-                e += r * r;
+                e += self.residual_sq(k, g[k]);
             }
         }
         self.pts[i] = old;
@@ -138,7 +139,6 @@ pub fn fair_iterative(setup: &FairingSetup, opts: IterativeOptions) -> Result<Fa
     let mut loc = Local {
         setup,
         p,
-        dim,
         pts: work.points().to_vec(),
         orig: work.points().to_vec(),
         span,
