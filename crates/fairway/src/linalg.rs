@@ -107,6 +107,33 @@ impl BandedSpd {
         }
     }
 
+    /// `A[base + aD + r][base + bD + q] += b[a] b[b] m[r][q]` for every pair on or below the diagonal:
+    /// the Kronecker product `(b bᵀ) ⊗ m` (`m` symmetric, `D × D`) as a diagonal block of width `N·D`
+    /// (e.g. one band constraint's Hessian in the polish: basis row `b` over the points, `m` over the
+    /// coordinates). Panics if the block leaves the band or the matrix.
+    #[inline]
+    pub fn add_kron_fixed<const N: usize, const D: usize>(&mut self, base: usize, b: &[f64; N], m: &[[f64; D]; D]) {
+        let w = self.bw + 1;
+        assert!(
+            N * D <= w && base + N * D <= self.n,
+            "block outside the band or the matrix"
+        );
+        let data = &mut self.data[base * w..(base + N * D) * w];
+        for a in 0..N {
+            for r in 0..D {
+                let row = a * D + r;
+                let line = &mut data[row * w..row * w + row + 1];
+                for bb in 0..=a {
+                    let ab = b[a] * b[bb];
+                    let qmax = if bb == a { r + 1 } else { D };
+                    for q in 0..qmax {
+                        line[row - (bb * D + q)] += ab * m[r][q];
+                    }
+                }
+            }
+        }
+    }
+
     /// Cholesky factorization in place. Fails, naming the row, if the matrix
     /// is not positive definite (to working precision).
     pub fn factor(&mut self) -> Result<()> {
@@ -286,6 +313,28 @@ mod tests {
                 assert_eq!(a.get(i, j).to_bits(), c.get(i, j).to_bits(), "({i}, {j})");
             }
         }
+    }
+
+    #[test]
+    fn add_kron_matches_the_dense_kronecker_product() {
+        // (b bᵀ) ⊗ m for 4 basis values and a symmetric 2 × 2 m, at base 2 of a 12 × 12 matrix of
+        // half-bandwidth 7, against the entries of the dense product added one by one
+        let b = [0.125, 0.5, -0.75, 2.0];
+        let m = [[3.0, -0.5], [-0.5, 1.5]];
+        let (mut a, mut e) = (BandedSpd::zeros(12, 7), BandedSpd::zeros(12, 7));
+        a.add_kron_fixed::<4, 2>(2, &b, &m);
+        for x in 0..8 {
+            for y in 0..=x {
+                e.add(2 + x, 2 + y, b[x / 2] * b[y / 2] * m[x % 2][y % 2]);
+            }
+        }
+        for i in 0..12 {
+            for j in 0..12 {
+                let (u, v) = (a.get(i, j), e.get(i, j));
+                assert!((u - v).abs() <= 1e-15 * v.abs(), "({i}, {j}): {u} vs {v}");
+            }
+        }
+        assert!(a.get(1, 2) == 0.0 && a.get(10, 9) == 0.0 && a.get(3, 3) != 0.0);
     }
 
     #[test]

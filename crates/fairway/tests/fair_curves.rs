@@ -565,8 +565,12 @@ fn target_method() -> impl Strategy<Value = TargetMethod> {
     ]
 }
 
+fn polish_method() -> impl Strategy<Value = PolishMethod> {
+    prop_oneof![Just(PolishMethod::LineSearch), Just(PolishMethod::InteriorPoint)]
+}
+
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 16, ..ProptestConfig::default() })]
 
     #[test]
     fn tolerance_held_points_and_g2_joins(
@@ -578,11 +582,12 @@ proptest! {
         ends in end_condition(),
         integrator in integrator(),
         target in target_method(),
+        polish_method in polish_method(),
     ) {
         let c = noisy_curve(Shape::Ellipse { a: 2.0, b: 1.0, th: 3.0 }, ncp, 2e-3, seed);
         let u2 = (u1 + w).min(1.0);
         let tol = 10f64.powf(log_tol);
-        let o = FairingOptions { region: Some((u1, u2)), tolerance: tol, ends, integrator, target, ..Default::default() };
+        let o = FairingOptions { region: Some((u1, u2)), tolerance: tol, ends, integrator, target, polish_method, ..Default::default() };
         let setup = match FairingSetup::new(&c, o) {
             Ok(s) => s,
             Err(Error::InvalidInput(msg)) if msg.contains("too small") => return Ok(()),

@@ -184,6 +184,26 @@ pub struct FairingOptions {
     /// 8 → 22 (at m = 2e-3 10 → 10 and 10 → 8). An option to compare, not a default. No effect on
     /// region ends inside the curve (they join real neighbours), on G0/G1 ends, or on closed curves.
     pub ease_curve_ends: bool,
+    /// How the polish minimizes E inside the band (default [`PolishMethod::LineSearch`]).
+    pub polish_method: PolishMethod,
+}
+
+/// The optimizer of the E polish ([`FairingOptions::polish_method`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub enum PolishMethod {
+    /// Levenberg–Marquardt steps with the band-edge samples frozen and a backtracking band check
+    /// (default). It stops well short of E's minimum in the band, and that is why it is the default:
+    /// the automatic target is smoothed from noisy curvature and flattens sharp features, and a result
+    /// that follows it closely is not a more accurate curve (on the noisy closed ellipses of the
+    /// closed-curve tests the curvature error against the noise-free curve rises above the input's).
+    #[default]
+    LineSearch,
+    /// Primal–dual interior point on the parametric band, the iterative baseline's band
+    /// (`FairingSetup::polish_interior`): every iterate holds the band, and a few iterations reach a
+    /// lower E than the baseline (bench curve: E 242 after 3 iterations, the baseline 265, the line
+    /// search 537 after its 8). For a target that is right — typed in, pinned, or hand-shaped — it
+    /// follows it as closely as the band allows.
+    InteriorPoint,
 }
 
 impl Default for FairingOptions {
@@ -200,6 +220,7 @@ impl Default for FairingOptions {
             polish: true,
             polish_iterations: POLISH_ITERS,
             ease_curve_ends: false,
+            polish_method: PolishMethod::LineSearch,
         }
     }
 }
@@ -338,6 +359,11 @@ pub const POLISH_ITERS: usize = 8;
 /// A polish step is accepted only if the roughness of the curvature at the samples (Σ (Δκ)² / h) stays
 /// within this factor of the larger of the polish's start and the target's (`FairingSetup::polish`).
 pub const POLISH_ROUGHNESS_CAP: f64 = 1.0;
+/// The interior-point polish starts at most this fraction of the band from the original (the fit is
+/// scaled back if its parametric displacement reaches further).
+pub const IP_START: f64 = 0.95;
+/// Centring parameter of the interior-point polish: τ ← σ · mean(z_j c_j) after each step.
+pub const IP_SIGMA: f64 = 0.2;
 /// Step factor of the warm-started search around the previous μ.
 pub const MU_WARM_STEP: f64 = 16.0;
 
@@ -1270,7 +1296,9 @@ impl FairingSetup {
                     dev = 0.0;
                     e = e0;
                 }
-                let (dev, e) = if self.opts.polish {
+                let (dev, e) = if self.opts.polish && self.opts.polish_method == PolishMethod::InteriorPoint {
+                    self.polish_interior(accept, dev, e, &mut solves)
+                } else if self.opts.polish {
                     self.polish(accept, dev, e, &mut solves)
                 } else {
                     (dev, e)
@@ -1437,6 +1465,332 @@ impl FairingSetup {
             }
         }
         (dev, e)
+    }
+
+    /// Interior-point polish of the paper's E inside the band ([`PolishMethod::InteriorPoint`]): a
+    /// primal–dual barrier method on
+    ///
+    /// `min E(ΔP)  subject to  c_j = m² − |D_j|² > 0` for every check sample j,
+    ///
+    /// where `D_j = Σ_i N_i(u_j) ΔP_i` is the parametric displacement at u_j — an upper bound of the
+    /// closest-point distance (the iterative baseline's band), so every iterate holds the band by
+    /// construction and no step needs a band check (the constraints are convex: the segment between
+    /// two feasible updates is feasible). Each iteration is one Gauss–Newton linearization of E (the
+    /// banded `JᵀJ` of [`Self::gn_system`]) plus the constraints' terms ([`Self::barrier_terms`]), one
+    /// banded Cholesky, a step that stays 1 % inside every constraint, and a backtracking search on
+    /// `E − τ Σ ln c_j`. The duals follow `z_j c_j = τ`, and τ falls to [`IP_SIGMA`] times the mean
+    /// complementarity after each step. The start is the band-holding fit, scaled towards the
+    /// original until its parametric displacement is within [`IP_START`] of the band. Returns the
+    /// deviation bound and E of the fairest iterate that keeps the roughness cap (see [`Self::polish`];
+    /// the start when none does).
+    fn polish_interior(&mut self, accept: f64, dev: f64, e: f64, solves: &mut usize) -> (f64, f64) {
+        let p = self.work.degree();
+        let dim = self.work.dim();
+        let nf = self.nf;
+        let nc = self.chk_u.len();
+        if nc == 0 || nf == 0 || !(accept > 0.0) {
+            return (dev, e);
+        }
+        let nu = dim * nf;
+        let bw = dim * (p + 1) - 1;
+        let g = self.target.values().to_vec();
+        let m2 = accept * accept;
+        let rough_cap = {
+            let r0 = self.energy_and_roughness::<true>(&self.best).1;
+            let rg = g.windows(2).map(|w| (w[1] - w[0]).powi(2)).sum::<f64>() / self.h;
+            r0.max(rg) * POLISH_ROUGHNESS_CAP
+        };
+        // the fairest accepted state so far: (E, deviation bound, update)
+        let mut best = (e, dev, self.best.clone());
+        // start strictly inside the parametric band (the fit holds the band in the closest-point sense:
+        // where the curve slid along itself its parametric displacement can reach m)
+        let mut x = self.best.clone();
+        let mut disp = vec![DVec3::ZERO; nc];
+        self.chk_displacements(&x, &mut disp);
+        let dmax2 = disp.iter().fold(0.0f64, |a, d| a.max(d.length_squared()));
+        if !(dmax2 <= (IP_START * accept).powi(2)) {
+            let s = if dmax2.is_finite() {
+                IP_START * accept / dmax2.sqrt()
+            } else {
+                0.0
+            };
+            for v in x.iter_mut() {
+                *v *= s;
+            }
+            for d in disp.iter_mut() {
+                *d *= s;
+            }
+        }
+        let mut e_x = self.energy_of_update(&x);
+        let mut tau = (e_x / nc as f64).max(1e-300);
+        let mut z: Vec<f64> = disp.iter().map(|d| tau / (m2 - d.length_squared())).collect();
+        let mut log_b = barrier_log_sum(&disp, m2);
+        let (mut h, mut m) = (BandedSpd::zeros(nu, bw), BandedSpd::zeros(nu, bw));
+        let (mut rhs, mut sol) = (vec![DVec3::ZERO; nu], vec![DVec3::ZERO; nu]);
+        let (mut step, mut cand) = (vec![DVec3::ZERO; nf], vec![DVec3::ZERO; nf]);
+        let (mut sdisp, mut cdisp) = (vec![DVec3::ZERO; nc], vec![DVec3::ZERO; nc]);
+        let mut dz = vec![0.0; nc];
+        let mut traces = vec![0.0; nf];
+        let mut damping = 1e-9;
+        for _ in 0..self.opts.polish_iterations {
+            // Gauss–Newton system of E at x
+            h.reset(nu, bw);
+            rhs.fill(DVec3::ZERO);
+            std::mem::swap(&mut self.best, &mut x);
+            match (p, dim) {
+                (2, 2) => self.gn_system::<3, 6>(&g, &mut h, &mut rhs),
+                (2, 3) => self.gn_system::<3, 9>(&g, &mut h, &mut rhs),
+                (3, 2) => self.gn_system::<4, 8>(&g, &mut h, &mut rhs),
+                (3, 3) => self.gn_system::<4, 12>(&g, &mut h, &mut rhs),
+                (4, 2) => self.gn_system::<5, 10>(&g, &mut h, &mut rhs),
+                (5, 2) => self.gn_system::<6, 12>(&g, &mut h, &mut rhs),
+                _ => self.gn_system::<0, 0>(&g, &mut h, &mut rhs),
+            }
+            std::mem::swap(&mut self.best, &mut x);
+            // the constraints' terms; one whose Hessian is below 1e-9 of the largest diagonal of JᵀJ is
+            // left out of the system (the step is a search direction: the line search sees every one)
+            let skip = 1e-9 * (0..nu).fold(0.0f64, |a, i| a.max(h.get(i, i)));
+            match (p, dim) {
+                (2, 2) => self.barrier_terms::<3, 2>(&disp, &z, tau, m2, skip, &mut h, &mut rhs),
+                (2, 3) => self.barrier_terms::<3, 3>(&disp, &z, tau, m2, skip, &mut h, &mut rhs),
+                (3, 2) => self.barrier_terms::<4, 2>(&disp, &z, tau, m2, skip, &mut h, &mut rhs),
+                (3, 3) => self.barrier_terms::<4, 3>(&disp, &z, tau, m2, skip, &mut h, &mut rhs),
+                (4, 2) => self.barrier_terms::<5, 2>(&disp, &z, tau, m2, skip, &mut h, &mut rhs),
+                (5, 2) => self.barrier_terms::<6, 2>(&disp, &z, tau, m2, skip, &mut h, &mut rhs),
+                _ => self.barrier_terms::<0, 0>(&disp, &z, tau, m2, skip, &mut h, &mut rhs),
+            }
+            // Marquardt damping by each point's diagonal block (rotation invariant, with a floor for
+            // unknowns E does not see), and a stiff penalty on the directions the setup's constraints
+            // forbid (the plane of a planar 3D curve, joins at multiple knots), which the projection of
+            // the step then removes exactly
+            for (i, t) in traces.iter_mut().enumerate() {
+                *t = (0..dim).map(|c| h.get(i * dim + c, i * dim + c)).sum();
+            }
+            let tmax = traces.iter().fold(0.0f64, |a, &b| a.max(b));
+            let mut factored = false;
+            for _ in 0..6 {
+                m.clone_from(&h);
+                for (i, tr) in traces.iter().enumerate() {
+                    for c in 0..dim {
+                        m.add(i * dim + c, i * dim + c, damping * tr.max(1e-9 * tmax).max(1e-300));
+                    }
+                }
+                self.penalize_constrained(&mut m, 1e6 * tmax.max(1e-300));
+                *solves += 1;
+                if m.factor().is_ok() {
+                    factored = true;
+                    break;
+                }
+                damping *= 100.0;
+            }
+            if !factored {
+                break;
+            }
+            sol.copy_from_slice(&rhs);
+            m.solve_in_place(&mut sol);
+            for (i, s) in step.iter_mut().enumerate() {
+                let mut v = DVec3::ZERO;
+                for c in 0..dim {
+                    v[c] = sol[i * dim + c].x;
+                }
+                *s = v;
+            }
+            self.constrain_update(&mut step);
+            self.chk_displacements(&step, &mut sdisp);
+            // the longest step that stays 1 % inside every constraint, and the duals' step
+            let (mut a_max, mut a_dual) = (1.0f64, 1.0f64);
+            for j in 0..nc {
+                let (d, ds) = (disp[j], sdisp[j]);
+                let c = m2 - d.length_squared();
+                let (qa, qb) = (ds.length_squared(), 2.0 * d.dot(ds));
+                // |d + α ds|² ≤ |d|² + |qb| + qa for α ≤ 1: where that stays 1 % inside, no root is needed
+                if qa > 0.0 && c - qb.abs() - qa < 0.02 * c {
+                    // the positive root of |d + α ds|² = m²
+                    let disc = (qb * qb + 4.0 * qa * c).sqrt();
+                    let root = if qb > 0.0 {
+                        2.0 * c / (qb + disc)
+                    } else {
+                        (disc - qb) / (2.0 * qa)
+                    };
+                    a_max = a_max.min(0.99 * root);
+                }
+                dz[j] = (tau - z[j] * c + z[j] * qb) / c;
+                if dz[j] < 0.0 {
+                    a_dual = a_dual.min(-0.99 * z[j] / dz[j]);
+                }
+            }
+            // backtracking on the barrier function from the longest feasible step
+            let phi0 = e_x + tau * log_b;
+            let mut alpha = a_max;
+            let mut accepted = None;
+            for _ in 0..12 {
+                for ((c, x0), s) in cand.iter_mut().zip(&x).zip(&step) {
+                    *c = *x0 + *s * alpha;
+                }
+                for ((c, d0), s) in cdisp.iter_mut().zip(&disp).zip(&sdisp) {
+                    *c = *d0 + *s * alpha;
+                }
+                let lb = barrier_log_sum(&cdisp, m2);
+                if lb.is_finite() {
+                    let (e_c, rough) = self.energy_and_roughness::<true>(&cand);
+                    // NaN-safe: a NaN energy is not a decrease
+                    if e_c + tau * lb <= phi0 {
+                        accepted = Some((e_c, rough, lb));
+                        break;
+                    }
+                }
+                alpha *= 0.5;
+            }
+            let Some((e_c, rough, lb)) = accepted else {
+                damping *= 100.0;
+                continue;
+            };
+            damping = (damping / 10.0).max(1e-12);
+            let e_prev = e_x;
+            std::mem::swap(&mut x, &mut cand);
+            std::mem::swap(&mut disp, &mut cdisp);
+            (e_x, log_b) = (e_c, lb);
+            let a_z = alpha.min(a_dual);
+            let mut zc = 0.0;
+            for j in 0..nc {
+                z[j] = (z[j] + a_z * dz[j]).max(1e-300);
+                zc += z[j] * (m2 - disp[j].length_squared());
+            }
+            tau = IP_SIGMA * zc / nc as f64;
+            if e_x < best.0 && rough <= rough_cap {
+                let dev = disp.iter().fold(0.0f64, |a, d| a.max(d.length_squared())).sqrt();
+                best = (e_x, dev, x.clone());
+            }
+            // converged: E moved by less than 0.02 % and the barrier is negligible against E
+            if (e_prev - e_x).abs() < 2e-4 * e_prev && tau * (nc as f64) < 1e-3 * e_x {
+                break;
+            }
+        }
+        let (e, dev, upd) = best;
+        self.best = upd;
+        (dev, e)
+    }
+
+    /// `m += ρ P_i` on each free point's diagonal block, `P_i` the projector onto the directions its
+    /// update may not take ([`Self::constrain_point`]): the normal of a planar 3D curve's plane, and at a
+    /// constrained join everything but the join's tangent (or every direction for a held point).
+    fn penalize_constrained(&self, m: &mut BandedSpd, rho: f64) {
+        if self.plane.is_none() && self.join_fix.is_empty() {
+            return;
+        }
+        let dim = self.work.dim();
+        for i in 0..self.nf {
+            let fix = self.join_fix.iter().find(|(k, _)| *k == i).map(|&(_, t)| t);
+            for r in 0..dim {
+                for q in 0..=r {
+                    let id = if r == q { 1.0 } else { 0.0 };
+                    let mut v = 0.0;
+                    if let Some(n) = self.plane {
+                        v += n[r] * n[q];
+                    }
+                    match fix {
+                        Some(Some(t)) => v += id - t[r] * t[q],
+                        Some(None) => v += id,
+                        None => {}
+                    }
+                    if v != 0.0 {
+                        m.add(i * dim + r, i * dim + q, rho * v);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The band constraints' part of the interior-point system ([`Self::polish_interior`]) at the
+    /// displacements `disp` with duals `z`: `h += Σ_j (b bᵀ) ⊗ (z_j I + 2 z_j/c_j D_j D_jᵀ)` and
+    /// `rhs −= Σ_j (τ / c_j) b ⊗ D_j` (the halved barrier of E/2). `N` = p + 1, `D` = dim, `W` = N·D
+    /// for the common cases (check samples whose rows are all free take a fixed-size path), 0 for any.
+    fn barrier_terms<const N: usize, const D: usize>(
+        &self,
+        disp: &[DVec3],
+        z: &[f64],
+        tau: f64,
+        m2: f64,
+        skip: f64,
+        h: &mut BandedSpd,
+        rhs: &mut [DVec3],
+    ) {
+        let np1 = self.work.degree() + 1;
+        let dim = self.work.dim();
+        let nf = self.nf;
+        for (j, d) in disp.iter().enumerate() {
+            let d2 = d.length_squared();
+            let c = m2 - d2;
+            let (zi, zd, gj) = (z[j], 2.0 * z[j] / c, tau / c);
+            if zi + zd * d2 < skip {
+                continue;
+            }
+            let f = self.chk_first[j];
+            let b = &self.chk_b[j * np1..(j + 1) * np1];
+            if N > 0 && f >= 0 && f as usize + N <= nf {
+                let base = f as usize;
+                let bf: &[f64; N] = b.try_into().expect("N rows");
+                let mut m = [[0.0; D]; D];
+                for r in 0..D {
+                    for q in 0..D {
+                        m[r][q] = zd * d[r] * d[q];
+                    }
+                    m[r][r] += zi;
+                }
+                let block: &mut [DVec3] = &mut rhs[base * D..base * D + N * D];
+                for a in 0..N {
+                    let ga = gj * bf[a];
+                    for r in 0..D {
+                        block[a * D + r].x -= ga * d[r];
+                    }
+                }
+                h.add_kron_fixed::<N, D>(base * D, bf, &m);
+                continue;
+            }
+            for a in 0..np1 {
+                let la = f + a as isize;
+                if la < 0 || la as usize >= nf {
+                    continue;
+                }
+                let la = la as usize;
+                for r in 0..dim {
+                    rhs[la * dim + r].x -= gj * b[a] * d[r];
+                }
+                for bb in 0..=a {
+                    let lb = f + bb as isize;
+                    if lb < 0 {
+                        continue;
+                    }
+                    let lb = lb as usize;
+                    let w = b[a] * b[bb];
+                    for r in 0..dim {
+                        for q in 0..dim {
+                            if bb == a && q > r {
+                                continue;
+                            }
+                            let mut v = zd * d[r] * d[q];
+                            if r == q {
+                                v += zi;
+                            }
+                            h.add(la * dim + r, lb * dim + q, w * v);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Parametric displacements `D_j = Σ_i N_i(u_j) d_i` of the update `d` at every check sample.
+    fn chk_displacements(&mut self, d: &[DVec3], out: &mut [DVec3]) {
+        let np1 = self.work.degree() + 1;
+        let mut pad = std::mem::take(&mut self.pad);
+        pad.clear();
+        pad.resize(self.nf + 2 * np1, DVec3::ZERO);
+        pad[np1..np1 + self.nf].copy_from_slice(d);
+        for (j, o) in out.iter_mut().enumerate() {
+            *o = self.chk_rows(&pad, j).1;
+        }
+        self.pad = pad;
     }
 
     /// The polish's Gauss–Newton system at the update `self.best`: `h += JᵀJ`, `rhs −= Jᵀr` with
@@ -2065,6 +2419,32 @@ impl FairingSetup {
         }
         (worst2.sqrt().max(worst_sharp), None)
     }
+}
+
+/// `−Σ_j ln(c_j / m²)`, `c_j = m² − |D_j|²`, of the interior-point polish's barrier (∞ outside the band):
+/// the logarithm of products of eight terms at a time (each in (0, 1]), one `ln` per eight samples
+/// unless a product underflows.
+fn barrier_log_sum(disp: &[DVec3], m2: f64) -> f64 {
+    let inv = 1.0 / m2;
+    let mut s = 0.0;
+    for chunk in disp.chunks(8) {
+        let mut prod = 1.0;
+        for d in chunk {
+            let c = 1.0 - d.length_squared() * inv;
+            if !(c > 0.0) {
+                return f64::INFINITY;
+            }
+            prod *= c;
+        }
+        if prod > 1e-280 {
+            s -= prod.ln();
+        } else {
+            for d in chunk {
+                s -= (1.0 - d.length_squared() * inv).ln();
+            }
+        }
+    }
+    s
 }
 
 /// Cached derivative data of one check sample (degree ≤ 3): the first and second derivatives of the

@@ -41,7 +41,7 @@ pub mod surface;
 pub mod target;
 
 pub use closed::{Seam, fair_closed, fair_closed_iterative};
-pub use curve::{EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, fair_curve};
+pub use curve::{EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, PolishMethod, fair_curve};
 pub use integrate::Integrator;
 pub use iterative::{IterativeOptions, fair_iterative};
 pub use split::{CornerFair, CornerSetups, Stretch, fair_between_corners};
