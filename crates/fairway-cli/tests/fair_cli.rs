@@ -122,6 +122,68 @@ fn fair_curve_keeps_tolerance_and_reports_reference_keys() {
     assert_eq!(v["n_inflections"].as_u64().unwrap(), direct.n_inflections as u64);
 }
 
+/// `--polish-method interior-point` on the reference S-curve: the band holds, the report names the
+/// polish, its E is below the line search's at the same iteration count and the iterative baseline's,
+/// and a bad method name is refused with the choices.
+#[test]
+fn fair_curve_with_the_interior_point_polish() {
+    let dir = temp_dir("interior");
+    let input = reference("s_curve.json");
+    let mut e = vec![];
+    for (method, polish) in [
+        ("fast", "line-search"),
+        ("fast", "interior-point"),
+        ("iterative", "line-search"),
+    ] {
+        let (out, rep) = (dir.join(format!("{polish}-{method}.json")), dir.join("report.json"));
+        ok(&fairway(&[
+            "fair",
+            s(&input),
+            "--tolerance",
+            "0.01",
+            "--method",
+            method,
+            "--polish-method",
+            polish,
+            "-o",
+            s(&out),
+            "--report",
+            s(&rep),
+        ]));
+        let r = json_file(&rep);
+        let want = if method == "fast" {
+            Value::from(polish)
+        } else {
+            Value::Null
+        };
+        assert_eq!(
+            r.get("polish").cloned().unwrap_or(Value::Null),
+            want,
+            "{method} {polish}"
+        );
+        let dev = fairway::measure::measure(&curve(&input), &curve(&out)).dev_max;
+        assert!(dev <= 0.01, "{method} {polish}: {dev}");
+        e.push(r["energy"].as_f64().unwrap());
+    }
+    println!("E: line search {}, interior point {}, iterative {}", e[0], e[1], e[2]);
+    assert!(e[1] < e[0] && e[1] <= e[2], "{e:?}");
+    let out = dir.join("x.json");
+    fails_with(
+        &fairway(&[
+            "fair",
+            s(&input),
+            "--tolerance",
+            "0.01",
+            "--polish-method",
+            "newton",
+            "-o",
+            s(&out),
+        ]),
+        2,
+        "line-search or interior-point",
+    );
+}
+
 #[test]
 fn fair_curve_region_leaves_outside_control_points_unchanged() {
     let dir = temp_dir("region");

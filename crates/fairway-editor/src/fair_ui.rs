@@ -5,7 +5,7 @@
 use eframe::egui;
 use egui::{Color32, Pos2, Rect, RichText, Sense, Shape, Stroke};
 use fairway::DVec2;
-use fairway::fair::{EndCondition, Integrator, Seam, TargetMethod};
+use fairway::fair::{EndCondition, Integrator, PolishMethod, Seam, TargetMethod};
 
 use crate::canvas::colors;
 use crate::fairing::{MAX_POLISH, Preview, default_strength, pinned_indices};
@@ -358,6 +358,26 @@ impl App {
                      skips it): more lower the paper's E further inside the band at about 0.2 ms each for \
                      100 control points; a lower E is not always fewer curvature extrema",
                 );
+            ui.horizontal(|ui| {
+                ui.label("Polish:");
+                for (m, name, tip) in [
+                    (
+                        PolishMethod::LineSearch,
+                        "Line search",
+                        "Stops well short of the lowest E in the band (default): the safer choice for the \
+                         automatic target, which is smoothed from noisy curvature and flattens sharp features",
+                    ),
+                    (
+                        PolishMethod::InteriorPoint,
+                        "Interior point",
+                        "Follows the target as closely as the band allows, in a few iterations: for a target \
+                         you shaped, pinned or typed in",
+                    ),
+                ] {
+                    ui.selectable_value(&mut self.prefs.fair.polish_method, m, name)
+                        .on_hover_text(tip);
+                }
+            });
         });
         ui.add_space(4.0);
         ui.strong("Compare");

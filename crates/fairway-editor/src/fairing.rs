@@ -25,8 +25,8 @@ use fairway::BSplineCurve;
 use fairway::corners::Corner;
 use fairway::fair::closed::{AcrossSeam, setup_across_seam_with_ends};
 use fairway::fair::{
-    CornerSetups, EndCondition, FairingOptions, FairingResult, FairingSetup, Integrator, Target, TargetMethod,
-    fair_closed,
+    CornerSetups, EndCondition, FairingOptions, FairingResult, FairingSetup, Integrator, PolishMethod, Target,
+    TargetMethod, fair_closed,
 };
 use fairway::io::DocumentSettings;
 use fairway::measure::{Measures, arc_params, deviations, measure};
@@ -51,6 +51,8 @@ pub struct FairOptions {
     pub integrator: Integrator,
     /// Gauss–Newton iterations of the core's E polish in a full fair (drafts skip the polish).
     pub polish_iterations: usize,
+    /// How the core's E polish works ([`FairingOptions::polish_method`]).
+    pub polish_method: PolishMethod,
     /// Ease the automatic target into G2 ends that are ends of an open curve
     /// ([`FairingOptions::ease_curve_ends`]).
     pub ease_ends: bool,
@@ -65,6 +67,7 @@ impl Default for FairOptions {
             strength: None,
             integrator: d.integrator,
             polish_iterations: d.polish_iterations,
+            polish_method: d.polish_method,
             ease_ends: d.ease_curve_ends,
         }
     }
@@ -411,6 +414,7 @@ fn prepare(prepared: &mut Prepared, rk: &RunKey) -> bool {
     for setup in &mut setups {
         setup.set_integrator(rk.opts.integrator);
         setup.set_polish_iterations(rk.opts.polish_iterations);
+        setup.set_polish_method(rk.opts.polish_method);
         let t: &mut Target = setup.target_mut();
         t.reset();
         let n = t.len();

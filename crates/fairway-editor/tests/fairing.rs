@@ -4,6 +4,7 @@
 use eframe::egui;
 use egui::{Pos2, Role};
 use egui_kittest::kittest::Queryable;
+use fairway::fair::PolishMethod;
 use fairway_editor::App;
 
 mod common;
@@ -153,6 +154,50 @@ fn e_polish_slider_caps_the_polish_of_the_full_fair() {
         e8 < e0 && e24 <= e8,
         "E with 0 / 8 / 24 polish iterations: {e0} / {e8} / {e24}"
     );
+}
+
+/// The "Polish" choice (Fairing ▸ Advanced): "Interior point" re-fairs the preview with the core's
+/// interior-point polish, whose E is below the line search's at the same iteration count, inside the
+/// band; "Line search" brings the default back, bit for bit.
+#[test]
+fn interior_point_polish_choice_lowers_e_inside_the_band() {
+    let mut h = harness(App::default());
+    h.get_by_role_and_label(Role::Button, "Whole curve").click();
+    h.run();
+    let m = h.state().view.diag * 2e-3;
+    h.get_by_role_and_label(Role::Slider, "Tolerance")
+        .set_value_accesskit(m);
+    h.run();
+    h.get_by_label("Advanced").click();
+    h.run();
+    let mut fair = |name: &str| {
+        h.get_by_label(name).click();
+        h.run();
+        let m = h.state().doc.settings.tolerance.expect("tolerance");
+        let p = h.state().preview().expect("a faired preview").clone();
+        assert!(!p.draft);
+        assert!(p.result.max_deviation <= m * (1.0 + 1e-9), "{name}: band");
+        let d = fairway::measure::measure(h.state().curve(), &p.result.curve).dev_max;
+        assert!(d <= m * (1.0 + 1e-9), "{name}: measured {d}");
+        (
+            h.state().prefs.fair.polish_method,
+            p.result.energy,
+            p.result.curve.points().to_vec(),
+        )
+    };
+    let (m0, e0, p0) = fair("Line search");
+    let (m1, e1, _) = fair("Interior point");
+    let (m2, e2, p2) = fair("Line search");
+    assert_eq!(
+        (m0, m1, m2),
+        (
+            PolishMethod::LineSearch,
+            PolishMethod::InteriorPoint,
+            PolishMethod::LineSearch
+        )
+    );
+    assert!(e1 < e0, "E line search {e0}, interior point {e1}");
+    assert_eq!((e2, p2), (e0, p0));
 }
 
 /// The bundled profile with a 20° kink (a triple knot at u = 0.6, its control point 23): a region across

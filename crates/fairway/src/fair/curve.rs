@@ -133,6 +133,19 @@ impl std::str::FromStr for EndCondition {
     }
 }
 
+impl std::str::FromStr for PolishMethod {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.to_ascii_lowercase().as_str() {
+            "line-search" | "ls" => Ok(Self::LineSearch),
+            "interior-point" | "ip" => Ok(Self::InteriorPoint),
+            _ => Err(Error::InvalidInput(format!(
+                "unknown polish method {s:?}: expected line-search or interior-point"
+            ))),
+        }
+    }
+}
+
 /// Which fit follows the integration.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum FitMode {
@@ -1029,6 +1042,11 @@ impl FairingSetup {
     /// to reach the iterative baseline's E on a curve where the default does not; 0 skips the polish.
     pub fn set_polish_iterations(&mut self, n: usize) {
         self.opts.polish_iterations = n;
+    }
+
+    /// Change how the E polish works ([`FairingOptions::polish_method`]; then call [`Self::fair`] again).
+    pub fn set_polish_method(&mut self, method: PolishMethod) {
+        self.opts.polish_method = method;
     }
 
     /// Change the tolerance (then call [`Self::fair`] again).
