@@ -11,7 +11,7 @@
 use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use fairway::fair::{FairingOptions, FairingSetup, FitMode, IterativeOptions, fair_iterative};
+use fairway::fair::{FairingOptions, FairingSetup, FitMode, IterativeOptions, PolishMethod, fair_iterative};
 use fairway::{BSplineCurve, DVec2, KnotVector};
 
 /// A cubic through a sine wave with deterministic noise of ~1 % of the amplitude.
@@ -52,6 +52,20 @@ fn benches(c: &mut Criterion) {
             s.set_polish_iterations(24);
             s.fair().unwrap()
         })
+    });
+    // the interior-point polish run to the baseline's E: 3 iterations (test
+    // interior_point_reaches_the_iterative_energy_on_the_bench_curve_in_three_iterations)
+    let ip = FairingOptions {
+        polish_method: PolishMethod::InteriorPoint,
+        polish_iterations: 3,
+        ..o
+    };
+    c.bench_function("curve100_s1000/full at the baseline's E (interior point, 3 iterations)", |b| {
+        b.iter(|| FairingSetup::new(black_box(&cv), ip).unwrap().fair().unwrap())
+    });
+    let mut ip_setup = FairingSetup::new(&cv, ip).unwrap();
+    c.bench_function("curve100_s1000/re-fair at the baseline's E (interior point, 3 iterations)", |b| {
+        b.iter(|| black_box(ip_setup.fair().unwrap()))
     });
     c.bench_function("curve100_s1000/setup only", |b| {
         b.iter(|| FairingSetup::new(black_box(&cv), o).unwrap())
