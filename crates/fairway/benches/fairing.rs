@@ -60,13 +60,15 @@ fn benches(c: &mut Criterion) {
         polish_iterations: 3,
         ..o
     };
-    c.bench_function("curve100_s1000/full at the baseline's E (interior point, 3 iterations)", |b| {
-        b.iter(|| FairingSetup::new(black_box(&cv), ip).unwrap().fair().unwrap())
-    });
+    c.bench_function(
+        "curve100_s1000/full at the baseline's E (interior point, 3 iterations)",
+        |b| b.iter(|| FairingSetup::new(black_box(&cv), ip).unwrap().fair().unwrap()),
+    );
     let mut ip_setup = FairingSetup::new(&cv, ip).unwrap();
-    c.bench_function("curve100_s1000/re-fair at the baseline's E (interior point, 3 iterations)", |b| {
-        b.iter(|| black_box(ip_setup.fair().unwrap()))
-    });
+    c.bench_function(
+        "curve100_s1000/re-fair at the baseline's E (interior point, 3 iterations)",
+        |b| b.iter(|| black_box(ip_setup.fair().unwrap())),
+    );
     c.bench_function("curve100_s1000/setup only", |b| {
         b.iter(|| FairingSetup::new(black_box(&cv), o).unwrap())
     });
