@@ -124,11 +124,9 @@ fn closed_curve_is_faired_across_the_seam() {
     h.get_by_label_contains("seam held");
 }
 
-/// The "E polish" slider (Fairing ▸ Advanced) sets the core's polish cap for the full fair: the same
-/// trajectory run longer, so the paper's E of the preview never rises with more iterations and drops
-/// from none to the default; the band holds each time.
-#[test]
-fn e_polish_slider_caps_the_polish_of_the_full_fair() {
+/// The demo curve, its whole length as the region at a tolerance of 2e-3 of the view's diagonal, and
+/// Fairing ▸ Advanced open.
+fn whole_curve_with_advanced_options() -> egui_kittest::Harness<'static, App> {
     let mut h = harness(App::default());
     h.get_by_role_and_label(Role::Button, "Whole curve").click();
     h.run();
@@ -138,6 +136,15 @@ fn e_polish_slider_caps_the_polish_of_the_full_fair() {
     h.run();
     h.get_by_label("Advanced").click();
     h.run();
+    h
+}
+
+/// The "E polish" slider (Fairing ▸ Advanced) sets the core's polish cap for the full fair: the same
+/// trajectory run longer, so the paper's E of the preview never rises with more iterations and drops
+/// from none to the default; the band holds each time.
+#[test]
+fn e_polish_slider_caps_the_polish_of_the_full_fair() {
+    let mut h = whole_curve_with_advanced_options();
     let mut energy = |n: usize| {
         h.get_by_role_and_label(Role::Slider, "E polish")
             .set_value_accesskit(n as f64);
@@ -161,15 +168,7 @@ fn e_polish_slider_caps_the_polish_of_the_full_fair() {
 /// band; "Line search" brings the default back, bit for bit.
 #[test]
 fn interior_point_polish_choice_lowers_e_inside_the_band() {
-    let mut h = harness(App::default());
-    h.get_by_role_and_label(Role::Button, "Whole curve").click();
-    h.run();
-    let m = h.state().view.diag * 2e-3;
-    h.get_by_role_and_label(Role::Slider, "Tolerance")
-        .set_value_accesskit(m);
-    h.run();
-    h.get_by_label("Advanced").click();
-    h.run();
+    let mut h = whole_curve_with_advanced_options();
     let mut fair = |name: &str| {
         h.get_by_label(name).click();
         h.run();

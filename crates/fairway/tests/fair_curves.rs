@@ -245,18 +245,7 @@ fn fast_energy_no_worse_than_iterative() {
 /// 259). E never rises with more iterations, and the band holds for every count.
 #[test]
 fn more_polish_iterations_reach_the_iterative_energy_on_the_bench_curve() {
-    let mut state = 0x9E37_79B9_7F4A_7C15u64;
-    let pts: Vec<DVec2> = (0..100)
-        .map(|i| {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let noise = ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.01;
-            let t = i as f64 / 99.0;
-            DVec2::new(4.0 * t, 0.5 * (3.0 * t).sin() + noise)
-        })
-        .collect();
-    let c = BSplineCurve::new_2d(3, KnotVector::uniform(3, 100).unwrap().values().to_vec(), &pts).unwrap();
+    let c = bench_curve();
     let o = FairingOptions {
         samples: Some(1000),
         ..opts(2e-3)

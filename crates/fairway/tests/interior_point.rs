@@ -8,8 +8,7 @@ mod common;
 
 use common::*;
 use fairway::fair::*;
-use fairway::fit::{Smoothing, fit_curve_points};
-use fairway::{BSplineCurve, DVec2, DVec3, KnotVector};
+use fairway::{BSplineCurve, DVec3};
 
 fn ip(o: FairingOptions, iterations: usize) -> FairingOptions {
     FairingOptions {
@@ -17,22 +16,6 @@ fn ip(o: FairingOptions, iterations: usize) -> FairingOptions {
         polish_iterations: iterations,
         ..o
     }
-}
-
-/// The bench curve of `benches/fairing.rs`: 100 control points through a noisy sine.
-fn bench_curve() -> BSplineCurve {
-    let mut state = 0x9E37_79B9_7F4A_7C15u64;
-    let pts: Vec<DVec2> = (0..100)
-        .map(|i| {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let noise = ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.01;
-            let t = i as f64 / 99.0;
-            DVec2::new(4.0 * t, 0.5 * (3.0 * t).sin() + noise)
-        })
-        .collect();
-    BSplineCurve::new_2d(3, KnotVector::uniform(3, 100).unwrap().values().to_vec(), &pts).unwrap()
 }
 
 /// On the bench curve (1000 samples, m = 2e-3) three interior-point iterations reach a lower E than
@@ -107,32 +90,14 @@ fn interior_point_recovers_a_circle_from_its_true_target() {
     assert!(out[2].0 < 0.7 * out[0].0 && out[2].1 < out[0].1, "{out:?}");
 }
 
-/// A noisy ellipse arc fitted by a degree-`p` B-spline with `ncp` control points.
+/// A noisy ellipse arc (σ 2e-3) fitted by a degree-`p` B-spline with `ncp` control points.
 fn noisy_of_degree(p: usize, ncp: usize, seed: u64) -> BSplineCurve {
     let shape = Shape::Ellipse {
         a: 2.0,
         b: 1.0,
         th: 3.0,
     };
-    let nsamp = 12 * ncp;
-    let (pts, _) = shape.dense(nsamp);
-    let mut rng = Rng::new(seed);
-    let data: Vec<DVec3> = pts
-        .iter()
-        .enumerate()
-        .map(|(k, q)| {
-            if k == 0 || k + 1 == nsamp {
-                *q
-            } else {
-                *q + DVec3::new(rng.gauss(), rng.gauss(), 0.0) * 2e-3
-            }
-        })
-        .collect();
-    let params: Vec<f64> = (0..nsamp).map(|k| k as f64 / (nsamp - 1) as f64).collect();
-    let knots = KnotVector::uniform(p, ncp).unwrap();
-    let cp = fit_curve_points(&knots, &params, &data, None, Smoothing::NONE, &[]).unwrap();
-    let cp: Vec<DVec3> = cp.into_iter().map(|q| DVec3::new(q.x, q.y, 0.0)).collect();
-    BSplineCurve::try_new(p, knots.values().to_vec(), cp, None, 2).unwrap()
+    noisy_curve_of_degree(shape, p, ncp, 2e-3, seed)
 }
 
 /// The same curve in 3D, tilted out of the xy plane (planar: its update must stay in the plane), or

@@ -1387,15 +1387,7 @@ impl FairingSetup {
             let e_start = e;
             h.reset(nu, bw);
             rhs.fill(DVec3::ZERO);
-            match (p, dim) {
-                (2, 2) => self.gn_system::<3, 6>(&g, &mut h, &mut rhs),
-                (2, 3) => self.gn_system::<3, 9>(&g, &mut h, &mut rhs),
-                (3, 2) => self.gn_system::<4, 8>(&g, &mut h, &mut rhs),
-                (3, 3) => self.gn_system::<4, 12>(&g, &mut h, &mut rhs),
-                (4, 2) => self.gn_system::<5, 10>(&g, &mut h, &mut rhs),
-                (5, 2) => self.gn_system::<6, 12>(&g, &mut h, &mut rhs),
-                _ => self.gn_system::<0, 0>(&g, &mut h, &mut rhs),
-            }
+            self.gauss_newton(&g, &mut h, &mut rhs);
             // The band is usually active at a few check samples: the step minimizes Σ (r + J s)² + ρ Σ_{j∈A}
             // |Δs(u_j)|² where A holds the check samples within 3 % of the band edge (their displacement is
             // frozen; a rank-1 penalty on the outward component only was tried and did worse), then a
@@ -1563,15 +1555,7 @@ impl FairingSetup {
             h.reset(nu, bw);
             rhs.fill(DVec3::ZERO);
             std::mem::swap(&mut self.best, &mut x);
-            match (p, dim) {
-                (2, 2) => self.gn_system::<3, 6>(&g, &mut h, &mut rhs),
-                (2, 3) => self.gn_system::<3, 9>(&g, &mut h, &mut rhs),
-                (3, 2) => self.gn_system::<4, 8>(&g, &mut h, &mut rhs),
-                (3, 3) => self.gn_system::<4, 12>(&g, &mut h, &mut rhs),
-                (4, 2) => self.gn_system::<5, 10>(&g, &mut h, &mut rhs),
-                (5, 2) => self.gn_system::<6, 12>(&g, &mut h, &mut rhs),
-                _ => self.gn_system::<0, 0>(&g, &mut h, &mut rhs),
-            }
+            self.gauss_newton(&g, &mut h, &mut rhs);
             std::mem::swap(&mut self.best, &mut x);
             // the constraints' terms; one whose Hessian is below 1e-9 of the largest diagonal of JᵀJ is
             // left out of the system (the step is a search direction: the line search sees every one)
@@ -1817,6 +1801,19 @@ impl FairingSetup {
             *o = self.chk_rows(&pad, j).1;
         }
         self.pad = pad;
+    }
+
+    /// [`Self::gn_system`] with the row widths of the common degrees and dimensions known at compile time.
+    fn gauss_newton(&self, g: &[f64], h: &mut BandedSpd, rhs: &mut [DVec3]) {
+        match (self.work.degree(), self.work.dim()) {
+            (2, 2) => self.gn_system::<3, 6>(g, h, rhs),
+            (2, 3) => self.gn_system::<3, 9>(g, h, rhs),
+            (3, 2) => self.gn_system::<4, 8>(g, h, rhs),
+            (3, 3) => self.gn_system::<4, 12>(g, h, rhs),
+            (4, 2) => self.gn_system::<5, 10>(g, h, rhs),
+            (5, 2) => self.gn_system::<6, 12>(g, h, rhs),
+            _ => self.gn_system::<0, 0>(g, h, rhs),
+        }
     }
 
     /// The polish's Gauss–Newton system at the update `self.best`: `h += JᵀJ`, `rhs −= Jᵀr` with

@@ -143,6 +143,11 @@ fn resample(pts: &[(DVec3, f64)], n: usize) -> (Vec<DVec3>, Vec<f64>) {
 
 /// Noisy samples (σ, seed) of a shape fitted by a cubic with `ncp` control points.
 pub fn noisy_curve(shape: Shape, ncp: usize, sigma: f64, seed: u64) -> BSplineCurve {
+    noisy_curve_of_degree(shape, 3, ncp, sigma, seed)
+}
+
+/// [`noisy_curve`] fitted by a B-spline of degree `p`.
+pub fn noisy_curve_of_degree(shape: Shape, p: usize, ncp: usize, sigma: f64, seed: u64) -> BSplineCurve {
     let nsamp = 12 * ncp;
     let (pts, _) = shape.dense(nsamp);
     let mut rng = Rng::new(seed);
@@ -158,10 +163,27 @@ pub fn noisy_curve(shape: Shape, ncp: usize, sigma: f64, seed: u64) -> BSplineCu
         })
         .collect();
     let params: Vec<f64> = (0..nsamp).map(|k| k as f64 / (nsamp - 1) as f64).collect();
-    let knots = KnotVector::uniform(3, ncp).unwrap();
+    let knots = KnotVector::uniform(p, ncp).unwrap();
     let cp = fit_curve_points(&knots, &params, &data, None, Smoothing::NONE, &[]).unwrap();
     let cp: Vec<DVec3> = cp.into_iter().map(|p| DVec3::new(p.x, p.y, 0.0)).collect();
-    BSplineCurve::try_new(3, knots.values().to_vec(), cp, None, 2).unwrap()
+    BSplineCurve::try_new(p, knots.values().to_vec(), cp, None, 2).unwrap()
+}
+
+/// The bench curve of `benches/fairing.rs`: a cubic with 100 control points through `(4t, 0.5 sin 3t)`
+/// with deterministic noise of ±0.005.
+pub fn bench_curve() -> BSplineCurve {
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let pts: Vec<fairway::DVec2> = (0..100)
+        .map(|i| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let noise = ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.01;
+            let t = i as f64 / 99.0;
+            fairway::DVec2::new(4.0 * t, 0.5 * (3.0 * t).sin() + noise)
+        })
+        .collect();
+    BSplineCurve::new_2d(3, KnotVector::uniform(3, 100).unwrap().values().to_vec(), &pts).unwrap()
 }
 
 /// RMS and max of (κ_curve − κ_true) over normalized arc length in [0.05, 0.95].
