@@ -3,7 +3,7 @@
 //! that are legitimately fairable). Inputs are passed by reference, so the
 //! caller's document cannot change; the editor and CLI show these messages.
 
-use fairway::fair::{FairingOptions, fair_curve};
+use fairway::fair::{FairingOptions, PolishMethod, fair_curve};
 use fairway::io::{self, points};
 use fairway::{BSplineCurve, DVec2, DVec3};
 
@@ -40,6 +40,16 @@ fn opts(tolerance: f64, region: Option<(f64, f64)>) -> FairingOptions {
         ..Default::default()
     }
 }
+
+/// [`opts`] with the given E polish.
+fn opts_p(polish_method: PolishMethod, tolerance: f64, region: Option<(f64, f64)>) -> FairingOptions {
+    FairingOptions {
+        polish_method,
+        ..opts(tolerance, region)
+    }
+}
+
+const POLISHES: [PolishMethod; 2] = [PolishMethod::LineSearch, PolishMethod::InteriorPoint];
 
 fn fair_err(c: &BSplineCurve, o: FairingOptions) -> String {
     fair_curve(c, o).unwrap_err().to_string()
@@ -254,12 +264,14 @@ fn fairable_degenerate_inputs_give_checked_results() {
             .collect::<Vec<_>>(),
     )
     .unwrap();
-    let r = fair_curve(&line, opts(0.01, None)).unwrap();
-    assert!(
-        max_dist(&r.curve, &line) < 1e-12 && r.energy < 1e-20,
-        "{}",
-        r.max_deviation
-    );
+    for pm in POLISHES {
+        let r = fair_curve(&line, opts_p(pm, 0.01, None)).unwrap();
+        assert!(
+            max_dist(&r.curve, &line) < 1e-12 && r.energy < 1e-20,
+            "{pm:?}: {}",
+            r.max_deviation
+        );
+    }
 
     // cusp: three coincident control points give a zero derivative, where the curve stops and turns by
     // 25°: a corner, which fairing keeps (tests/corners.rs). Before session 12 it was "faired within
@@ -289,26 +301,29 @@ fn fairable_degenerate_inputs_give_checked_results() {
         )
     );
 
-    // huge coordinates: scaled by 1e9 (tolerance scaled too) the result scales exactly enough
-    let base = fair_curve(&w, opts(0.01, None)).unwrap();
-    let big = moved(&w, |q| q * 1e9);
-    let rb = fair_curve(&big, opts(0.01 * 1e9, None)).unwrap();
-    assert!(rb.max_deviation <= 1e7);
-    assert!(max_dist(&moved(&base.curve, |q| q * 1e9), &rb.curve) < 1e-6 * 1e9);
-    // ... and moved to 1e9 (used to hang in the arc-length table): still within the band
-    let far = moved(&w, |q| q + DVec3::new(1e9, 1e9, 0.0));
-    let rf = fair_curve(&far, opts(0.01, None)).unwrap();
-    assert!(rf.max_deviation <= 0.01 && band_dev(&far, &rf.curve) <= 0.01 + 1e-6);
+    // (both polishes)
+    for pm in POLISHES {
+        // huge coordinates: scaled by 1e9 (tolerance scaled too) the result scales exactly enough
+        let base = fair_curve(&w, opts_p(pm, 0.01, None)).unwrap();
+        let big = moved(&w, |q| q * 1e9);
+        let rb = fair_curve(&big, opts_p(pm, 0.01 * 1e9, None)).unwrap();
+        assert!(rb.max_deviation <= 1e7);
+        assert!(max_dist(&moved(&base.curve, |q| q * 1e9), &rb.curve) < 1e-6 * 1e9);
+        // ... and moved to 1e9 (used to hang in the arc-length table): still within the band
+        let far = moved(&w, |q| q + DVec3::new(1e9, 1e9, 0.0));
+        let rf = fair_curve(&far, opts_p(pm, 0.01, None)).unwrap();
+        assert!(rf.max_deviation <= 0.01 && band_dev(&far, &rf.curve) <= 0.01 + 1e-6);
 
-    // tolerance 1e-15: the step is scaled down, the curve does not move beyond it
-    let r = fair_curve(&w, opts(1e-15, None)).unwrap();
-    assert!(r.max_deviation <= 1e-15 && r.alpha < 1.0);
-    assert!(max_dist(&r.curve, &w) <= 1e-14);
+        // tolerance 1e-15: the step is scaled down, the curve does not move beyond it
+        let r = fair_curve(&w, opts_p(pm, 1e-15, None)).unwrap();
+        assert!(r.max_deviation <= 1e-15 && r.alpha < 1.0);
+        assert!(max_dist(&r.curve, &w) <= 1e-14);
 
-    // tolerance larger than the curve: fairness weight at its cap, deviation well inside
-    let r = fair_curve(&w, opts(1e3, None)).unwrap();
-    assert!(r.max_deviation < 1.0, "{}", r.max_deviation);
-    assert!(r.energy < base.energy);
+        // tolerance larger than the curve: fairness weight at its cap, deviation well inside
+        let r = fair_curve(&w, opts_p(pm, 1e3, None)).unwrap();
+        assert!(r.max_deviation < 1.0, "{}", r.max_deviation);
+        assert!(r.energy < base.energy, "{pm:?}");
+    }
 }
 
 /// Regression (probe campaign, issue 4): far from the origin (coordinates 1e7, ulp 4e-9) distances are
@@ -332,8 +347,11 @@ fn far_from_the_origin_the_measured_deviation_stays_in_the_band() {
             .collect();
         let c = BSplineCurve::try_new(p, k, pts, None, 2).unwrap();
         for m in [1e-4, 3e-4] {
-            for region in [None, Some((0.15, 0.85))] {
-                let r = fair_curve(&c, opts(m, region)).unwrap();
+            for (region, pm) in [None, Some((0.15, 0.85))]
+                .into_iter()
+                .flat_map(|r| POLISHES.map(|pm| (r, pm)))
+            {
+                let r = fair_curve(&c, opts_p(pm, m, region)).unwrap();
                 assert!(r.max_deviation <= m);
                 worst = worst.max(band_dev(&c, &r.curve) / m);
             }
@@ -352,8 +370,11 @@ fn far_from_the_origin_the_measured_deviation_stays_in_the_band() {
 fn an_absurd_target_gives_a_finite_result_within_the_band() {
     use fairway::fair::{FairingSetup, Integrator};
     let w = wiggly();
-    for integrator in [Integrator::Euler, Integrator::Rk2, Integrator::Arc] {
-        let mut s = FairingSetup::new(&w, opts(0.01, None)).unwrap();
+    for (integrator, pm) in [Integrator::Euler, Integrator::Rk2, Integrator::Arc]
+        .into_iter()
+        .flat_map(|i| POLISHES.map(|pm| (i, pm)))
+    {
+        let mut s = FairingSetup::new(&w, opts_p(pm, 0.01, None)).unwrap();
         s.fair().unwrap();
         let n = s.target().len();
         assert!(s.target_mut().set(n / 2, 2.5e299));
@@ -362,10 +383,10 @@ fn an_absurd_target_gives_a_finite_result_within_the_band() {
         // a cold band search (no warm start from the previous μ): its MU_MIN comparison was the one
         s.set_mu_hint(None);
         let r = s.fair().unwrap();
-        assert!(r.curve.points().iter().all(|p| p.is_finite()), "{integrator:?}");
+        assert!(r.curve.points().iter().all(|p| p.is_finite()), "{integrator:?} {pm:?}");
         assert!(
             r.max_deviation <= 0.01 && band_dev(&w, &r.curve) <= 0.01,
-            "{integrator:?}"
+            "{integrator:?} {pm:?}"
         );
     }
 }
