@@ -1322,12 +1322,10 @@ impl FairingSetup {
                     dev = 0.0;
                     e = e0;
                 }
-                let (dev, e) = if self.opts.polish && self.opts.polish_method == PolishMethod::InteriorPoint {
-                    self.polish_interior(accept, dev, e, &mut solves)
-                } else if self.opts.polish {
-                    self.polish(accept, dev, e, &mut solves)
-                } else {
-                    (dev, e)
+                let (dev, e) = match (self.opts.polish, self.opts.polish_method) {
+                    (false, _) => (dev, e),
+                    (true, PolishMethod::LineSearch) => self.polish(accept, dev, e, &mut solves),
+                    (true, PolishMethod::InteriorPoint) => self.polish_interior(accept, dev, e, &mut solves),
                 };
                 // the band checks stop at the first point within the band: report the sharpest bound
                 let dev = if self.sharp_report {
@@ -1557,17 +1555,15 @@ impl FairingSetup {
             std::mem::swap(&mut self.best, &mut x);
             self.gauss_newton(&g, &mut h, &mut rhs);
             std::mem::swap(&mut self.best, &mut x);
-            // the constraints' terms; one whose Hessian is below 1e-9 of the largest diagonal of JᵀJ is
-            // left out of the system (the step is a search direction: the line search sees every one)
-            let skip = 1e-9 * (0..nu).fold(0.0f64, |a, i| a.max(h.get(i, i)));
+            // the constraints' terms
             match (p, dim) {
-                (2, 2) => self.barrier_terms::<3, 2>(&disp, &z, tau, m2, skip, &mut h, &mut rhs),
-                (2, 3) => self.barrier_terms::<3, 3>(&disp, &z, tau, m2, skip, &mut h, &mut rhs),
-                (3, 2) => self.barrier_terms::<4, 2>(&disp, &z, tau, m2, skip, &mut h, &mut rhs),
-                (3, 3) => self.barrier_terms::<4, 3>(&disp, &z, tau, m2, skip, &mut h, &mut rhs),
-                (4, 2) => self.barrier_terms::<5, 2>(&disp, &z, tau, m2, skip, &mut h, &mut rhs),
-                (5, 2) => self.barrier_terms::<6, 2>(&disp, &z, tau, m2, skip, &mut h, &mut rhs),
-                _ => self.barrier_terms::<0, 0>(&disp, &z, tau, m2, skip, &mut h, &mut rhs),
+                (2, 2) => self.barrier_terms::<3, 2>(&disp, &z, tau, m2, &mut h, &mut rhs),
+                (2, 3) => self.barrier_terms::<3, 3>(&disp, &z, tau, m2, &mut h, &mut rhs),
+                (3, 2) => self.barrier_terms::<4, 2>(&disp, &z, tau, m2, &mut h, &mut rhs),
+                (3, 3) => self.barrier_terms::<4, 3>(&disp, &z, tau, m2, &mut h, &mut rhs),
+                (4, 2) => self.barrier_terms::<5, 2>(&disp, &z, tau, m2, &mut h, &mut rhs),
+                (5, 2) => self.barrier_terms::<6, 2>(&disp, &z, tau, m2, &mut h, &mut rhs),
+                _ => self.barrier_terms::<0, 0>(&disp, &z, tau, m2, &mut h, &mut rhs),
             }
             // Marquardt damping by each point's diagonal block (rotation invariant, with a floor for
             // unknowns E does not see), and a stiff penalty on the directions the setup's constraints
@@ -1713,15 +1709,14 @@ impl FairingSetup {
 
     /// The band constraints' part of the interior-point system ([`Self::polish_interior`]) at the
     /// displacements `disp` with duals `z`: `h += Σ_j (b bᵀ) ⊗ (z_j I + 2 z_j/c_j D_j D_jᵀ)` and
-    /// `rhs −= Σ_j (τ / c_j) b ⊗ D_j` (the halved barrier of E/2). `N` = p + 1, `D` = dim, `W` = N·D
-    /// for the common cases (check samples whose rows are all free take a fixed-size path), 0 for any.
+    /// `rhs −= Σ_j (τ / c_j) b ⊗ D_j` (the halved barrier of E/2). `N` = p + 1 and `D` = dim for the
+    /// common cases (check samples whose rows are all free take a fixed-size path), 0 for any.
     fn barrier_terms<const N: usize, const D: usize>(
         &self,
         disp: &[DVec3],
         z: &[f64],
         tau: f64,
         m2: f64,
-        skip: f64,
         h: &mut BandedSpd,
         rhs: &mut [DVec3],
     ) {
@@ -1729,12 +1724,8 @@ impl FairingSetup {
         let dim = self.work.dim();
         let nf = self.nf;
         for (j, d) in disp.iter().enumerate() {
-            let d2 = d.length_squared();
-            let c = m2 - d2;
+            let c = m2 - d.length_squared();
             let (zi, zd, gj) = (z[j], 2.0 * z[j] / c, tau / c);
-            if zi + zd * d2 < skip {
-                continue;
-            }
             let f = self.chk_first[j];
             let b = &self.chk_b[j * np1..(j + 1) * np1];
             if N > 0 && f >= 0 && f as usize + N <= nf {
