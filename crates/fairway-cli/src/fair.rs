@@ -206,10 +206,7 @@ pub struct SurfaceReport {
 
 /// The report's `polish`: the fast method's polish, if it ran.
 fn polish_name(a: &Args) -> Option<&'static str> {
-    (a.method == "fast" && a.polish_iterations > 0).then_some(match a.polish_method {
-        PolishMethod::LineSearch => "line-search",
-        PolishMethod::InteriorPoint => "interior-point",
-    })
+    (a.method == "fast" && a.polish_iterations > 0).then_some(a.polish_method.name())
 }
 
 /// Run `fairway fair`.

@@ -141,6 +141,16 @@ impl std::str::FromStr for EndCondition {
     }
 }
 
+impl PolishMethod {
+    /// The name `fairway fair --polish-method` takes and its report writes.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::LineSearch => "line-search",
+            Self::InteriorPoint => "interior-point",
+        }
+    }
+}
+
 impl std::str::FromStr for PolishMethod {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self> {
