@@ -14,6 +14,20 @@ fn assets() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../assets")
 }
 
+/// The bundled curves (not the surfaces), loaded through the normal file reader, with their file names.
+fn bundled_curves() -> Vec<(&'static str, fairway::BSplineCurve)> {
+    generate::generate()
+        .into_iter()
+        .filter_map(|(name, _)| {
+            let doc = fairway::io::load(&assets().join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+            match doc.geometry {
+                Geometry::Curve(c) => Some((name, c)),
+                _ => None,
+            }
+        })
+        .collect()
+}
+
 #[test]
 fn assets_are_reproduced_by_the_generator() {
     let generated = generate::generate();
@@ -71,11 +85,7 @@ fn assets_load_with_the_promised_kinds() {
 fn reported_deviation_is_the_measured_one_on_the_samples() {
     use fairway::fair::{FairingOptions, PolishMethod, curve::POLISH_ITERS, fair_curve};
     let mut cases = 0;
-    for (name, _) in generate::generate() {
-        let doc = fairway::io::load(&assets().join(name)).unwrap();
-        let Geometry::Curve(c) = &doc.geometry else {
-            continue;
-        };
+    for (name, c) in &bundled_curves() {
         let (lo, hi) = c.control_bounds();
         let size = lo.distance(hi);
         let (d0, d1) = c.domain();
@@ -132,11 +142,7 @@ fn reported_deviation_is_the_measured_one_on_the_samples() {
 fn a_looser_tolerance_never_gives_a_less_fair_curve() {
     use fairway::fair::{FairingOptions, fair_curve};
     let mut curves = 0;
-    for (name, _) in generate::generate() {
-        let doc = fairway::io::load(&assets().join(name)).unwrap();
-        let Geometry::Curve(c) = &doc.geometry else {
-            continue;
-        };
+    for (name, c) in &bundled_curves() {
         curves += 1;
         let e0 = fairway::measure::measure(c, c).E_var;
         let mut e_var = vec![];
