@@ -498,7 +498,7 @@ fn closed_circle_with_kinks(seed: u64, at: &[f64], pull: f64, seam: f64) -> BSpl
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 24, ..Default::default() })]
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: common::prop_cases(24), ..Default::default() })]
 
     /// Closed curves with 0–2 kinks, the seam on a kink or not, faired whole, over a region or across the
     /// seam at a random tolerance: a result or a clear error, never a panic; a result holds the band (the

@@ -559,7 +559,7 @@ fn polish_method() -> impl Strategy<Value = PolishMethod> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 16, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: prop_cases(16), ..ProptestConfig::default() })]
 
     #[test]
     fn tolerance_held_points_and_g2_joins(

@@ -22,6 +22,15 @@ pub fn dev_max(a: &BSplineCurve, b: &BSplineCurve) -> f64 {
     deviations(a, b, 2000).into_iter().fold(0.0, f64::max)
 }
 
+/// Cases of a fairing property test: `ci` (what CI runs), or `FAIRWAY_PROP_CASES` for long runs by hand, e.g.
+/// `FAIRWAY_PROP_CASES=2000 cargo test --release -p fairway --test fair_curves tolerance_held`.
+pub fn prop_cases(ci: u32) -> u32 {
+    std::env::var("FAIRWAY_PROP_CASES")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(ci)
+}
+
 /// Default fairing options with tolerance `tol`.
 pub fn opts(tol: f64) -> FairingOptions {
     FairingOptions {
