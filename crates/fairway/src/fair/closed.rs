@@ -426,10 +426,11 @@ fn seam_reason(c: &BSplineCurve) -> String {
 }
 
 /// Whether [`fair_closed`] fairs `curve` across its seam with `opts` (two passes): a closed curve,
-/// faired whole (no region, or one covering the domain), in [`FitMode::Fairway`]; otherwise it is
+/// faired whole (no region, or one covering the domain), in [`FitMode::Fairway`] or the reference
+/// smoother's [`FitMode::Smoothing`]; otherwise it is
 /// one pass of [`FairingSetup`].
 pub fn applies(curve: &BSplineCurve, opts: &FairingOptions) -> bool {
-    if opts.mode != FitMode::Fairway || !is_closed_curve(curve) {
+    if opts.mode == FitMode::Paper || !is_closed_curve(curve) {
         return false;
     }
     let (a, b) = curve.domain();

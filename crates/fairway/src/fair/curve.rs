@@ -104,6 +104,9 @@ use crate::curve::{BSplineCurve, CurveDerivs};
 use crate::error::{Error, Result};
 use crate::linalg::BandedSpd;
 
+mod variation;
+use variation::VarRows;
+
 /// Continuity at the region ends.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum EndCondition {
@@ -147,6 +150,7 @@ impl PolishMethod {
         match self {
             Self::LineSearch => "line-search",
             Self::InteriorPoint => "interior-point",
+            Self::Variation => "variation",
         }
     }
 }
@@ -157,8 +161,9 @@ impl std::str::FromStr for PolishMethod {
         match s.to_ascii_lowercase().as_str() {
             "line-search" | "ls" => Ok(Self::LineSearch),
             "interior-point" | "ip" => Ok(Self::InteriorPoint),
+            "variation" => Ok(Self::Variation),
             _ => Err(Error::InvalidInput(format!(
-                "unknown polish method {s:?}: expected line-search or interior-point"
+                "unknown polish method {s:?}: expected variation, line-search or interior-point"
             ))),
         }
     }
@@ -172,6 +177,12 @@ pub enum FitMode {
     Fairway,
     /// The paper as published: position pull-back, plain least squares, soft band.
     Paper,
+    /// The reference smoother: knot-keeping penalized least squares, no target and no integration —
+    /// `Σ_k |c(p_k) − c₀(p_k)|² + λ ∫ |c'''|² du` over the free points (the data the original's
+    /// equal-arc samples), with the largest λ whose result holds the verified band. What a SciPy user
+    /// does by hand (a smoothing spline with a search on its weight); the peer every fair is judged
+    /// against, and a method of its own (`fairway fair --method smoothing`).
+    Smoothing,
 }
 
 /// Options of a curve fairing.
@@ -218,6 +229,14 @@ pub struct FairingOptions {
     pub ease_curve_ends: bool,
     /// How the polish minimizes E inside the band (default [`PolishMethod::LineSearch`]).
     pub polish_method: PolishMethod,
+    /// Continuity kept at an end of an *open* curve's domain that the region reaches (`None`: `ends`, as at
+    /// a region end). A curve end has no neighbour to join, and on a curve fitted to noisy points its end
+    /// curvature (and less so its tangent) is noise: kept, the fair has to bend towards it and adds
+    /// curvature extrema there. Region ends inside the curve and closed curves always take `ends`.
+    pub curve_ends: Option<EndCondition>,
+    /// β of [`PolishMethod::Variation`]: how strongly the curvature follows the target against the
+    /// curvature variation.
+    pub target_weight: f64,
 }
 
 /// The optimizer of the E polish ([`FairingOptions::polish_method`]).
@@ -236,6 +255,11 @@ pub enum PolishMethod {
     /// search 537 after its 8). For a target that is right — typed in, pinned, or hand-shaped — it
     /// follows it as closely as the band allows.
     InteriorPoint,
+    /// Interior point on `∫ (dκ/ds)² ds + β ∫ (κ − g)² ds / ℓ²` inside the parametric band: the curvature
+    /// variation of the whole stretch (quadrature over every knot span, so ripples between samples
+    /// count) plus the distance from the target g, with ℓ the mean arc length of a knot span and β
+    /// [`FairingOptions::target_weight`]. Started from the reference smoother's band-holding result.
+    Variation,
 }
 
 impl Default for FairingOptions {
@@ -253,6 +277,8 @@ impl Default for FairingOptions {
             polish_iterations: POLISH_ITERS,
             ease_curve_ends: false,
             polish_method: PolishMethod::LineSearch,
+            target_weight: 0.1,
+            curve_ends: None,
         }
     }
 }
@@ -327,6 +353,19 @@ pub struct FairingSetup {
     b2: Vec<f64>,
     a0: BandedSpd,
     a2: BandedSpd,
+    /// `∫ |N_i'''|·|N_j'''| du` of the free points and `−∫ c₀''' N_i'''`: the reference smoother's penalty.
+    a3: BandedSpd,
+    rhs3: Vec<DVec3>,
+    /// The quadrature rows of the variation energy `∫ (dκ/ds)² ds` ([`variation`]).
+    var: VarRows,
+    /// Rows at the curvature probes of the extrema count ([`variation::PROBES`] a span).
+    probes: VarRows,
+    /// The μ search solves the smoother's system (`A0 + λ A3`, data term the original) instead of the fit's.
+    smoothing_system: bool,
+    /// λ / μ of the smoother ([`Self::lambda_scale`]).
+    a3_scale: f64,
+    /// μ of the last smoother search (its warm start).
+    last_mu_smooth: Option<f64>,
     // check samples
     chk_u: Vec<f64>,
     chk_q: Vec<DVec3>,
@@ -379,6 +418,18 @@ pub struct FairingSetup {
 /// not `measure`'s 16: +1 % time per fair instead of +4 %; with 4 one probe case (quadratic,
 /// m = 4.6e-8) reported 0.7 % above `dev_max`.
 const REPORT_POLYLINE: usize = 8;
+/// The interior point's objective: `paper · E + var · E_var`, with `paper` 1 or 0 (the Gauss–Newton
+/// system of E is added with weight 1, the barrier is scaled to the objective).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Objective {
+    paper: f64,
+    var: f64,
+}
+
+impl Objective {
+    const PAPER: Self = Self { paper: 1.0, var: 0.0 };
+}
+
 /// Smallest fairness weight μ tried (see the module docs, step 6).
 pub const MU_MIN: f64 = 1e-6;
 /// Largest fairness weight μ tried.
@@ -537,6 +588,14 @@ impl FairingSetup {
         let (u1, u2) = (u1.max(d0), u2.min(d1));
         let at_start = u1 <= d0 + eps;
         let at_end = u2 >= d1 - eps;
+        // an end of an open curve has no neighbour: it takes `curve_ends` when set
+        let ends = match opts.curve_ends {
+            Some(c) if !super::closed::is_closed_curve(&input) => [
+                if at_start { c } else { ends[0] },
+                if at_end { c } else { ends[1] },
+            ],
+            _ => ends,
+        };
         // G1/G0 freedom at interior ends: knot insertion (curve unchanged)
         let mut work = input.clone();
         let want = |e: EndCondition| match e {
@@ -676,6 +735,13 @@ impl FairingSetup {
             b2: Vec::with_capacity(ns * (p + 1)),
             a0: BandedSpd::zeros(nf, p),
             a2: BandedSpd::zeros(nf, p),
+            a3: BandedSpd::zeros(nf, p),
+            rhs3: vec![],
+            var: VarRows::default(),
+            probes: VarRows::default(),
+            smoothing_system: false,
+            a3_scale: 1.0,
+            last_mu_smooth: None,
             chk_u: vec![],
             chk_q: vec![],
             chk_first: vec![],
@@ -873,6 +939,9 @@ impl FairingSetup {
                 }
             }
         }
+        s.var = VarRows::new(&s.work, range, i0, nf);
+        s.probes = VarRows::probes(&s.work, range, i0, nf);
+        (s.a3, s.rhs3) = s.var.penalty_gram(p, nf);
         // normal matrices
         for k in 0..ns {
             let f = s.first[k];
@@ -891,6 +960,8 @@ impl FairingSetup {
                 }
             }
         }
+        let (t0, t3) = (0..nf).fold((0.0, 0.0), |(x, y), i| (x + s.a0.get(i, i), y + s.a3.get(i, i)));
+        s.a3_scale = if t3 > 0.0 && t0 > 0.0 { t0 / t3 } else { 1.0 };
         // check samples: CHECK_SAMPLES at equal arc length over the whole curve, those inside the stretch
         // (check_samples = 0: the fairing samples themselves, no second table)
         let all = if check_samples == 0 {
@@ -956,6 +1027,9 @@ impl FairingSetup {
             }
         }
         s.target = Target::new(&kappa)?;
+        let hw = (crate::measure::WINDOW_FRAC / 2.0 * (ns - 1) as f64).round() as usize;
+        s.var.delta = crate::measure::REL_THRESHOLD
+            * crate::measure::moving_average(&kappa, hw).iter().fold(0.0f64, |a, g| a.max(g.abs()));
         s.kappa0 = kappa;
         // a G1 / G0 end does not keep its curvature: the target is free there (smoothed like the interior)
         for (last, e) in [(false, ends[0]), (true, ends[1])] {
@@ -1251,6 +1325,9 @@ impl FairingSetup {
     pub fn fair(&mut self) -> Result<FairingResult> {
         let m = self.opts.tolerance;
         validate_tolerance(m)?;
+        if self.opts.mode == FitMode::Smoothing {
+            return self.fair_smoothing();
+        }
         let p = self.work.degree();
         let pull = PullBack {
             tolerance: m,
@@ -1308,7 +1385,7 @@ impl FairingSetup {
                 let dev = self.deviation(&self.best.clone(), f64::INFINITY);
                 (0.0, 1.0, dev, self.energy_of_update(&self.best))
             }
-            FitMode::Fairway => {
+            FitMode::Fairway | FitMode::Smoothing => {
                 let accept = band_accept(m, &self.work);
                 let (mu, mut alpha, mut dev) = self.search_mu(accept, &mut solves)?;
                 // Never less fair than the original: where the band-holding fit has a larger E than the
@@ -1337,6 +1414,7 @@ impl FairingSetup {
                     (false, _) => (dev, e),
                     (true, PolishMethod::LineSearch) => self.polish(accept, dev, e, &mut solves),
                     (true, PolishMethod::InteriorPoint) => self.polish_interior(accept, dev, e, &mut solves),
+                    (true, PolishMethod::Variation) => self.polish_variation(accept, dev, e, &mut solves)?,
                 };
                 // the band checks stop at the first point within the band: report the sharpest bound
                 let dev = if self.sharp_report {
@@ -1511,6 +1589,13 @@ impl FairingSetup {
     /// deviation bound and E of the fairest iterate that keeps the roughness cap (see [`Self::polish`];
     /// the start when none does).
     fn polish_interior(&mut self, accept: f64, dev: f64, e: f64, solves: &mut usize) -> (f64, f64) {
+        self.interior_point(accept, dev, e, solves, Objective::PAPER)
+    }
+
+    /// The interior-point minimization of `obj` (the paper's E, or the variation objective) inside the
+    /// parametric band at the check samples, from the band-holding update in `self.best` whose paper's E is
+    /// `e` and deviation `dev`. Leaves the fairest iterate in `self.best`; returns its (deviation, E).
+    fn interior_point(&mut self, accept: f64, dev: f64, e: f64, solves: &mut usize, obj: Objective) -> (f64, f64) {
         let p = self.work.degree();
         let dim = self.work.dim();
         let nf = self.nf;
@@ -1519,16 +1604,23 @@ impl FairingSetup {
             return (dev, e);
         }
         let nu = dim * nf;
-        let bw = dim * (p + 1) - 1;
+        // a curvature step at a knot below C2 couples the p + 2 points of the spans on both sides
+        let bw = if obj.var > 0.0 && !self.var.jumps.is_empty() { dim * (p + 2) - 1 } else { dim * (p + 1) - 1 };
         let g = self.target.values().to_vec();
         let m2 = accept * accept;
-        let rough_cap = {
+        let rough_cap = if obj.var > 0.0 {
+            f64::INFINITY
+        } else {
             let r0 = self.energy_and_roughness::<true>(&self.best).1;
             let rg = g.windows(2).map(|w| (w[1] - w[0]).powi(2)).sum::<f64>() / self.h;
             r0.max(rg) * POLISH_ROUGHNESS_CAP
         };
-        // the fairest accepted state so far: (E, deviation bound, update)
-        let mut best = (e, dev, self.best.clone());
+        let (start_value, start_var) = if obj.var > 0.0 { self.objective_value(obj, &self.best.clone()) } else { (e, 0.0) };
+        // the variation objective ranks iterates by their curvature extrema first (never more than the
+        // start's), then by the objective, among those whose E_var is not above the start's
+        let mut best_extrema = if obj.var > 0.0 { self.node_extrema(&self.best) } else { 0 };
+        // the fairest accepted state so far: (objective, deviation bound, update)
+        let mut best = (start_value, dev, self.best.clone());
         // start strictly inside the parametric band (the fit holds the band in the closest-point sense:
         // where the curve slid along itself its parametric displacement can reach m)
         let mut x = self.best.clone();
@@ -1548,7 +1640,7 @@ impl FairingSetup {
                 *d *= s;
             }
         }
-        let mut e_x = self.energy_of_update(&x);
+        let mut e_x = self.objective_value(obj, &x).0;
         let mut tau = (e_x / nc as f64).max(1e-300);
         let mut z: Vec<f64> = disp.iter().map(|d| tau / (m2 - d.length_squared())).collect();
         let mut log_b = barrier_log_sum(&disp, m2);
@@ -1563,9 +1655,14 @@ impl FairingSetup {
             // Gauss–Newton system of E at x
             h.reset(nu, bw);
             rhs.fill(DVec3::ZERO);
-            std::mem::swap(&mut self.best, &mut x);
-            self.gauss_newton(&g, &mut h, &mut rhs);
-            std::mem::swap(&mut self.best, &mut x);
+            if obj.paper > 0.0 {
+                std::mem::swap(&mut self.best, &mut x);
+                self.gauss_newton(&g, &mut h, &mut rhs);
+                std::mem::swap(&mut self.best, &mut x);
+            }
+            if obj.var > 0.0 {
+                self.variation_system(&x, obj.var, &mut h, &mut rhs);
+            }
             // the constraints' terms
             match (p, dim) {
                 (2, 2) => self.barrier_terms::<3, 2>(&disp, &z, tau, m2, &mut h, &mut rhs),
@@ -1649,7 +1746,7 @@ impl FairingSetup {
                 }
                 let lb = barrier_log_sum(&cdisp, m2);
                 if lb.is_finite() {
-                    let (e_c, rough) = self.energy_and_roughness::<true>(&cand);
+                    let (e_c, rough) = self.objective_value(obj, &cand);
                     // NaN-safe: a NaN energy is not a decrease
                     if e_c + tau * lb <= phi0 {
                         accepted = Some((e_c, rough, lb));
@@ -1674,7 +1771,17 @@ impl FairingSetup {
                 zc += z[j] * (m2 - disp[j].length_squared());
             }
             tau = IP_SIGMA * zc / nc as f64;
-            if e_x < best.0 && rough <= rough_cap {
+            let better = if obj.var > 0.0 {
+                let ext = self.node_extrema(&x);
+                let take = rough <= start_var && (ext < best_extrema || (ext == best_extrema && e_x < best.0));
+                if take {
+                    best_extrema = ext;
+                }
+                take
+            } else {
+                e_x < best.0 && rough <= rough_cap
+            };
+            if better {
                 let dev = disp.iter().fold(0.0f64, |a, d| a.max(d.length_squared())).sqrt();
                 best = (e_x, dev, x.clone());
             }
@@ -1685,7 +1792,91 @@ impl FairingSetup {
         }
         let (e, dev, upd) = best;
         self.best = upd;
+        let e = if obj.var > 0.0 { self.energy_of_update(&self.best) } else { e };
         (dev, e)
+    }
+
+    /// The interior point's objective at the update `d` and, for the paper's E, the roughness its steps
+    /// are capped by (for the variation objective: E_var).
+    fn objective_value(&self, obj: Objective, d: &[DVec3]) -> (f64, f64) {
+        let (mut v, mut rough) = (0.0, 0.0);
+        if obj.paper > 0.0 {
+            let (e, r) = self.energy_and_roughness::<true>(d);
+            v += obj.paper * e;
+            rough = r;
+        }
+        if obj.var > 0.0 {
+            let ev = self.variation_of_update(d);
+            v += obj.var * ev;
+            rough = ev;
+        }
+        (v, rough)
+    }
+
+    /// The reference smoother ([`FitMode::Smoothing`]): the μ search on its system, the sharp report.
+    fn fair_smoothing(&mut self) -> Result<FairingResult> {
+        let accept = band_accept(self.opts.tolerance, &self.work);
+        let mut solves = 0;
+        let (mu, alpha, dev) = self.search_smoothing(accept, &mut solves)?;
+        let dev = if self.sharp_report {
+            let best = std::mem::take(&mut self.best);
+            let dev = self.sharp_deviation(&best, dev);
+            self.best = best;
+            dev
+        } else {
+            dev
+        };
+        Ok(FairingResult {
+            curve: self.updated_curve(&self.best)?,
+            max_deviation: dev,
+            mu,
+            alpha,
+            solves,
+            energy: self.energy_of_update(&self.best),
+            seam: self.seam.clone(),
+            notes: vec![],
+        })
+    }
+
+    /// The μ search of the reference smoother: `(A0 + λ A3) ΔP = λ rhs3` (data term the original), the
+    /// largest λ whose result holds the band. Leaves the update in `self.best`; returns (μ, α, deviation).
+    fn search_smoothing(&mut self, accept: f64, solves: &mut usize) -> Result<(f64, f64, f64)> {
+        let rhs0 = std::mem::replace(&mut self.rhs0, vec![DVec3::ZERO; self.nf]);
+        let rhs2 = std::mem::replace(&mut self.rhs2, self.rhs3.clone());
+        std::mem::swap(&mut self.last_mu, &mut self.last_mu_smooth);
+        self.smoothing_system = true;
+        let r = self.search_mu(accept, solves);
+        self.smoothing_system = false;
+        std::mem::swap(&mut self.last_mu, &mut self.last_mu_smooth);
+        self.rhs0 = rhs0;
+        self.rhs2 = rhs2;
+        r
+    }
+
+    /// [`PolishMethod::Variation`]: from the reference smoother's result or the fit's, whichever is fairer
+    /// (fewer curvature extrema at the quadrature nodes, then the lower E_var), the interior point on
+    /// `E_var + β ∫ (κ − g)² ds / ℓ²`.
+    fn polish_variation(&mut self, accept: f64, dev: f64, e: f64, solves: &mut usize) -> Result<(f64, f64)> {
+        let beta = self.opts.target_weight.max(0.0);
+        let spans = self.var.w.len() / variation::VAR_GAUSS;
+        let ell = self.h * (self.params.len() - 1) as f64 / spans.max(1) as f64;
+        // objective / β·h/ℓ² = E + (ℓ² / (β h)) E_var
+        let obj = if beta > 0.0 {
+            Objective { paper: 1.0, var: ell * ell / (beta * self.h) }
+        } else {
+            Objective { paper: 0.0, var: 1.0 }
+        };
+        let fit = (self.best.clone(), dev, e);
+        let fit_rank = (self.node_extrema(&fit.0), self.variation_of_update(&fit.0));
+        let (_, _, sdev) = self.search_smoothing(accept, solves)?;
+        let smooth_rank = (self.node_extrema(&self.best), self.variation_of_update(&self.best));
+        let (dev, e) = if smooth_rank <= fit_rank {
+            (sdev, self.energy_of_update(&self.best.clone()))
+        } else {
+            self.best = fit.0;
+            (fit.1, fit.2)
+        };
+        Ok(self.interior_point(accept, dev, e, solves, obj))
     }
 
     /// `m += ρ P_i` on each free point's diagonal block, `P_i` the projector onto the directions its
@@ -1945,7 +2136,7 @@ impl FairingSetup {
         *solves += 1;
         // a failed solve at a large fairness weight (ill-conditioned A2, e.g. next to a multiple knot of
         // G0/G1 ends) counts as "band not held": smaller μ are tried
-        if self.solve(mu * self.du.powi(4)).is_err() {
+        if self.solve(mu * self.lambda_scale()).is_err() {
             return f64::INFINITY;
         }
         let sol = std::mem::take(&mut self.sol);
@@ -2038,6 +2229,10 @@ impl FairingSetup {
     /// `assets/kinked_profile.json` faired at m = 0.03 stopped at μ = 1e10 with E 9.5, where μ = 1e6
     /// gives 2.2: a looser tolerance gave a less fair curve than m = 0.01 (∫(dκ/ds)² 58 against 25).
     fn finish_mu_fairest(&mut self, a: f64, da: f64, accept: f64, solves: &mut usize) -> (f64, f64, f64) {
+        if self.smoothing_system {
+            // the smoother's weight is the largest the band allows, as a smoothing-factor search gives
+            return self.finish_mu(a, da);
+        }
         let lo = MU_MIN.ln();
         let step = MU_WARM_STEP.ln();
         let (mut a, mut da) = (a, da);
@@ -2066,7 +2261,7 @@ impl FairingSetup {
 
     /// Even `MU_MIN` breaks the band: scale its update down until the band holds (α = 0 is the original).
     fn scale_update(&mut self, accept: f64, solves: &mut usize) -> Result<(f64, f64, f64)> {
-        self.solve(MU_MIN * self.du.powi(4))?;
+        self.solve(MU_MIN * self.lambda_scale())?;
         *solves += 1;
         let full = self.sol.clone();
         let (mut a, mut b) = (0.0f64, 1.0f64);
@@ -2102,7 +2297,7 @@ impl FairingSetup {
             // equal arc-length samples can skip) has an empty row: a small ridge keeps such points where
             // they are (their right-hand side is zero) and leaves the others as good as unchanged.
             let dmax = (0..self.nf)
-                .map(|i| self.a0.get(i, i) + lambda * self.a2.get(i, i))
+                .map(|i| self.a0.get(i, i) + lambda * self.penalty().get(i, i))
                 .fold(0.0, f64::max);
             self.assemble(lambda, 1e-9 * dmax);
             self.m.factor().map_err(|e| {
@@ -2118,13 +2313,25 @@ impl FairingSetup {
         Ok(())
     }
 
-    /// `self.m = A0 + λ A2 + ridge·I` (lower band).
+    /// The penalty matrix of the μ search: the fit's `A2`, or the smoother's `A3`.
+    fn penalty(&self) -> &BandedSpd {
+        if self.smoothing_system { &self.a3 } else { &self.a2 }
+    }
+
+    /// λ = μ · this: `Δu⁴` for the fit's second-derivative term at the samples (μ = 1 weighs a position
+    /// error like its second difference), `tr A0 / tr A3` for the smoother (μ = 1 weighs both terms alike,
+    /// whatever the parameter's scale and the knot spacing).
+    fn lambda_scale(&self) -> f64 {
+        if self.smoothing_system { self.a3_scale } else { self.du.powi(4) }
+    }
+
+    /// `self.m = A0 + λ A2 + ridge·I` (lower band; `A3` for the smoother).
     fn assemble(&mut self, lambda: f64, ridge: f64) {
         let p = self.work.degree();
         self.m.reset(self.nf, p);
         for i in 0..self.nf {
             for j in i.saturating_sub(p)..=i {
-                let mut v = self.a0.get(i, j) + lambda * self.a2.get(i, j);
+                let mut v = self.a0.get(i, j) + lambda * self.penalty().get(i, j);
                 if i == j {
                     v += ridge;
                 }

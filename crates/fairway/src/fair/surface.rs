@@ -687,6 +687,8 @@ pub fn isocurve_setup(
         strength,
         // the E polish is for curves; the surface combines the isocurve clouds and verifies its own band
         polish: false,
+        // an isocurve's ends are the surface's border: they keep the border's G2 state
+        curve_ends: None,
         ..opts.curve
     };
     FairingSetup::with_check_samples(c, fo, 0)

@@ -1,0 +1,127 @@
+//! The fairness quality table: every curve of the suite (`tests/common/suite.rs`) at tolerances of 1, 3
+//! and 10 × its noise σ — the original, the reference smoother (knot-keeping penalized least squares,
+//! its weight searched to hold the band) and Fairway's default fair, judged by the independent measures
+//! of `measure` (curvature extrema with hysteresis, inflections, ∫(dκ/ds)² ds, max deviation / m).
+//!
+//! `cargo run --release -p fairway --example quality_table [-- --markdown]`
+
+#[path = "../tests/common/suite.rs"]
+mod suite;
+
+use std::time::Instant;
+
+use fairway::BSplineCurve;
+use fairway::fair::{FairingOptions, FitMode, fair_curve};
+use fairway::measure::{Measures, measure};
+
+fn row(md: bool, cells: &[String]) {
+    if md {
+        println!("| {} |", cells.join(" | "));
+    } else {
+        println!("{}", cells.iter().map(|c| format!("{c:>12} ")).collect::<String>());
+    }
+}
+
+fn fair(curve: &BSplineCurve, opts: FairingOptions) -> (BSplineCurve, f64) {
+    let t = Instant::now();
+    let r = fair_curve(curve, opts).expect("fair");
+    (r.curve, t.elapsed().as_secs_f64() * 1e3)
+}
+
+/// κ over normalized arc length (4000 samples), for the plots of `scripts/plot_kappa.py`.
+fn kappa_csv(curves: &[&BSplineCurve]) -> String {
+    let n = 4000;
+    let cols: Vec<Vec<f64>> = curves
+        .iter()
+        .map(|c| fairway::measure::arc_params(c, n).into_iter().map(|u| c.derivs(u).curvature(c.dim())).collect())
+        .collect();
+    let mut out = String::from("s,original,reference,fairway\n");
+    for k in 0..n {
+        out += &format!("{}", k as f64 / (n - 1) as f64);
+        for c in &cols {
+            out += &format!(",{}", c[k]);
+        }
+        out += "\n";
+    }
+    out
+}
+
+fn main() {
+    let md = std::env::args().any(|a| a == "--markdown");
+    let dump = std::env::args().skip_while(|a| a != "--dump").nth(1);
+    let head: Vec<String> = [
+        "curve", "m/σ", "extrema", "ref", "fairway", "infl", "ref", "fairway", "E_var", "ref", "fairway", "dev/m ref",
+        "dev/m fw", "ms ref", "ms fw",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    row(md, &head);
+    if md {
+        row(md, &vec!["---".to_string(); head.len()]);
+    }
+    let (mut wins, mut total, mut worse_than_original) = (0, 0, 0);
+    let only = std::env::var("QT_CASE").ok();
+    let noise = std::env::var("QT_NOISE").map_or(1.0, |v| v.parse().expect("noise scale"));
+    for case in suite::cases_with_noise(noise) {
+        if only.as_deref().is_some_and(|o| !case.name.contains(o)) {
+            continue;
+        }
+        let orig = measure(&case.curve, &case.curve);
+        for f in suite::TOLERANCE_FACTORS {
+            let m = f * case.sigma;
+            let mut opts = FairingOptions { tolerance: m, ..Default::default() };
+            if let Ok(v) = std::env::var("QT_POLISH") {
+                opts.polish_method = v.parse().expect("polish method");
+            }
+            if let Ok(v) = std::env::var("QT_BETA") {
+                opts.target_weight = v.parse().expect("beta");
+            }
+            if let Ok(v) = std::env::var("QT_CURVE_ENDS") {
+                opts.curve_ends = Some(v.parse().expect("curve ends"));
+            }
+            if let Ok(v) = std::env::var("QT_ITERS") {
+                opts.polish_iterations = v.parse().expect("iterations");
+            }
+            let (rc, rt) = fair(&case.curve, FairingOptions { mode: FitMode::Smoothing, ..opts });
+            let (fc, ft) = fair(&case.curve, opts);
+            let (r, w): (Measures, Measures) = (measure(&case.curve, &rc), measure(&case.curve, &fc));
+            if let Some(dir) = &dump {
+                let path = format!("{dir}/{}_{f}.csv", case.name);
+                std::fs::write(&path, kappa_csv(&[&case.curve, &rc, &fc])).expect("write the κ table");
+            }
+            total += 1;
+            if w.n_curv_extrema <= r.n_curv_extrema && w.E_var <= r.E_var {
+                wins += 1;
+            }
+            if w.n_curv_extrema > orig.n_curv_extrema {
+                worse_than_original += 1;
+            }
+            row(
+                md,
+                &[
+                    case.name.to_string(),
+                    format!("{f}"),
+                    orig.n_curv_extrema.to_string(),
+                    r.n_curv_extrema.to_string(),
+                    w.n_curv_extrema.to_string(),
+                    orig.n_inflections.to_string(),
+                    r.n_inflections.to_string(),
+                    w.n_inflections.to_string(),
+                    format!("{:.4e}", orig.E_var),
+                    format!("{:.4e}", r.E_var),
+                    format!("{:.4e}", w.E_var),
+                    format!("{:.3}", r.dev_max / m),
+                    format!("{:.3}", w.dev_max / m),
+                    format!("{rt:.2}"),
+                    format!("{ft:.2}"),
+                ],
+            );
+        }
+    }
+    println!();
+    println!(
+        "Fairway at least as fair as the reference (extrema and E_var) in {wins} of {total} cases; more extrema \
+         than the original in {worse_than_original}."
+    );
+}
