@@ -28,6 +28,16 @@ fn wavy(p: usize, n: usize) -> BSplineCurve {
     BSplineCurve::new_2d(p, k, &pts).unwrap()
 }
 
+/// The options these tests' thresholds were measured with: the line-search E polish and G2 at curve
+/// ends (the default polish is judged against the reference smoother in tests/quality.rs).
+fn ls_opts(m: f64) -> fairway::fair::FairingOptions {
+    fairway::fair::FairingOptions {
+        polish_method: fairway::fair::PolishMethod::LineSearch,
+        curve_ends: Some(fairway::fair::EndCondition::G2),
+        ..opts(m)
+    }
+}
+
 #[test]
 fn remove_knot_undoes_insert_knot() {
     for p in [2usize, 3, 4, 5] {
@@ -208,15 +218,15 @@ fn closed_curve_is_faired_across_the_seam() {
         let truth = periodic_ellipse(80, 0.0, seed);
         assert!(c.is_closed(0.0));
         let (d0, d1) = c.domain();
-        let r = fair_closed(&c, opts(m)).unwrap();
+        let r = fair_closed(&c, ls_opts(m)).unwrap();
         assert_eq!(r.seam, Seam::Faired);
         // the old behaviour: one pass, seam held
-        let held = FairingSetup::new(&c, opts(m)).unwrap().fair().unwrap();
+        let held = FairingSetup::new(&c, ls_opts(m)).unwrap().fair().unwrap();
         assert!(matches!(held.seam, Seam::Held(_)), "{:?}", held.seam);
         // a loop has no curve ends to ease (FairingOptions::ease_curve_ends): the same curves
         let eased = FairingOptions {
             ease_curve_ends: true,
-            ..opts(m)
+            ..ls_opts(m)
         };
         assert_eq!(fair_closed(&c, eased).unwrap().curve.points(), r.curve.points());
         let held_eased = FairingSetup::new(&c, eased).unwrap().fair().unwrap();
@@ -277,7 +287,7 @@ fn iterative_baseline_fairs_a_closed_curve_across_the_seam() {
     let c = periodic_ellipse(40, 1e-3, 4);
     let truth = periodic_ellipse(40, 0.0, 4);
     let (d0, d1) = c.domain();
-    let r = fair_closed_iterative(&c, opts(m), IterativeOptions::default()).unwrap();
+    let r = fair_closed_iterative(&c, ls_opts(m), IterativeOptions::default()).unwrap();
     assert_eq!(r.seam, Seam::Faired, "{:?}", r.seam);
     assert_eq!(r.curve.knots().values(), c.knots().values());
     assert!(r.curve.is_closed(1e-12));
@@ -293,11 +303,11 @@ fn iterative_baseline_fairs_a_closed_curve_across_the_seam() {
         r.max_deviation
     );
     // one pass of the baseline holds the seam
-    let setup = FairingSetup::new(&c, opts(m)).unwrap();
+    let setup = FairingSetup::new(&c, ls_opts(m)).unwrap();
     let held = fair_iterative(&setup, IterativeOptions::default()).unwrap();
     assert!(matches!(held.seam, Seam::Held(_)));
     assert!(r.energy < held.energy, "E across {} vs held {}", r.energy, held.energy);
-    let fast = fair_closed(&c, opts(m)).unwrap();
+    let fast = fair_closed(&c, ls_opts(m)).unwrap();
     let rms = |e: [f64; 10]| (e.iter().map(|x| x * x).sum::<f64>() / 10.0).sqrt();
     let (ei, ef) = (window_errors(&r.curve, &truth), window_errors(&fast.curve, &truth));
     println!(
@@ -670,7 +680,7 @@ fn closed_quartic_and_quintic_are_faired_across_their_seam() {
                 "p = {p}: c'' at the seam"
             );
             let m = 3e-3;
-            let r = fair_closed(&c, opts(m)).unwrap();
+            let r = fair_closed(&c, ls_opts(m)).unwrap();
             let f = &r.curve;
             assert_eq!(r.seam, Seam::Faired, "p = {p}, seed {seed}");
             assert_eq!(f.degree(), p);
@@ -682,7 +692,7 @@ fn closed_quartic_and_quintic_are_faired_across_their_seam() {
             let (lo, hi) = f.control_bounds();
             let (_, mult) = reseam(f, 0.5, 1e-9 * (hi - lo).length()).unwrap();
             assert_eq!(mult, 1, "p = {p}, seed {seed}: the seam is not C^(p-1)");
-            let held = FairingSetup::new(&c, opts(m)).unwrap().fair().unwrap();
+            let held = FairingSetup::new(&c, ls_opts(m)).unwrap().fair().unwrap();
             assert!(matches!(held.seam, Seam::Held(_)));
             // curvature error against the noise-free construction, at the closest point of it
             let proj = fairway::CurveProjector::new(&truth, 8);

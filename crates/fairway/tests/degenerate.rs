@@ -33,10 +33,12 @@ fn moved(c: &BSplineCurve, f: impl Fn(DVec3) -> DVec3) -> BSplineCurve {
     .unwrap()
 }
 
+/// G2 at the curve ends too: the table's messages are those of the held end curvature.
 fn opts(tolerance: f64, region: Option<(f64, f64)>) -> FairingOptions {
     FairingOptions {
         tolerance,
         region,
+        curve_ends: Some(fairway::fair::EndCondition::G2),
         ..Default::default()
     }
 }
@@ -49,7 +51,7 @@ fn opts_p(polish_method: PolishMethod, tolerance: f64, region: Option<(f64, f64)
     }
 }
 
-const POLISHES: [PolishMethod; 2] = [PolishMethod::LineSearch, PolishMethod::InteriorPoint];
+const POLISHES: [PolishMethod; 3] = [PolishMethod::Variation, PolishMethod::LineSearch, PolishMethod::InteriorPoint];
 
 fn fair_err(c: &BSplineCurve, o: FairingOptions) -> String {
     fair_curve(c, o).unwrap_err().to_string()
@@ -321,8 +323,15 @@ fn fairable_degenerate_inputs_give_checked_results() {
 
         // tolerance larger than the curve: fairness weight at its cap, deviation well inside
         let r = fair_curve(&w, opts_p(pm, 1e3, None)).unwrap();
-        assert!(r.max_deviation < 1.0, "{}", r.max_deviation);
-        assert!(r.energy < base.energy, "{pm:?}");
+        if pm == PolishMethod::Variation {
+            // the variation polish uses the room: within the band, and fairer than the input
+            assert!(r.max_deviation <= 1e3 && band_dev(&w, &r.curve) <= 1e3);
+            let (e0, e1) = (fairway::measure::energies(&w).0, fairway::measure::energies(&r.curve).0);
+            assert!(e1 < e0, "E_var {e0} -> {e1}");
+        } else {
+            assert!(r.max_deviation < 1.0, "{}", r.max_deviation);
+            assert!(r.energy < base.energy, "{pm:?}");
+        }
     }
 }
 

@@ -120,6 +120,11 @@ pub enum EndCondition {
 }
 
 impl EndCondition {
+    /// The weaker (lower order) of `self` and `other`.
+    pub fn min_by_order(self, other: Self) -> Self {
+        if other.order() < self.order() { other } else { self }
+    }
+
     /// The order of geometric continuity: 0, 1 or 2.
     pub fn order(self) -> usize {
         match self {
@@ -229,10 +234,11 @@ pub struct FairingOptions {
     pub ease_curve_ends: bool,
     /// How the polish minimizes E inside the band (default [`PolishMethod::LineSearch`]).
     pub polish_method: PolishMethod,
-    /// Continuity kept at an end of an *open* curve's domain that the region reaches (`None`: `ends`, as at
-    /// a region end). A curve end has no neighbour to join, and on a curve fitted to noisy points its end
-    /// curvature (and less so its tangent) is noise: kept, the fair has to bend towards it and adds
-    /// curvature extrema there. Region ends inside the curve and closed curves always take `ends`.
+    /// Continuity kept at an end of an *open* curve's domain that the region reaches (`None`, the default:
+    /// the weaker of `ends` and G1 — position and tangent, not the curvature). A curve end has no neighbour
+    /// in the curve, and on a curve fitted to noisy points its end curvature is mostly noise: kept, the fair
+    /// has to bend towards it and adds curvature extrema there. `Some(G2)` keeps it (a curve that joins
+    /// another one with G2 there). Region ends inside the curve and closed curves always take `ends`.
     pub curve_ends: Option<EndCondition>,
     /// β of [`PolishMethod::Variation`]: how strongly the curvature follows the target against the
     /// curvature variation.
@@ -242,12 +248,10 @@ pub struct FairingOptions {
 /// The optimizer of the E polish ([`FairingOptions::polish_method`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum PolishMethod {
-    /// Levenberg–Marquardt steps with the band-edge samples frozen and a backtracking band check
-    /// (default). It stops well short of E's minimum in the band, and that is why it is the default:
+    /// Levenberg–Marquardt steps with the band-edge samples frozen and a backtracking band check. It stops well short of E's minimum in the band, and that is why it is the default:
     /// the automatic target is smoothed from noisy curvature and flattens sharp features, and a result
     /// that follows it closely is not a more accurate curve (on the noisy closed ellipses of the
     /// closed-curve tests the curvature error against the noise-free curve rises above the input's).
-    #[default]
     LineSearch,
     /// Primal–dual interior point on the parametric band, the iterative baseline's band
     /// (`FairingSetup::polish_interior`): every iterate holds the band, and a few iterations reach a
@@ -259,6 +263,8 @@ pub enum PolishMethod {
     /// variation of the whole stretch (quadrature over every knot span, so ripples between samples
     /// count) plus the distance from the target g, with ℓ the mean arc length of a knot span and β
     /// [`FairingOptions::target_weight`]. Started from the reference smoother's band-holding result.
+    /// The default.
+    #[default]
     Variation,
 }
 
@@ -276,7 +282,7 @@ impl Default for FairingOptions {
             polish: true,
             polish_iterations: POLISH_ITERS,
             ease_curve_ends: false,
-            polish_method: PolishMethod::LineSearch,
+            polish_method: PolishMethod::Variation,
             target_weight: 0.1,
             curve_ends: None,
         }
@@ -588,13 +594,15 @@ impl FairingSetup {
         let (u1, u2) = (u1.max(d0), u2.min(d1));
         let at_start = u1 <= d0 + eps;
         let at_end = u2 >= d1 - eps;
-        // an end of an open curve has no neighbour: it takes `curve_ends` when set
-        let ends = match opts.curve_ends {
-            Some(c) if !super::closed::is_closed_curve(&input) => [
-                if at_start { c } else { ends[0] },
-                if at_end { c } else { ends[1] },
-            ],
-            _ => ends,
+        // an end of an open curve has no neighbour: it takes `curve_ends`, by default at most G1
+        let ends = if super::closed::is_closed_curve(&input) {
+            ends
+        } else {
+            let at_curve_end = |e: EndCondition| opts.curve_ends.unwrap_or(e.min_by_order(EndCondition::G1));
+            [
+                if at_start { at_curve_end(ends[0]) } else { ends[0] },
+                if at_end { at_curve_end(ends[1]) } else { ends[1] },
+            ]
         };
         // G1/G0 freedom at interior ends: knot insertion (curve unchanged)
         let mut work = input.clone();
@@ -1024,6 +1032,23 @@ impl FairingSetup {
             for j in 0..=p {
                 let li = f + j as isize;
                 s.chk_b.push(if li >= 0 && (li as usize) < nf { nb[j] } else { 0.0 });
+            }
+        }
+        // a free point whose support holds no check sample (a short span between multiple knots that the
+        // equal-arc samples skip): the band cannot be verified there, so it stays
+        let mut checked = vec![false; nf];
+        for (j, &f) in s.chk_first.iter().enumerate() {
+            for i in 0..=p {
+                let li = f + i as isize;
+                if li >= 0 && (li as usize) < nf && s.chk_b[j * (p + 1) + i] != 0.0 {
+                    checked[li as usize] = true;
+                }
+            }
+        }
+        for (i, _) in checked.iter().enumerate().filter(|(_, c)| !**c) {
+            match s.join_fix.iter_mut().find(|(k, _)| *k == i) {
+                Some((_, fix)) => *fix = None,
+                None => s.join_fix.push((i, None)),
             }
         }
         s.target = Target::new(&kappa)?;
@@ -1604,8 +1629,9 @@ impl FairingSetup {
             return (dev, e);
         }
         let nu = dim * nf;
-        // a curvature step at a knot below C2 couples the p + 2 points of the spans on both sides
-        let bw = if obj.var > 0.0 && !self.var.jumps.is_empty() { dim * (p + 2) - 1 } else { dim * (p + 1) - 1 };
+        // a curvature step at a knot below C2 couples the points of the spans on both sides
+        let reach = if obj.var > 0.0 { self.var.jump_reach() } else { 0 };
+        let bw = dim * (p + 1 + reach) - 1;
         let g = self.target.values().to_vec();
         let m2 = accept * accept;
         let rough_cap = if obj.var > 0.0 {
@@ -1870,13 +1896,27 @@ impl FairingSetup {
         let fit_rank = (self.node_extrema(&fit.0), self.variation_of_update(&fit.0));
         let (_, _, sdev) = self.search_smoothing(accept, solves)?;
         let smooth_rank = (self.node_extrema(&self.best), self.variation_of_update(&self.best));
-        let (dev, e) = if smooth_rank <= fit_rank {
+        let zero = vec![DVec3::ZERO; self.nf];
+        let orig_rank = (self.node_extrema(&zero), self.variation_of_update(&zero));
+        // the start: the fairest of the smoother's result, the fit's and the original
+        let (dev, e) = if smooth_rank <= fit_rank && smooth_rank <= orig_rank {
             (sdev, self.energy_of_update(&self.best.clone()))
-        } else {
+        } else if fit_rank <= orig_rank {
             self.best = fit.0;
             (fit.1, fit.2)
+        } else {
+            self.best.fill(DVec3::ZERO);
+            (0.0, self.original_energy())
         };
-        Ok(self.interior_point(accept, dev, e, solves, obj))
+        let (dev, e) = self.interior_point(accept, dev, e, solves, obj);
+        // never less fair than the input: a result without fewer curvature extrema or a lower E_var than the
+        // original's (a straight line, which the smoother would only re-parametrize) leaves it as it is
+        let rank = (self.node_extrema(&self.best), self.variation_of_update(&self.best));
+        if rank.0 > orig_rank.0 || (rank.0 == orig_rank.0 && !(rank.1 < orig_rank.1 * (1.0 - 1e-9))) {
+            self.best = zero;
+            return Ok((0.0, self.original_energy()));
+        }
+        Ok((dev, e))
     }
 
     /// `m += ρ P_i` on each free point's diagonal block, `P_i` the projector onto the directions its
