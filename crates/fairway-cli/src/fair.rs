@@ -52,9 +52,18 @@ pub struct Args {
     /// of samples).
     #[arg(long)]
     pub strength: Option<usize>,
-    /// fast (default), iterative (paper 2.2 baseline) or paper (fast method as published: soft band).
+    /// fast (default), smoothing (the reference: knot-keeping penalized least squares, its weight the largest
+    /// that holds the band), iterative (paper 2.2 baseline) or paper (fast method as published: soft band).
     #[arg(long, default_value = "fast")]
     pub method: String,
+    /// Curves: continuity kept at an end of an open curve (g0, g1 or g2; default: the weaker of --ends and
+    /// g1, i.e. position and tangent, not the end curvature, which on noisy data is mostly noise).
+    #[arg(long)]
+    pub curve_ends: Option<EndCondition>,
+    /// Curves, variation polish: how strongly the curvature follows the target against the curvature
+    /// variation (β; default 0.1).
+    #[arg(long)]
+    pub target_weight: Option<f64>,
     /// Integration scheme: euler, rk2 or arc.
     #[arg(long, default_value = "arc")]
     pub integrator: Integrator,
@@ -65,11 +74,11 @@ pub struct Args {
     /// (0: none). More lower the paper's E further at more cost (about 0.2 ms each for 100 control points).
     #[arg(long, default_value_t = fairway::fair::curve::POLISH_ITERS)]
     pub polish_iterations: usize,
-    /// Curves, fast method: how the E polish works: line-search (default: stops well short of E's minimum
-    /// in the band, the safer choice for an automatic target smoothed from noisy curvature) or
-    /// interior-point (follows the target as closely as the band allows, in a few iterations: for a
-    /// target you typed in, pinned or shaped; reaches the iterative baseline's E in a fraction of its time).
-    #[arg(long, default_value = "line-search")]
+    /// Curves, fast method: how the polish works: variation (default: lowers ∫(dκ/ds)² over the whole
+    /// region inside the band, never more curvature extrema than the reference smoother or the input),
+    /// line-search (the paper's E, stops well short of its minimum in the band) or interior-point (the
+    /// paper's E as closely as the band allows: for a target you typed in, pinned or shaped).
+    #[arg(long, default_value = "variation")]
     pub polish_method: PolishMethod,
     /// Surfaces: combination of the u- and v-isocurve clouds: average (paper), border, weighted (default, as in
     /// the core) or smoothed.
@@ -136,6 +145,9 @@ pub struct Report {
     pub free_points: [usize; 2],
     /// The seam of a closed curve: "open", "untouched", "faired" or "held: …" (with the reason).
     pub seam: String,
+    /// What the fair kept at the start and at the end of the region, in words (a curve end keeps at most
+    /// its position and tangent by default; a region end inside the curve joins its neighbour).
+    pub ends_kept: [String; 2],
     /// Measures of the result against the input.
     pub measures: Measures,
     /// The corners kept inside the region (tangent breaks above 1°, or points where the curve stops),
@@ -204,6 +216,30 @@ pub struct SurfaceReport {
     pub measures: SurfaceMeasures,
 }
 
+/// The report's `ends_kept`: what the fair kept at the region's start and end.
+fn ends_kept(curve: &BSplineCurve, a: &Args, opts: &FairingOptions) -> [String; 2] {
+    let (d0, d1) = curve.domain();
+    let closed = closed::is_closed_curve(curve);
+    let (u1, u2) = opts.region.unwrap_or((d0, d1));
+    let eps = 1e-12 * (d1 - d0);
+    let words = |e: EndCondition| match e {
+        EndCondition::G0 => "position (G0)",
+        EndCondition::G1 => "position and tangent (G1)",
+        EndCondition::G2 => "position, tangent and curvature (G2)",
+    };
+    let side = |at_curve_end: bool| {
+        if closed && opts.region.is_none() {
+            "a closed curve has no ends: faired G2 all round".to_string()
+        } else if at_curve_end && !closed {
+            let e = opts.curve_ends.unwrap_or(a.ends.min_by_order(EndCondition::G1));
+            format!("curve end: {}", words(e))
+        } else {
+            format!("join with the untouched curve: {}", words(a.ends))
+        }
+    };
+    [side(u1 <= d0 + eps), side(u2 >= d1 - eps)]
+}
+
 /// The report's `polish`: the fast method's polish, if it ran.
 fn polish_name(a: &Args) -> Option<&'static str> {
     (a.method == "fast" && a.polish_iterations > 0).then_some(a.polish_method.name())
@@ -217,7 +253,8 @@ pub fn run(a: &Args) -> Result<()> {
     let mode = match a.method.as_str() {
         "fast" | "iterative" => FitMode::Fairway,
         "paper" => FitMode::Paper,
-        m => return Err(anyhow!("unknown method {m:?}: expected fast, iterative or paper")),
+        "smoothing" => FitMode::Smoothing,
+        m => return Err(anyhow!("unknown method {m:?}: expected fast, smoothing, iterative or paper")),
     };
     let opts = FairingOptions {
         region: None,
@@ -232,7 +269,15 @@ pub fn run(a: &Args) -> Result<()> {
         polish_iterations: a.polish_iterations,
         ease_curve_ends: a.ease_ends,
         polish_method: a.polish_method,
+        target_weight: a.target_weight.unwrap_or(FairingOptions::default().target_weight),
+        curve_ends: a.curve_ends,
     };
+    if !(opts.target_weight.is_finite() && opts.target_weight >= 0.0) {
+        bail!("--target-weight must be a finite number ≥ 0, got {}", opts.target_weight);
+    }
+    // the input, the output and the report must be three different files (links resolved), or one
+    // would overwrite another: refused before any work
+    refuse_same_files(&a.input, &a.output, a.report.as_deref())?;
     // the destinations' folders first: a missing folder is found before any work, and never after the
     // output was written
     for (what, path) in [("output", Some(&a.output)), ("report", a.report.as_ref())] {
@@ -251,6 +296,36 @@ pub fn run(a: &Args) -> Result<()> {
         Geometry::Curve(c) => fair_curve_cmd(a, &c, opts),
         Geometry::Surface(s) => fair_surface_cmd(a, &s, opts),
     }
+}
+
+/// The file a path names, links resolved: the path itself if it exists, else its folder resolved and its
+/// name (a file still to be written).
+fn resolved(path: &std::path::Path) -> std::path::PathBuf {
+    if let Ok(p) = path.canonicalize() {
+        return p;
+    }
+    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
+    match (dir.canonicalize(), path.file_name()) {
+        (Ok(d), Some(name)) => d.join(name),
+        _ => path.to_path_buf(),
+    }
+}
+
+/// Refuse an output or report that is the input, or a report that is the output.
+fn refuse_same_files(input: &std::path::Path, output: &std::path::Path, report: Option<&std::path::Path>) -> Result<()> {
+    let (i, o) = (resolved(input), resolved(output));
+    if i == o {
+        bail!("the output {} is the input file: write the result to another file", output.display());
+    }
+    if let Some(r) = report.map(resolved) {
+        if r == i {
+            bail!("the report {} is the input file: write the report to another file", report.unwrap().display());
+        }
+        if r == o {
+            bail!("the report {} is the output file: give the report its own file", report.unwrap().display());
+        }
+    }
+    Ok(())
 }
 
 /// Write the report after the output `written`: a failure says that the output is there.
@@ -284,7 +359,7 @@ fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions) -> R
         }
     };
     if let Some(split) = fair_between_corners(curve, opts, pass).context("fairing")? {
-        return write_corner_fair(a, curve, split, t0);
+        return write_corner_fair(a, curve, &opts, split, t0);
     }
     let across_seam = opts.region.is_some_and(|(u1, u2)| u1 > u2) && closed::is_closed_curve(curve);
     // a whole closed curve: faired across the seam (two passes, see fairway::fair::closed)
@@ -332,6 +407,7 @@ fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions) -> R
             energy: result.energy,
             free_points: [setup.free_points().start, setup.free_points().end],
             seam: seam_text(&result.seam),
+            ends_kept: ends_kept(curve, a, &opts),
             measures: measure(curve, &result.curve),
             corners: vec![],
             stretches: vec![],
@@ -343,7 +419,7 @@ fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions) -> R
 
 /// Write the result of a curve faired stretch by stretch between its corners, its notes (stretches
 /// left as they are) to stderr, and the report.
-fn write_corner_fair(a: &Args, curve: &BSplineCurve, split: CornerFair, t0: Instant) -> Result<()> {
+fn write_corner_fair(a: &Args, curve: &BSplineCurve, opts: &FairingOptions, split: CornerFair, t0: Instant) -> Result<()> {
     let solve_ms = t0.elapsed().as_secs_f64() * 1e3;
     let result = &split.result;
     fairway::io::save(&a.output, &Document::new(Geometry::Curve(result.curve.clone())))?;
@@ -372,6 +448,7 @@ fn write_corner_fair(a: &Args, curve: &BSplineCurve, split: CornerFair, t0: Inst
             faired().map(|s| s.free_points.end).max().unwrap_or(0),
         ],
         seam: seam_text(&result.seam),
+        ends_kept: ends_kept(curve, a, &opts),
         measures: measure(curve, &result.curve),
         corners: split
             .corners

@@ -589,8 +589,9 @@ fn ease_ends_re_fairs_g2_curve_ends_only() {
     };
     let c0 = curve(&input);
     let (d0, d1) = c0.domain();
-    let plain = fair("plain", &[]);
-    let eased = fair("eased", &["--ease-ends"]);
+    // G2 kept at the curve ends (by default they keep position and tangent only)
+    let plain = fair("plain", &["--curve-ends", "g2"]);
+    let eased = fair("eased", &["--curve-ends", "g2", "--ease-ends"]);
     assert_ne!(plain.points(), eased.points(), "--ease-ends changed nothing");
     assert!(fairway::measure::measure(&c0, &eased).dev_max <= m);
     for u in [d0, d1] {
@@ -759,4 +760,69 @@ fn fair_a_closed_curve_with_chines_across_its_seam() {
     assert_eq!(st[1]["region"], serde_json::json!([0.875, 0.2]));
     assert!(fairway::measure::measure(&c, &f).dev_max <= m);
     assert!(f.point(0.5).distance(c.point(0.5)) <= 1e-12, "outside the region");
+}
+
+/// `--method smoothing` is the reference smoother: it holds the band, and the default fair is at least as
+/// fair as it (fewer or as many curvature extrema, no larger ∫(dκ/ds)²); the report says what each end kept.
+#[test]
+fn smoothing_method_is_the_reference_and_the_default_is_at_least_as_fair() {
+    let dir = temp_dir("smoothing");
+    let input = reference("s_curve.json");
+    let m = "0.002";
+    let run = |method: &str, tag: &str| -> Value {
+        let (out, rep) = (dir.join(format!("{tag}.json")), dir.join(format!("{tag}.report.json")));
+        ok(&fairway(&[
+            "fair",
+            input.to_str().unwrap(),
+            "--tolerance",
+            m,
+            "--method",
+            method,
+            "-o",
+            out.to_str().unwrap(),
+            "--report",
+            rep.to_str().unwrap(),
+        ]));
+        serde_json::from_str(&std::fs::read_to_string(rep).unwrap()).unwrap()
+    };
+    let (s, f) = (run("smoothing", "smooth"), run("fast", "fast"));
+    for r in [&s, &f] {
+        assert!(r["measures"]["dev_max"].as_f64().unwrap() <= 0.002);
+        assert!(r["ends_kept"][0].as_str().unwrap().starts_with("curve end: position and tangent"), "{r}");
+    }
+    let ext = |r: &Value| r["measures"]["n_curv_extrema"].as_u64().unwrap();
+    let ev = |r: &Value| r["measures"]["E_var"].as_f64().unwrap();
+    assert!(ext(&f) <= ext(&s) && ev(&f) <= ev(&s), "fast {f} vs smoothing {s}");
+    assert_eq!(f["polish"], "variation");
+}
+
+/// `--report` or `-o` naming the input (also through a link), or the report naming the output, is refused
+/// before any work: nothing is overwritten.
+#[test]
+fn report_and_output_must_not_overwrite_the_input_or_each_other() {
+    let dir = temp_dir("same-files");
+    let input = dir.join("a.json");
+    std::fs::copy(reference("s_curve.json"), &input).unwrap();
+    let before = std::fs::read(&input).unwrap();
+    let link = dir.join("link.json");
+    #[cfg(unix)]
+    std::os::unix::fs::symlink(&input, &link).unwrap();
+    let (i, b, l) = (input.to_str().unwrap(), dir.join("b.json"), link.to_str().unwrap());
+    let b = b.to_str().unwrap();
+    for (args, what) in [
+        (vec!["-o", b, "--report", i], "the report"),
+        (vec!["-o", i], "the output"),
+        (vec!["-o", b, "--report", b], "the report"),
+        (vec!["-o", b, "--report", l], "the report"),
+        (vec!["-o", l], "the output"),
+    ] {
+        let mut all = vec!["fair", i, "--tolerance", "0.002"];
+        all.extend(args.iter().copied());
+        let out = fairway(&all);
+        assert!(!out.status.success(), "{all:?} was accepted");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(what), "{all:?}: {err}");
+        assert_eq!(std::fs::read(&input).unwrap(), before, "{all:?} changed the input");
+    }
+    assert!(!dir.join("b.json").exists(), "nothing written");
 }

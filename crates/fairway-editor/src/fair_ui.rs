@@ -5,7 +5,7 @@
 use eframe::egui;
 use egui::{Color32, Pos2, Rect, RichText, Sense, Shape, Stroke};
 use fairway::DVec2;
-use fairway::fair::{EndCondition, Integrator, PolishMethod, Seam, TargetMethod};
+use fairway::fair::{EndCondition, FitMode, Integrator, PolishMethod, Seam, TargetMethod};
 
 use crate::canvas::colors;
 use crate::fairing::{MAX_POLISH, Preview, default_strength, pinned_indices};
@@ -359,13 +359,33 @@ impl App {
                      100 control points; a lower E is not always fewer curvature extrema",
                 );
             ui.horizontal(|ui| {
+                ui.label("Method:");
+                for (m, name, tip) in [
+                    (FitMode::Fairway, "Fairway", "Integration of the target, fit, polish (default)"),
+                    (
+                        FitMode::Smoothing,
+                        "Smoothing spline",
+                        "The reference: knot-keeping penalized least squares, its weight the largest that holds \
+                         the band (what a SciPy smoothing spline with a search on its factor gives)",
+                    ),
+                ] {
+                    ui.selectable_value(&mut self.prefs.fair.mode, m, name).on_hover_text(tip);
+                }
+            });
+            ui.horizontal(|ui| {
                 ui.label("Polish:");
                 for (m, name, tip) in [
                     (
+                        PolishMethod::Variation,
+                        "Variation",
+                        "Lowers the curvature variation ∫(dκ/ds)² over the whole region inside the band, \
+                         following the target a little (default): never more curvature extrema than the \
+                         reference smoothing spline or the original",
+                    ),
+                    (
                         PolishMethod::LineSearch,
                         "Line search",
-                        "Stops well short of the lowest E in the band (default): the safer choice for the \
-                         automatic target, which is smoothed from noisy curvature and flattens sharp features",
+                        "Stops well short of the lowest E in the band: the previous default",
                     ),
                     (
                         PolishMethod::InteriorPoint,

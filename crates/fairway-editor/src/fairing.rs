@@ -25,7 +25,7 @@ use fairway::BSplineCurve;
 use fairway::corners::Corner;
 use fairway::fair::closed::{AcrossSeam, setup_across_seam_with_ends};
 use fairway::fair::{
-    CornerSetups, EndCondition, FairingOptions, FairingResult, FairingSetup, Integrator, PolishMethod, Target,
+    CornerSetups, EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, Integrator, PolishMethod, Target,
     TargetMethod, fair_closed,
 };
 use fairway::io::DocumentSettings;
@@ -56,6 +56,8 @@ pub struct FairOptions {
     /// Ease the automatic target into G2 ends that are ends of an open curve
     /// ([`FairingOptions::ease_curve_ends`]).
     pub ease_ends: bool,
+    /// Fairway's fair or the reference smoother ([`FairingOptions::mode`]).
+    pub mode: FitMode,
 }
 
 impl Default for FairOptions {
@@ -69,6 +71,7 @@ impl Default for FairOptions {
             polish_iterations: d.polish_iterations,
             polish_method: d.polish_method,
             ease_ends: d.ease_curve_ends,
+            mode: d.mode,
         }
     }
 }
@@ -82,6 +85,8 @@ struct SetupKey {
     ease_ends: bool,
     /// The core's E polish (off for a draft while a drag is in progress).
     polish: bool,
+    /// Fairway's fair or the reference smoother.
+    mode: FitMode,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -260,6 +265,7 @@ impl Fairing {
             ends: opts.ends,
             ease_ends: opts.ease_ends,
             polish,
+            mode: opts.mode,
         };
         if self.setup_key.as_ref() != Some(&sk) {
             self.setup_key = Some(sk);
@@ -274,6 +280,7 @@ impl Fairing {
                 integrator: opts.integrator,
                 polish,
                 ease_curve_ends: opts.ease_ends,
+                mode: opts.mode,
                 ..FairingOptions::default()
             };
             let t0 = Instant::now();
