@@ -254,7 +254,11 @@ pub fn run(a: &Args) -> Result<()> {
         "fast" | "iterative" => FitMode::Fairway,
         "paper" => FitMode::Paper,
         "smoothing" => FitMode::Smoothing,
-        m => return Err(anyhow!("unknown method {m:?}: expected fast, smoothing, iterative or paper")),
+        m => {
+            return Err(anyhow!(
+                "unknown method {m:?}: expected fast, smoothing, iterative or paper"
+            ));
+        }
     };
     let opts = FairingOptions {
         region: None,
@@ -273,7 +277,10 @@ pub fn run(a: &Args) -> Result<()> {
         curve_ends: a.curve_ends,
     };
     if !(opts.target_weight.is_finite() && opts.target_weight >= 0.0) {
-        bail!("--target-weight must be a finite number ≥ 0, got {}", opts.target_weight);
+        bail!(
+            "--target-weight must be a finite number ≥ 0, got {}",
+            opts.target_weight
+        );
     }
     // the input, the output and the report must be three different files (links resolved), or one
     // would overwrite another: refused before any work
@@ -304,7 +311,10 @@ fn resolved(path: &std::path::Path) -> std::path::PathBuf {
     if let Ok(p) = path.canonicalize() {
         return p;
     }
-    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(std::path::Path::new("."));
     match (dir.canonicalize(), path.file_name()) {
         (Ok(d), Some(name)) => d.join(name),
         _ => path.to_path_buf(),
@@ -312,17 +322,30 @@ fn resolved(path: &std::path::Path) -> std::path::PathBuf {
 }
 
 /// Refuse an output or report that is the input, or a report that is the output.
-fn refuse_same_files(input: &std::path::Path, output: &std::path::Path, report: Option<&std::path::Path>) -> Result<()> {
+fn refuse_same_files(
+    input: &std::path::Path,
+    output: &std::path::Path,
+    report: Option<&std::path::Path>,
+) -> Result<()> {
     let (i, o) = (resolved(input), resolved(output));
     if i == o {
-        bail!("the output {} is the input file: write the result to another file", output.display());
+        bail!(
+            "the output {} is the input file: write the result to another file",
+            output.display()
+        );
     }
     if let Some(r) = report.map(resolved) {
         if r == i {
-            bail!("the report {} is the input file: write the report to another file", report.unwrap().display());
+            bail!(
+                "the report {} is the input file: write the report to another file",
+                report.unwrap().display()
+            );
         }
         if r == o {
-            bail!("the report {} is the output file: give the report its own file", report.unwrap().display());
+            bail!(
+                "the report {} is the output file: give the report its own file",
+                report.unwrap().display()
+            );
         }
     }
     Ok(())
@@ -419,7 +442,13 @@ fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions) -> R
 
 /// Write the result of a curve faired stretch by stretch between its corners, its notes (stretches
 /// left as they are) to stderr, and the report.
-fn write_corner_fair(a: &Args, curve: &BSplineCurve, opts: &FairingOptions, split: CornerFair, t0: Instant) -> Result<()> {
+fn write_corner_fair(
+    a: &Args,
+    curve: &BSplineCurve,
+    opts: &FairingOptions,
+    split: CornerFair,
+    t0: Instant,
+) -> Result<()> {
     let solve_ms = t0.elapsed().as_secs_f64() * 1e3;
     let result = &split.result;
     fairway::io::save(&a.output, &Document::new(Geometry::Curve(result.curve.clone())))?;
@@ -448,7 +477,7 @@ fn write_corner_fair(a: &Args, curve: &BSplineCurve, opts: &FairingOptions, spli
             faired().map(|s| s.free_points.end).max().unwrap_or(0),
         ],
         seam: seam_text(&result.seam),
-        ends_kept: ends_kept(curve, a, &opts),
+        ends_kept: ends_kept(curve, a, opts),
         measures: measure(curve, &result.curve),
         corners: split
             .corners

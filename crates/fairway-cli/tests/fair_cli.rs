@@ -788,7 +788,13 @@ fn smoothing_method_is_the_reference_and_the_default_is_at_least_as_fair() {
     let (s, f) = (run("smoothing", "smooth"), run("fast", "fast"));
     for r in [&s, &f] {
         assert!(r["measures"]["dev_max"].as_f64().unwrap() <= 0.002);
-        assert!(r["ends_kept"][0].as_str().unwrap().starts_with("curve end: position and tangent"), "{r}");
+        assert!(
+            r["ends_kept"][0]
+                .as_str()
+                .unwrap()
+                .starts_with("curve end: position and tangent"),
+            "{r}"
+        );
     }
     let ext = |r: &Value| r["measures"]["n_curv_extrema"].as_u64().unwrap();
     let ev = |r: &Value| r["measures"]["E_var"].as_f64().unwrap();

@@ -361,7 +361,11 @@ impl App {
             ui.horizontal(|ui| {
                 ui.label("Method:");
                 for (m, name, tip) in [
-                    (FitMode::Fairway, "Fairway", "Integration of the target, fit, polish (default)"),
+                    (
+                        FitMode::Fairway,
+                        "Fairway",
+                        "Integration of the target, fit, polish (default)",
+                    ),
                     (
                         FitMode::Smoothing,
                         "Smoothing spline",
@@ -369,7 +373,8 @@ impl App {
                          the band (what a SciPy smoothing spline with a search on its factor gives)",
                     ),
                 ] {
-                    ui.selectable_value(&mut self.prefs.fair.mode, m, name).on_hover_text(tip);
+                    ui.selectable_value(&mut self.prefs.fair.mode, m, name)
+                        .on_hover_text(tip);
                 }
             });
             ui.horizontal(|ui| {

@@ -33,7 +33,12 @@ fn kappa_csv(curves: &[&BSplineCurve]) -> String {
     let n = 4000;
     let cols: Vec<Vec<f64>> = curves
         .iter()
-        .map(|c| fairway::measure::arc_params(c, n).into_iter().map(|u| c.derivs(u).curvature(c.dim())).collect())
+        .map(|c| {
+            fairway::measure::arc_params(c, n)
+                .into_iter()
+                .map(|u| c.derivs(u).curvature(c.dim()))
+                .collect()
+        })
         .collect();
     let mut out = String::from("s,original,reference,fairway\n");
     for k in 0..n {
@@ -50,8 +55,21 @@ fn main() {
     let md = std::env::args().any(|a| a == "--markdown");
     let dump = std::env::args().skip_while(|a| a != "--dump").nth(1);
     let head: Vec<String> = [
-        "curve", "m/σ", "extrema", "ref", "fairway", "infl", "ref", "fairway", "E_var", "ref", "fairway", "dev/m ref",
-        "dev/m fw", "ms ref", "ms fw",
+        "curve",
+        "m/σ",
+        "extrema",
+        "ref",
+        "fairway",
+        "infl",
+        "ref",
+        "fairway",
+        "E_var",
+        "ref",
+        "fairway",
+        "dev/m ref",
+        "dev/m fw",
+        "ms ref",
+        "ms fw",
     ]
     .iter()
     .map(|s| s.to_string())
@@ -70,7 +88,10 @@ fn main() {
         let orig = measure(&case.curve, &case.curve);
         for f in suite::TOLERANCE_FACTORS {
             let m = f * case.sigma;
-            let mut opts = FairingOptions { tolerance: m, ..Default::default() };
+            let mut opts = FairingOptions {
+                tolerance: m,
+                ..Default::default()
+            };
             if let Ok(v) = std::env::var("QT_POLISH") {
                 opts.polish_method = v.parse().expect("polish method");
             }
@@ -83,7 +104,13 @@ fn main() {
             if let Ok(v) = std::env::var("QT_ITERS") {
                 opts.polish_iterations = v.parse().expect("iterations");
             }
-            let (rc, rt) = fair(&case.curve, FairingOptions { mode: FitMode::Smoothing, ..opts });
+            let (rc, rt) = fair(
+                &case.curve,
+                FairingOptions {
+                    mode: FitMode::Smoothing,
+                    ..opts
+                },
+            );
             let (fc, ft) = fair(&case.curve, opts);
             let (r, w): (Measures, Measures) = (measure(&case.curve, &rc), measure(&case.curve, &fc));
             if let Some(dir) = &dump {

@@ -51,7 +51,11 @@ fn opts_p(polish_method: PolishMethod, tolerance: f64, region: Option<(f64, f64)
     }
 }
 
-const POLISHES: [PolishMethod; 3] = [PolishMethod::Variation, PolishMethod::LineSearch, PolishMethod::InteriorPoint];
+const POLISHES: [PolishMethod; 3] = [
+    PolishMethod::Variation,
+    PolishMethod::LineSearch,
+    PolishMethod::InteriorPoint,
+];
 
 fn fair_err(c: &BSplineCurve, o: FairingOptions) -> String {
     fair_curve(c, o).unwrap_err().to_string()

@@ -65,7 +65,14 @@ fn known_answers_noisy_arcs() {
         let delta = 0.05 * kmax;
         let e0 = extrema(&c, delta);
         for ends in [EndCondition::G2, EndCondition::G1, EndCondition::G0] {
-            let r = fair_curve(&c, FairingOptions { ends, ..line_search_opts(tol, ends) }).unwrap();
+            let r = fair_curve(
+                &c,
+                FairingOptions {
+                    ends,
+                    ..line_search_opts(tol, ends)
+                },
+            )
+            .unwrap();
             let (rms1, max1) = curvature_error(&r.curve, shape);
             let e1 = extrema(&r.curve, delta);
             println!(
@@ -139,7 +146,14 @@ fn g1_ends_fair_the_end_curvature_g2_ends_keep_it() {
     let k_end = |x: &BSplineCurve| [x.curvature(d0), x.curvature(d1)];
     let k0 = k_end(&c);
     for ends in [EndCondition::G2, EndCondition::G1] {
-        let r = fair_curve(&c, FairingOptions { ends, ..line_search_opts(3e-3, ends) }).unwrap();
+        let r = fair_curve(
+            &c,
+            FairingOptions {
+                ends,
+                ..line_search_opts(3e-3, ends)
+            },
+        )
+        .unwrap();
         let k1 = k_end(&r.curve);
         println!("{ends:?}: end curvature {k0:.3?} -> {k1:.3?} (true 1)");
         for (a, b) in k0.iter().zip(&k1) {
@@ -689,7 +703,10 @@ fn eased_g2_curve_ends_keep_the_end_and_fair_the_end_span() {
         for seed in 1..=8 {
             let c = noisy_curve(shape, 40, 1e-3, seed);
             let (d0, d1) = c.domain();
-            for (j, o) in [line_search_opts(tol, EndCondition::G2), eased_opts].into_iter().enumerate() {
+            for (j, o) in [line_search_opts(tol, EndCondition::G2), eased_opts]
+                .into_iter()
+                .enumerate()
+            {
                 let r = fair_curve(&c, o).unwrap();
                 assert!(dev_max(&c, &r.curve) <= tol, "{shape:?} seed {seed}");
                 for u in [d0, d1] {

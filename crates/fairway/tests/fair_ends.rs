@@ -280,9 +280,22 @@ fn a_short_span_between_multiple_knots_without_samples_is_held() {
     pts[10] = pts[9] + (pts[9] - pts[8]);
     let c = BSplineCurve::new_2d(3, k, &pts).unwrap();
     // the default (variation polish) holds them too, whatever else it moves
-    let r = FairingSetup::new(&c, FairingOptions { tolerance: 0.01, ..Default::default() }).unwrap().fair().unwrap();
+    let r = FairingSetup::new(
+        &c,
+        FairingOptions {
+            tolerance: 0.01,
+            ..Default::default()
+        },
+    )
+    .unwrap()
+    .fair()
+    .unwrap();
     for i in [4, 5] {
-        assert_eq!(r.curve.points()[i], c.points()[i], "unsampled point {i} held by the default");
+        assert_eq!(
+            r.curve.points()[i],
+            c.points()[i],
+            "unsampled point {i} held by the default"
+        );
     }
     // the line-search polish: held, and the rest faired
     let opts = FairingOptions {

@@ -32,7 +32,16 @@ fn interior_point_reaches_the_iterative_energy_on_the_bench_curve_in_three_itera
     };
     let setup = FairingSetup::new(&c, o).unwrap();
     let it = fair_iterative(&setup, IterativeOptions::default()).unwrap();
-    let ls = FairingSetup::new(&c, FairingOptions { polish_method: PolishMethod::LineSearch, ..o }).unwrap().fair().unwrap();
+    let ls = FairingSetup::new(
+        &c,
+        FairingOptions {
+            polish_method: PolishMethod::LineSearch,
+            ..o
+        },
+    )
+    .unwrap()
+    .fair()
+    .unwrap();
     let mut e = vec![];
     for n in [1, 3, 8] {
         let r = FairingSetup::new(&c, ip(o, n)).unwrap().fair().unwrap();

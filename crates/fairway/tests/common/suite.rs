@@ -86,7 +86,11 @@ fn fitted_warped(
         .enumerate()
         .map(|(k, &t)| {
             let q = shape(t);
-            if k == 0 || k + 1 == ns { q } else { q + rng.vec(dim) * sigma }
+            if k == 0 || k + 1 == ns {
+                q
+            } else {
+                q + rng.vec(dim) * sigma
+            }
         })
         .collect();
     let us: Vec<f64> = params.iter().map(|t| u0 + (u1 - u0) * t).collect();
@@ -98,7 +102,9 @@ fn fitted_warped(
 /// `shape` (t ∈ [0, 1)) plus noise.
 fn periodic(shape: &dyn Fn(f64) -> DVec3, dim: usize, n: usize, sigma: f64, seed: u64) -> BSplineCurve {
     let mut rng = Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1);
-    let q: Vec<DVec3> = (0..n).map(|j| shape(j as f64 / n as f64) + rng.vec(dim) * sigma).collect();
+    let q: Vec<DVec3> = (0..n)
+        .map(|j| shape(j as f64 / n as f64) + rng.vec(dim) * sigma)
+        .collect();
     fairway::fair::closed::periodic_cubic(&q, dim).expect("suite closed curve")
 }
 
@@ -146,7 +152,11 @@ pub fn cases_with_noise(scale: f64) -> Vec<Case> {
         DVec3::new(r * (3.0 * TAU * t).cos(), r * (3.0 * TAU * t).sin(), 1.5 * t)
     };
     let shoulder = |t: f64| {
-        DVec3::new(3.0 * t, 0.3 * (TAU * t).sin() + 0.1 * t * t, 0.4 * t * t - 0.2 * (3.0 * PI * t).sin())
+        DVec3::new(
+            3.0 * t,
+            0.3 * (TAU * t).sin() + 0.1 * t * t,
+            0.4 * t * t - 0.2 * (3.0 * PI * t).sin(),
+        )
     };
     let space = |t: f64| DVec3::new(2.0 * t, 0.4 * (PI * t).sin(), 0.3 * (2.0 * PI * t).cos() * t);
     let blob = |t: f64| {
@@ -156,7 +166,11 @@ pub fn cases_with_noise(scale: f64) -> Vec<Case> {
     };
     let trefoil = |t: f64| {
         let th = TAU * t;
-        DVec3::new(th.sin() + 2.0 * (2.0 * th).sin(), th.cos() - 2.0 * (2.0 * th).cos(), -(3.0 * th).sin()) / 3.0
+        DVec3::new(
+            th.sin() + 2.0 * (2.0 * th).sin(),
+            th.cos() - 2.0 * (2.0 * th).cos(),
+            -(3.0 * th).sin(),
+        ) / 3.0
     };
     let s_curve = |t: f64| DVec3::new(2.0 * t, 0.3 * (TAU * t).sin(), 0.0);
     let sine = |t: f64| DVec3::new(2.0 * t, 0.2 * (3.0 * PI * t).sin(), 0.0);
@@ -166,22 +180,90 @@ pub fn cases_with_noise(scale: f64) -> Vec<Case> {
     let tanh_s = |t: f64| DVec3::new(2.0 * t, 0.25 * (6.0 * (t - 0.5)).tanh(), 0.0);
     let sigma = 1e-3;
     vec![
-        Case { name: "circle_arc", curve: fitted(&circle, 2, uniform(3, 40), scale * sigma, 1), sigma },
-        Case { name: "ellipse_arc", curve: fitted(&ellipse, 2, uniform(3, 50), scale * sigma, 2), sigma },
-        Case { name: "clothoid", curve: fitted(&clothoid, 2, uniform(3, 40), scale * sigma, 3), sigma },
-        Case { name: "car_roof", curve: fitted(&roof, 2, uniform(3, 50), scale * 2.0 * sigma, 4), sigma: 2.0 * sigma },
-        Case { name: "airfoil", curve: fitted(&naca0012, 2, uniform(3, 80), scale * 2e-4, 5), sigma: 2e-4 },
-        Case { name: "s_curve_inflections", curve: fitted(&tanh_s, 2, uniform(3, 28), scale * sigma, 6), sigma },
-        Case { name: "quadratic_s", curve: fitted(&s_curve, 2, uniform(2, 30), scale * sigma, 7), sigma },
-        Case { name: "quartic_sine", curve: fitted(&sine, 2, uniform(4, 50), scale * sigma, 8), sigma },
-        Case { name: "quintic_ellipse", curve: fitted(&ellipse, 2, uniform(5, 40), scale * sigma, 9), sigma },
-        Case { name: "long_wave_300", curve: fitted(&long_wave, 2, uniform(3, 300), scale * 2.0 * sigma, 10), sigma: 2.0 * sigma },
-        Case { name: "clustered_knots", curve: fitted_warped(&parabola, 2, clustered(3, 40), scale * 5e-5, 11, &|t| t * t), sigma: 5e-5 },
-        Case { name: "closed_blob", curve: periodic(&blob, 2, 60, scale * sigma, 12), sigma },
-        Case { name: "helix", curve: fitted(&helix, 3, uniform(3, 60), scale * sigma, 13), sigma },
-        Case { name: "conical_spiral", curve: fitted(&spiral, 3, uniform(3, 60), scale * sigma, 14), sigma },
-        Case { name: "shoulder_3d", curve: fitted(&shoulder, 3, uniform(3, 36), scale * 2.0 * sigma, 15), sigma: 2.0 * sigma },
-        Case { name: "space_quartic", curve: fitted(&space, 3, uniform(4, 40), scale * sigma, 16), sigma },
-        Case { name: "closed_trefoil", curve: periodic(&trefoil, 3, 90, scale * sigma, 17), sigma },
+        Case {
+            name: "circle_arc",
+            curve: fitted(&circle, 2, uniform(3, 40), scale * sigma, 1),
+            sigma,
+        },
+        Case {
+            name: "ellipse_arc",
+            curve: fitted(&ellipse, 2, uniform(3, 50), scale * sigma, 2),
+            sigma,
+        },
+        Case {
+            name: "clothoid",
+            curve: fitted(&clothoid, 2, uniform(3, 40), scale * sigma, 3),
+            sigma,
+        },
+        Case {
+            name: "car_roof",
+            curve: fitted(&roof, 2, uniform(3, 50), scale * 2.0 * sigma, 4),
+            sigma: 2.0 * sigma,
+        },
+        Case {
+            name: "airfoil",
+            curve: fitted(&naca0012, 2, uniform(3, 80), scale * 2e-4, 5),
+            sigma: 2e-4,
+        },
+        Case {
+            name: "s_curve_inflections",
+            curve: fitted(&tanh_s, 2, uniform(3, 28), scale * sigma, 6),
+            sigma,
+        },
+        Case {
+            name: "quadratic_s",
+            curve: fitted(&s_curve, 2, uniform(2, 30), scale * sigma, 7),
+            sigma,
+        },
+        Case {
+            name: "quartic_sine",
+            curve: fitted(&sine, 2, uniform(4, 50), scale * sigma, 8),
+            sigma,
+        },
+        Case {
+            name: "quintic_ellipse",
+            curve: fitted(&ellipse, 2, uniform(5, 40), scale * sigma, 9),
+            sigma,
+        },
+        Case {
+            name: "long_wave_300",
+            curve: fitted(&long_wave, 2, uniform(3, 300), scale * 2.0 * sigma, 10),
+            sigma: 2.0 * sigma,
+        },
+        Case {
+            name: "clustered_knots",
+            curve: fitted_warped(&parabola, 2, clustered(3, 40), scale * 5e-5, 11, &|t| t * t),
+            sigma: 5e-5,
+        },
+        Case {
+            name: "closed_blob",
+            curve: periodic(&blob, 2, 60, scale * sigma, 12),
+            sigma,
+        },
+        Case {
+            name: "helix",
+            curve: fitted(&helix, 3, uniform(3, 60), scale * sigma, 13),
+            sigma,
+        },
+        Case {
+            name: "conical_spiral",
+            curve: fitted(&spiral, 3, uniform(3, 60), scale * sigma, 14),
+            sigma,
+        },
+        Case {
+            name: "shoulder_3d",
+            curve: fitted(&shoulder, 3, uniform(3, 36), scale * 2.0 * sigma, 15),
+            sigma: 2.0 * sigma,
+        },
+        Case {
+            name: "space_quartic",
+            curve: fitted(&space, 3, uniform(4, 40), scale * sigma, 16),
+            sigma,
+        },
+        Case {
+            name: "closed_trefoil",
+            curve: periodic(&trefoil, 3, 90, scale * sigma, 17),
+            sigma,
+        },
     ]
 }

@@ -72,7 +72,7 @@ impl VarRows {
     /// curvature-extrema count; weights unused).
     pub(crate) fn probes(work: &BSplineCurve, range: (f64, f64), i0: usize, nf: usize) -> Self {
         let x: Vec<f64> = (0..PROBES).map(|k| -1.0 + 2.0 * k as f64 / PROBES as f64).collect();
-        Self::at_nodes(work, range, i0, nf, &x, &vec![0.0; PROBES])
+        Self::at_nodes(work, range, i0, nf, &x, &[0.0; PROBES])
     }
 
     fn at_nodes(work: &BSplineCurve, range: (f64, f64), i0: usize, nf: usize, nodes: &[f64], weights: &[f64]) -> Self {
@@ -125,7 +125,12 @@ impl VarRows {
             if p - work.knots().multiplicity(u).min(p) >= 2 {
                 continue;
             }
-            let mut jump = Jump { w: 0.0, first: [0; 2], b: [[[0.0; MAX_ORDER]; 2]; 2], c: [[DVec3::ZERO; 2]; 2] };
+            let mut jump = Jump {
+                w: 0.0,
+                first: [0; 2],
+                b: [[[0.0; MAX_ORDER]; 2]; 2],
+                c: [[DVec3::ZERO; 2]; 2],
+            };
             let mut speed = 0.0;
             for side in 0..2 {
                 let span = if side == 0 {
@@ -275,7 +280,8 @@ pub(crate) fn kappa_residual(plane: Option<DVec3>, c1: DVec3, c2: DVec3, eps: f6
     let (d12, d22) = (c1.dot(c2), c2.dot(c2));
     let e2 = eps * eps * s * s * s;
     let kk = ((s * d22 - d12 * d12).max(0.0) + e2).sqrt();
-    let g1 = (c1 * (2.0 * d22) - c2 * (2.0 * d12) + c1 * (6.0 * e2 / s)) * (0.5 / kk * sm15) - c1 * (3.0 * kk * sm15 / s);
+    let g1 =
+        (c1 * (2.0 * d22) - c2 * (2.0 * d12) + c1 * (6.0 * e2 / s)) * (0.5 / kk * sm15) - c1 * (3.0 * kk * sm15 / s);
     let g2 = (c2 * (2.0 * s) - c1 * (2.0 * d12)) * (0.5 / kk * sm15);
     (kk * sm15, [g1, g2])
 }
@@ -283,7 +289,11 @@ pub(crate) fn kappa_residual(plane: Option<DVec3>, c1: DVec3, c2: DVec3, eps: f6
 impl VarRows {
     /// How many more points than p + 1 a curvature step's row spans (0 without steps).
     pub(crate) fn jump_reach(&self) -> usize {
-        self.jumps.iter().map(|j| (j.first[1] - j.first[0]).unsigned_abs()).max().unwrap_or(0)
+        self.jumps
+            .iter()
+            .map(|j| (j.first[1] - j.first[0]).unsigned_abs())
+            .max()
+            .unwrap_or(0)
     }
 }
 
@@ -306,7 +316,11 @@ impl Jump {
 impl FairingSetup {
     /// The normal the curvature is signed about: z in 2D, a planar 3D curve's plane normal, else none.
     fn signed_plane(&self) -> Option<DVec3> {
-        if self.work.dim() == 2 { Some(DVec3::Z) } else { self.plane }
+        if self.work.dim() == 2 {
+            Some(DVec3::Z)
+        } else {
+            self.plane
+        }
     }
 
     /// Curvature extrema of `c₀ + Σ N_i d_i` at the probes ([`PROBES`] a span), zig-zag pivots with the
@@ -437,8 +451,17 @@ mod tests {
             let eps = 0.05;
             let plane = (dim == 2).then_some(DVec3::Z);
             let (k, g) = kappa_residual(plane, c1, c2, eps);
-            let d = crate::curve::CurveDerivs { p: DVec3::ZERO, d1: c1, d2: c2, d3: DVec3::ZERO };
-            let want = if dim == 2 { d.curvature(2) } else { d.curvature(3).hypot(eps) };
+            let d = crate::curve::CurveDerivs {
+                p: DVec3::ZERO,
+                d1: c1,
+                d2: c2,
+                d3: DVec3::ZERO,
+            };
+            let want = if dim == 2 {
+                d.curvature(2)
+            } else {
+                d.curvature(3).hypot(eps)
+            };
             assert!((k - want).abs() <= 1e-12 * want.abs(), "{k} vs {want}");
             for o in 0..2 {
                 for c in 0..dim {
@@ -458,9 +481,24 @@ mod tests {
     #[test]
     fn residual_gradients_match_finite_differences() {
         let cases = [
-            (2, DVec3::new(1.3, 0.4, 0.0), DVec3::new(-0.7, 2.1, 0.0), DVec3::new(0.9, -1.4, 0.0)),
-            (3, DVec3::new(1.3, 0.4, -0.2), DVec3::new(-0.7, 2.1, 0.5), DVec3::new(0.9, -1.4, 0.3)),
-            (3, DVec3::new(0.2, 1.1, 0.7), DVec3::new(0.01, 0.02, -0.03), DVec3::new(4.0, 0.0, 1.0)),
+            (
+                2,
+                DVec3::new(1.3, 0.4, 0.0),
+                DVec3::new(-0.7, 2.1, 0.0),
+                DVec3::new(0.9, -1.4, 0.0),
+            ),
+            (
+                3,
+                DVec3::new(1.3, 0.4, -0.2),
+                DVec3::new(-0.7, 2.1, 0.5),
+                DVec3::new(0.9, -1.4, 0.3),
+            ),
+            (
+                3,
+                DVec3::new(0.2, 1.1, 0.7),
+                DVec3::new(0.01, 0.02, -0.03),
+                DVec3::new(4.0, 0.0, 1.0),
+            ),
         ];
         for (dim, c1, c2, c3) in cases {
             let eps = 0.05;
@@ -470,13 +508,12 @@ mod tests {
             let kap = |u: f64| {
                 let d1 = c1 + c2 * u + c3 * (u * u / 2.0);
                 let d2 = c2 + c3 * u;
-                let k = if dim == 2 {
+                if dim == 2 {
                     (d1.x * d2.y - d1.y * d2.x) / d1.length().powi(3)
                 } else {
                     let kk = d1.cross(d2).length() / d1.length().powi(3);
                     (kk * kk + eps * eps).sqrt()
-                };
-                k
+                }
             };
             let hu = 1e-5;
             let ku = (kap(hu) - kap(-hu)) / (2.0 * hu);
