@@ -25,7 +25,7 @@ pub(crate) const VAR_GAUSS: usize = 6;
 /// rises above the smoother's; 2 and 3 beat it on both.
 pub(crate) const JUMP_WEIGHT: f64 = 2.0;
 /// Curvature probes per knot span of the extrema count ([`FairingSetup::node_extrema`]).
-pub(crate) const PROBES: usize = 24;
+pub(crate) const PROBES: usize = 16;
 
 /// Quadrature rows of the variation energy over the moving stretch (see the module docs).
 #[derive(Debug, Clone, Default)]
@@ -221,7 +221,9 @@ pub(crate) fn dkds_residual(plane: Option<DVec3>, c1: DVec3, c2: DVec3, c3: DVec
         return (0.0, [DVec3::ZERO; 3]);
     }
     let d12 = c1.dot(c2);
-    let sm74 = s.powf(-1.75);
+    // s^{-7/4} by square roots (powf was a tenth of a fair's time)
+    let (r2, r4) = (s.sqrt(), s.sqrt().sqrt());
+    let sm74 = 1.0 / (s * r2 * r4);
     let sm114 = sm74 / s;
     if let Some(n) = plane {
         // r = cr3 s^{-7/4} − 3 cr d12 s^{-11/4}, cr = n·(c1 × c2), cr3 = n·(c1 × c3)
@@ -270,7 +272,7 @@ pub(crate) fn kappa_residual(plane: Option<DVec3>, c1: DVec3, c2: DVec3, eps: f6
     if !(s > 0.0) {
         return (0.0, [DVec3::ZERO; 2]);
     }
-    let sm15 = s.powf(-1.5);
+    let sm15 = 1.0 / (s * s.sqrt());
     if let Some(n) = plane {
         let cr = n.dot(c1.cross(c2));
         let g1 = c2.cross(n) * sm15 - c1 * (3.0 * cr * sm15 / s);
@@ -332,7 +334,10 @@ impl FairingSetup {
         let k: Vec<f64> = (0..v.w.len())
             .map(|q| {
                 let c = v.derivs(q, np1, d);
-                kappa_residual(plane, c[0], c[1], 0.0).0
+                match plane {
+                    Some(n) => n.dot(c[0].cross(c[1])) / (c[0].length_squared() * c[0].length()),
+                    None => c[0].cross(c[1]).length() / (c[0].length_squared() * c[0].length()),
+                }
             })
             .collect();
         crate::measure::zigzag_extrema(&k, self.var.delta)
