@@ -433,6 +433,7 @@ impl App {
         let Some((b, a)) = self.fairing.measures.as_ref() else {
             return;
         };
+        let region = self.fairing.region_measures;
         egui::Grid::new("measures").striped(true).show(ui, |ui| {
             ui.strong("");
             ui.strong("before");
@@ -479,6 +480,20 @@ impl App {
                 ("∫(dκ/ds)² ds", "Variation of curvature energy", b.E_var, a.E_var, false),
                 ("∫κ² ds", "Bending energy", b.E_bend, a.E_bend, false),
             ];
+            // the region's own figures beside the whole curve's (same δ)
+            let region_rows = region.map(|((eb, vb), (ea, va))| {
+                [
+                    (
+                        "κ extrema (region)",
+                        "Curvature extrema inside the region (the whole curve's δ)",
+                        eb as f64,
+                        ea as f64,
+                        true,
+                    ),
+                    ("∫(dκ/ds)² (region)", "Variation of curvature energy over the region", vb, va, false),
+                ]
+            });
+            let rows = rows.into_iter().chain(region_rows.into_iter().flatten());
             // the original's distance to itself is 0 up to closest-point round-off (~1e-14)
             let zero = 1e-12 * self.view.diag.max(1e-300);
             for (name, tip, bv, av, count) in rows {

@@ -29,7 +29,7 @@ use fairway::fair::{
     TargetMethod, fair_closed,
 };
 use fairway::io::DocumentSettings;
-use fairway::measure::{Measures, arc_params, deviations, measure};
+use fairway::measure::{Measures, arc_params, deviations, measure, region_curvature};
 use serde::{Deserialize, Serialize};
 
 use crate::Sampled;
@@ -180,9 +180,14 @@ pub struct Fairing {
     pub target_mismatch: bool,
     /// Measures of the original (against itself) and of the preview.
     pub measures: Option<(Measures, Measures)>,
+    /// The region's own curvature figures, before and after: (curvature extrema, ∫(dκ/ds)² ds) over the
+    /// region with the whole curve's δ (`fairway::measure::region_curvature`); `None` for the whole curve.
+    pub region_measures: Option<((usize, f64), (usize, f64))>,
     /// Parameter (on the original) where the preview deviates most.
     pub dev_at: Option<f64>,
-    measures_key: Option<RunKey>,
+    /// What the measures describe: the setup (curve, region, ends) and the run (tolerance, options,
+    /// target); a new region with the same tolerance and target is a new preview too.
+    measures_key: Option<(Option<SetupKey>, Option<RunKey>)>,
     before: Option<(SetupKey, Measures)>,
     /// A panic caught in the engine since the app last looked (the app moves
     /// it to its error line).
@@ -368,7 +373,7 @@ impl Fairing {
 
     /// Whether the measures belong to an older preview.
     pub fn measures_stale(&self) -> bool {
-        self.measures_key != self.run_key
+        self.measures_key.as_ref() != Some(&(self.setup_key.clone(), self.run_key.clone()))
     }
 
     /// Measure the preview (before / after) if it changed since the last
@@ -379,8 +384,9 @@ impl Fairing {
         if !self.measures_stale() || (defer && self.measures.is_some()) {
             return;
         }
-        self.measures_key = self.run_key.clone();
+        self.measures_key = Some((self.setup_key.clone(), self.run_key.clone()));
         self.measures = None;
+        self.region_measures = None;
         self.dev_at = None;
         // the curve being faired: the original, also for a region across the seam (not the re-seamed one)
         let orig = match &self.across {
@@ -403,7 +409,20 @@ impl Fairing {
         if let Some((i, _)) = dev.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)) {
             self.dev_at = Some(at[i]);
         }
-        self.measures = Some((before, measure(orig, &p.result.curve)));
+        let after = measure(orig, &p.result.curve);
+        if let Some(k) = &self.setup_key {
+            let (d0, d1) = orig.domain();
+            let (u1, u2) = k.region;
+            let whole = u1 <= u2 && u1 <= d0 + 1e-12 * (d1 - d0) && u2 >= d1 - 1e-12 * (d1 - d0);
+            if !whole {
+                let delta = before.threshold_delta;
+                self.region_measures = Some((
+                    region_curvature(orig, u1, u2, delta),
+                    region_curvature(&p.result.curve, u1, u2, delta),
+                ));
+            }
+        }
+        self.measures = Some((before, after));
     }
 }
 

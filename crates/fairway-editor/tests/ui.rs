@@ -302,3 +302,36 @@ fn saved_settings_that_do_not_fit_open_with_a_message() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The Measures table describes the preview on screen: a new region at the same tolerance and target is
+/// measured anew (it used to keep the old region's figures until the tolerance was touched), and the
+/// region's own figures sit beside the whole curve's.
+#[test]
+fn measures_follow_a_new_region_and_show_the_regions_figures() {
+    let mut h = harness(App::default());
+    let path = sample_path();
+    open_via_menu(&mut h, &path);
+    let orig = match fairway::io::load(&path).unwrap().geometry {
+        fairway::Geometry::Curve(c) => c,
+        _ => panic!("a curve"),
+    };
+    let mut figures = vec![];
+    for region in [(0.35, 0.55), (0.5, 0.8)] {
+        h.state_mut().apply(fairway_editor::Command::SetRegion(Some(region)));
+        h.run();
+        h.state_mut().fairing.update_measures(false);
+        assert!(!h.state().fairing.measures_stale());
+        let p = h.state().preview().expect("a preview").result.curve.clone();
+        let (_, after) = h.state().fairing.measures.clone().expect("measures");
+        // the table's "after" is the preview on screen
+        let now = fairway::measure::measure(&orig, &p);
+        assert_eq!(after.n_curv_extrema, now.n_curv_extrema, "{region:?}");
+        assert!((after.dev_max - now.dev_max).abs() <= 1e-12, "{region:?}");
+        let ((eb, vb), (ea, va)) = h.state().fairing.region_measures.expect("region figures");
+        let (e0, v0) = fairway::measure::region_curvature(&orig, region.0, region.1, after.threshold_delta);
+        assert_eq!((eb, vb), (e0, v0));
+        assert!(ea <= eb && va < vb, "{region:?}: region extrema {eb} -> {ea}, E_var {vb} -> {va}");
+        figures.push(after.dev_max);
+    }
+    assert_ne!(figures[0], figures[1], "the second region's measures are its own");
+}

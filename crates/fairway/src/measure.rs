@@ -391,6 +391,43 @@ pub fn measure(original: &BSplineCurve, faired: &BSplineCurve) -> Measures {
     }
 }
 
+/// Curvature figures of a stretch `[u1, u2]` of `curve` (a region; `u1 > u2` on a closed curve: the
+/// stretch across the seam, `[u1, end]` then `[start, u2]`): curvature extrema counted as `measure` does
+/// (κ at the stretch's share of 4000 arc-length samples, zig-zag pivots beyond `delta` — pass the whole
+/// curve's `threshold_delta` so region and curve figures compare), and ∫(dκ/ds)² ds over the stretch
+/// (10-point Gauss–Legendre on 4 pieces of every knot span, clipped to the stretch).
+pub fn region_curvature(curve: &BSplineCurve, u1: f64, u2: f64, delta: f64) -> (usize, f64) {
+    let (d0, d1) = curve.domain();
+    let pieces = if u1 <= u2 { vec![(u1, u2)] } else { vec![(u1, d1), (d0, u2)] };
+    let us = arc_params(curve, CURV_SAMPLES);
+    let mut kk = vec![];
+    for &(a, b) in &pieces {
+        kk.extend(us.iter().filter(|&&u| u >= a && u <= b).map(|&u| kappa(curve, u)));
+    }
+    let gl = gl10();
+    let dim = curve.dim();
+    let mut ev = 0.0;
+    for &(lo, hi) in &pieces {
+        for w in curve.knots().breakpoints().windows(2) {
+            let (a0, b0) = (w[0].max(lo), w[1].min(hi));
+            if !(b0 > a0) {
+                continue;
+            }
+            for q in 0..4 {
+                let a = a0 + (b0 - a0) * q as f64 / 4.0;
+                let b = a0 + (b0 - a0) * (q + 1) as f64 / 4.0;
+                let h = 0.5 * (b - a);
+                for (x, wt) in gl.nodes.iter().zip(&gl.weights) {
+                    let d = curve.derivs(0.5 * (a + b) + h * x);
+                    let dk = d.dkappa_ds(dim);
+                    ev += wt * h * d.d1.length() * dk * dk;
+                }
+            }
+        }
+    }
+    (zigzag_extrema(&kk, delta), ev)
+}
+
 /// Distance of a point to a polyline (helper for tests and tools).
 pub fn polyline_distance(poly: &[DVec3], q: DVec3) -> f64 {
     poly.windows(2)
