@@ -490,7 +490,13 @@ impl App {
                         ea as f64,
                         true,
                     ),
-                    ("∫(dκ/ds)² (region)", "Variation of curvature energy over the region", vb, va, false),
+                    (
+                        "∫(dκ/ds)² (region)",
+                        "Variation of curvature energy over the region",
+                        vb,
+                        va,
+                        false,
+                    ),
                 ]
             });
             let rows = rows.into_iter().chain(region_rows.into_iter().flatten());

@@ -330,7 +330,10 @@ fn measures_follow_a_new_region_and_show_the_regions_figures() {
         let ((eb, vb), (ea, va)) = h.state().fairing.region_measures.expect("region figures");
         let (e0, v0) = fairway::measure::region_curvature(&orig, region.0, region.1, after.threshold_delta);
         assert_eq!((eb, vb), (e0, v0));
-        assert!(ea <= eb && va < vb, "{region:?}: region extrema {eb} -> {ea}, E_var {vb} -> {va}");
+        assert!(
+            ea <= eb && va < vb,
+            "{region:?}: region extrema {eb} -> {ea}, E_var {vb} -> {va}"
+        );
         figures.push(after.dev_max);
     }
     assert_ne!(figures[0], figures[1], "the second region's measures are its own");

@@ -51,6 +51,11 @@ fn kappa_csv(curves: &[&BSplineCurve]) -> String {
     out
 }
 
+/// Torsion extrema (3D), "—" in 2D.
+fn tau(m: &Measures) -> String {
+    m.n_torsion_extrema.map_or("—".into(), |n| n.to_string())
+}
+
 fn main() {
     let md = std::env::args().any(|a| a == "--markdown");
     let dump = std::env::args().skip_while(|a| a != "--dump").nth(1);
@@ -142,6 +147,9 @@ fn main() {
                     format!("{:.3}", w.dev_max / m),
                     format!("{rt:.2}"),
                     format!("{ft:.2}"),
+                    tau(&orig),
+                    tau(&r),
+                    tau(&w),
                 ],
             );
         }

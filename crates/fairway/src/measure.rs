@@ -91,6 +91,10 @@ pub struct Measures {
     pub n_inflections_fine: usize,
     /// Plain sign changes of κ (2D; null for 3D).
     pub n_inflections_raw: Option<usize>,
+    /// 3D: torsion extrema of the faired curve, counted like the curvature extrema (τ at the 4000
+    /// arc-length samples where it is defined, zig-zag pivots beyond 1 % of the largest |moving average|
+    /// of the ORIGINAL's torsion at 200 samples); null for 2D. Not a reference key.
+    pub n_torsion_extrema: Option<usize>,
     /// ∫(dκ/ds)² ds.
     pub E_var: f64,
     /// ∫κ² ds.
@@ -338,6 +342,17 @@ pub fn measure(original: &BSplineCurve, faired: &BSplineCurve) -> Measures {
         dk.push(d.dkappa_ds(faired.dim()));
     }
     let kappa_max_abs = kk.iter().fold(0.0f64, |m, k| m.max(k.abs()));
+    let n_torsion_extrema = (faired.dim() == 3).then(|| {
+        let tau = |c: &BSplineCurve, us: &[f64]| -> Vec<f64> {
+            us.iter()
+                .map(|&u| c.derivs(u).torsion())
+                .filter(|t| t.is_finite())
+                .collect()
+        };
+        let g = moving_average(&tau(original, &arc_params(original, PAPER_SAMPLES)), window_h());
+        let delta_tau = REL_THRESHOLD * g.iter().fold(0.0f64, |m, t| m.max(t.abs()));
+        zigzag_extrema(&tau(faired, &us), delta_tau)
+    });
     let (n_inf, n_inf_fine, n_inf_raw) = if faired.dim() == 2 {
         (
             dead_band_crossings(&kk, delta),
@@ -370,6 +385,7 @@ pub fn measure(original: &BSplineCurve, faired: &BSplineCurve) -> Measures {
         n_inflections: n_inf,
         n_inflections_fine: n_inf_fine,
         n_inflections_raw: n_inf_raw,
+        n_torsion_extrema,
         E_var: e_var,
         E_bend: e_bend,
         E_var_dimless: e_var * length.powi(3),
@@ -398,7 +414,11 @@ pub fn measure(original: &BSplineCurve, faired: &BSplineCurve) -> Measures {
 /// (10-point Gauss–Legendre on 4 pieces of every knot span, clipped to the stretch).
 pub fn region_curvature(curve: &BSplineCurve, u1: f64, u2: f64, delta: f64) -> (usize, f64) {
     let (d0, d1) = curve.domain();
-    let pieces = if u1 <= u2 { vec![(u1, u2)] } else { vec![(u1, d1), (d0, u2)] };
+    let pieces = if u1 <= u2 {
+        vec![(u1, u2)]
+    } else {
+        vec![(u1, d1), (d0, u2)]
+    };
     let us = arc_params(curve, CURV_SAMPLES);
     let mut kk = vec![];
     for &(a, b) in &pieces {

@@ -14,6 +14,7 @@ use fairway::measure::{deviations, measure};
 #[test]
 fn the_default_fair_is_at_least_as_fair_as_the_reference_smoother_on_every_suite_curve() {
     let mut failures = vec![];
+    let (mut tau_orig, mut tau_ref, mut tau_fw) = (0, 0, 0);
     for case in suite::cases() {
         let orig = measure(&case.curve, &case.curve);
         for f in suite::TOLERANCE_FACTORS {
@@ -35,6 +36,9 @@ fn the_default_fair_is_at_least_as_fair_as_the_reference_smoother_on_every_suite
                 measure(&case.curve, &reference.curve),
                 measure(&case.curve, &fair.curve),
             );
+            if let (Some(a), Some(b), Some(c)) = (orig.n_torsion_extrema, r.n_torsion_extrema, w.n_torsion_extrema) {
+                (tau_orig, tau_ref, tau_fw) = (tau_orig + a, tau_ref + b, tau_fw + c);
+            }
             println!(
                 "{} m = {f}σ: extrema {} / ref {} / fairway {}, E_var {:.4e} / {:.4e} / {:.4e}, dev/m {:.3} / {:.3}",
                 case.name,
@@ -90,6 +94,7 @@ fn the_default_fair_is_at_least_as_fair_as_the_reference_smoother_on_every_suite
         }
     }
     assert!(failures.is_empty(), "{failures:#?}");
+    println!("Σ torsion extrema over the 3D rows: original {tau_orig}, reference {tau_ref}, fairway {tau_fw}");
 }
 
 /// The reference smoother is what a SciPy user builds by hand: on the shared reference S-curve its result
@@ -155,4 +160,52 @@ fn the_reference_smoother_is_comparable_to_the_shared_reference() {
     assert!(mo.n_curv_extrema <= m0.n_curv_extrema);
     assert!(mf.n_curv_extrema <= mp.n_curv_extrema.min(mo.n_curv_extrema));
     assert!(mf.E_var <= mp.E_var.min(mo.E_var));
+}
+
+/// With `torsion_weight` 5 the torsion of 3D curves is faired too: over the suite's 3D rows fewer torsion
+/// extrema than the reference smoother and the original, and still no more curvature extrema than the
+/// smoother and no larger E_var, row by row.
+#[test]
+fn the_torsion_option_fairs_3d_torsion_as_well_as_the_reference_smoother() {
+    let (mut tau_orig, mut tau_ref, mut tau_fw) = (0, 0, 0);
+    for case in suite::cases().into_iter().filter(|c| c.curve.dim() == 3) {
+        let orig = measure(&case.curve, &case.curve);
+        for f in suite::TOLERANCE_FACTORS {
+            let opts = FairingOptions {
+                tolerance: f * case.sigma,
+                ..Default::default()
+            };
+            let reference = fair_curve(
+                &case.curve,
+                FairingOptions {
+                    mode: FitMode::Smoothing,
+                    ..opts
+                },
+            )
+            .unwrap();
+            let fair = fair_curve(
+                &case.curve,
+                FairingOptions {
+                    torsion_weight: 5.0,
+                    ..opts
+                },
+            )
+            .unwrap();
+            let (r, w) = (
+                measure(&case.curve, &reference.curve),
+                measure(&case.curve, &fair.curve),
+            );
+            assert!(w.dev_max <= opts.tolerance * (1.0 + 1e-9));
+            assert!(w.n_curv_extrema <= r.n_curv_extrema, "{} {f}σ", case.name);
+            assert!(w.E_var <= r.E_var, "{} {f}σ", case.name);
+            tau_orig += orig.n_torsion_extrema.unwrap();
+            tau_ref += r.n_torsion_extrema.unwrap();
+            tau_fw += w.n_torsion_extrema.unwrap();
+        }
+    }
+    println!("Σ torsion extrema: original {tau_orig}, reference {tau_ref}, torsion_weight 5 {tau_fw}");
+    assert!(
+        tau_fw < tau_ref && tau_fw < tau_orig,
+        "{tau_orig} / {tau_ref} / {tau_fw}"
+    );
 }

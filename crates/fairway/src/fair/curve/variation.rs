@@ -48,6 +48,10 @@ pub(crate) struct VarRows {
     /// The hysteresis of the curvature-extrema count ([`FairingSetup::node_extrema`]): 1 % of the largest
     /// |g| of the original's moving-average target, as `measure`'s δ.
     pub(crate) delta: f64,
+    /// Weight of `∫ |c'''|² du` in the variation energy (non-planar 3D curves, whose torsion E_var does not
+    /// see; 0 otherwise): the torsion weight / v̄⁵ with v̄ the mean speed, so that it reads about
+    /// `∫ (κ'² + κ⁴ + κ²τ²) ds` ([`super::FairingOptions::torsion_weight`]).
+    pub(crate) third: f64,
 }
 
 /// One knot of [`VarRows::jumps`]: the two one-sided rows (first free-local index, 1st and 2nd basis
@@ -343,8 +347,15 @@ impl FairingSetup {
         crate::measure::zigzag_extrema(&k, self.var.delta)
     }
 
-    /// `E_var` of `c₀ + Σ N_i d_i` over the moving stretch (module docs).
+    /// `E_var` of `c₀ + Σ N_i d_i` over the moving stretch (module docs), with the third-derivative term of
+    /// a non-planar 3D curve.
     pub(crate) fn variation_of_update(&self, d: &[DVec3]) -> f64 {
+        let (e, third) = self.variation_parts(d);
+        e + third
+    }
+
+    /// (`E_var` with the curvature steps, the third-derivative term).
+    pub(crate) fn variation_parts(&self, d: &[DVec3]) -> (f64, f64) {
         let np1 = self.work.degree() + 1;
         let plane = self.signed_plane();
         let v = &self.var;
@@ -366,7 +377,14 @@ impl FairingSetup {
                 j.w * (b - a) * (b - a)
             })
             .sum();
-        inner + steps
+        let third: f64 = if v.third > 0.0 {
+            (0..v.w.len())
+                .map(|q| v.third * v.w[q] * v.derivs(q, np1, d)[2].length_squared())
+                .sum()
+        } else {
+            0.0
+        };
+        (inner + steps, third)
     }
 
     /// Adds `weight · JᵀJ` to `h` and `−weight · Jᵀr` to `rhs` for `E_var` at the update `d` (unknown
@@ -406,6 +424,23 @@ impl FairingSetup {
                 rhs[base * dim + a].x -= jrow[a] * sw * r;
             }
             h.add_outer(base * dim, &jrow[..width]);
+            if v.third > 0.0 {
+                // √(w third) c''' per coordinate: rows b3 ⊗ e_c
+                let st = (weight * v.w[q] * v.third).sqrt();
+                for cc in 0..dim {
+                    jrow.fill(0.0);
+                    for i in 0..np1 {
+                        let li = f + i as isize;
+                        if li >= 0 && (li as usize) < nf {
+                            jrow[(li as usize - base) * dim + cc] = st * b[2 * np1 + i];
+                        }
+                    }
+                    for a in 0..width {
+                        rhs[base * dim + a].x -= jrow[a] * st * c[2][cc];
+                    }
+                    h.add_outer(base * dim, &jrow[..width]);
+                }
+            }
         }
         // the curvature steps at knots below C2: r = √w (κ⁺ − κ⁻), rows over both sides' points
         for j in &v.jumps {
