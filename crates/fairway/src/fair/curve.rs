@@ -243,7 +243,7 @@ pub struct FairingOptions {
     /// Non-planar 3D curves, [`PolishMethod::Variation`]: weight of `∫ |c'''|² du / v̄⁵ ≈ ∫ (κ'² + κ⁴ + κ²τ²) ds`
     /// in the objective (default 0: off), which E_var alone does not see — the torsion, left to the noise.
     /// Measured on the quality suite's five 3D curves (Σ torsion extrema over their 15 rows; the
-    /// reference smoother 451): 0 gives 716, 1 gives 391, 5 gives 336, with the curvature extrema no more
+    /// reference smoother 451): 0 gives 712–716, 1 gives 391, 5 gives 336, with the curvature extrema no more
     /// than the smoother's in every row (Σ 422 → 377 over all rows). Not the default because at loose
     /// tolerances it trades E_var for it: a noisy helix at m = 25σ ends with ∫(dκ/ds)² 0.161 against
     /// 0.109 at 10σ, and its curvature 1.2× closer to the true one instead of 2×.
