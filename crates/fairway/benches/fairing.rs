@@ -44,11 +44,27 @@ fn benches(c: &mut Criterion) {
     c.bench_function("curve100_s1000/full (setup + fair)", |b| {
         b.iter(|| FairingSetup::new(black_box(&cv), o).unwrap().fair().unwrap())
     });
-    // the polish run long enough to reach the iterative baseline's E on this curve (test
+    // the previous default (line-search polish of the paper's E, G2 curve ends) and the reference smoother
+    let ls = FairingOptions {
+        polish_method: PolishMethod::LineSearch,
+        curve_ends: Some(fairway::fair::EndCondition::G2),
+        ..o
+    };
+    c.bench_function("curve100_s1000/full, line-search polish (the previous default)", |b| {
+        b.iter(|| FairingSetup::new(black_box(&cv), ls).unwrap().fair().unwrap())
+    });
+    let smoothing = FairingOptions {
+        mode: FitMode::Smoothing,
+        ..o
+    };
+    c.bench_function("curve100_s1000/full, reference smoother (FitMode::Smoothing)", |b| {
+        b.iter(|| FairingSetup::new(black_box(&cv), smoothing).unwrap().fair().unwrap())
+    });
+    // the line-search polish run long enough to reach the iterative baseline's E on this curve (test
     // more_polish_iterations_reach_the_iterative_energy_on_the_bench_curve): the "equal E" comparison
     c.bench_function("curve100_s1000/full at the baseline's E (24 polish iterations)", |b| {
         b.iter(|| {
-            let mut s = FairingSetup::new(black_box(&cv), o).unwrap();
+            let mut s = FairingSetup::new(black_box(&cv), ls).unwrap();
             s.set_polish_iterations(24);
             s.fair().unwrap()
         })

@@ -8,8 +8,27 @@
 #[path = "common/suite.rs"]
 mod suite;
 
-use fairway::fair::{FairingOptions, FitMode, fair_curve};
+use fairway::BSplineCurve;
+use fairway::fair::{FairingOptions, FairingResult, FitMode, fair_curve};
 use fairway::measure::{deviations, measure};
+
+/// The reference smoother's and the default fair's results at tolerance `m` (with `torsion_weight`).
+fn reference_and_fair(c: &BSplineCurve, m: f64, torsion_weight: f64) -> (FairingResult, FairingResult) {
+    let opts = FairingOptions {
+        tolerance: m,
+        torsion_weight,
+        ..Default::default()
+    };
+    let reference = fair_curve(
+        c,
+        FairingOptions {
+            mode: FitMode::Smoothing,
+            ..opts
+        },
+    )
+    .unwrap();
+    (reference, fair_curve(c, opts).unwrap())
+}
 
 #[test]
 fn the_default_fair_is_at_least_as_fair_as_the_reference_smoother_on_every_suite_curve() {
@@ -19,19 +38,7 @@ fn the_default_fair_is_at_least_as_fair_as_the_reference_smoother_on_every_suite
         let orig = measure(&case.curve, &case.curve);
         for f in suite::TOLERANCE_FACTORS {
             let m = f * case.sigma;
-            let opts = FairingOptions {
-                tolerance: m,
-                ..Default::default()
-            };
-            let reference = fair_curve(
-                &case.curve,
-                FairingOptions {
-                    mode: FitMode::Smoothing,
-                    ..opts
-                },
-            )
-            .unwrap();
-            let fair = fair_curve(&case.curve, opts).unwrap();
+            let (reference, fair) = reference_and_fair(&case.curve, m, 0.0);
             let (r, w) = (
                 measure(&case.curve, &reference.curve),
                 measure(&case.curve, &fair.curve),
@@ -171,31 +178,13 @@ fn the_torsion_option_fairs_3d_torsion_as_well_as_the_reference_smoother() {
     for case in suite::cases().into_iter().filter(|c| c.curve.dim() == 3) {
         let orig = measure(&case.curve, &case.curve);
         for f in suite::TOLERANCE_FACTORS {
-            let opts = FairingOptions {
-                tolerance: f * case.sigma,
-                ..Default::default()
-            };
-            let reference = fair_curve(
-                &case.curve,
-                FairingOptions {
-                    mode: FitMode::Smoothing,
-                    ..opts
-                },
-            )
-            .unwrap();
-            let fair = fair_curve(
-                &case.curve,
-                FairingOptions {
-                    torsion_weight: 5.0,
-                    ..opts
-                },
-            )
-            .unwrap();
+            let m = f * case.sigma;
+            let (reference, fair) = reference_and_fair(&case.curve, m, 5.0);
             let (r, w) = (
                 measure(&case.curve, &reference.curve),
                 measure(&case.curve, &fair.curve),
             );
-            assert!(w.dev_max <= opts.tolerance * (1.0 + 1e-9));
+            assert!(w.dev_max <= m * (1.0 + 1e-9));
             assert!(w.n_curv_extrema <= r.n_curv_extrema, "{} {f}σ", case.name);
             assert!(w.E_var <= r.E_var, "{} {f}σ", case.name);
             tau_orig += orig.n_torsion_extrema.unwrap();

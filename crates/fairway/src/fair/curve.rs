@@ -1460,15 +1460,7 @@ impl FairingSetup {
                     (true, PolishMethod::Variation) => self.polish_variation(accept, dev, e, &mut solves)?,
                 };
                 // the band checks stop at the first point within the band: report the sharpest bound
-                let dev = if self.sharp_report {
-                    let best = std::mem::take(&mut self.best);
-                    let dev = self.sharp_deviation(&best, dev);
-                    self.best = best;
-                    dev
-                } else {
-                    dev
-                };
-                (mu, alpha, dev, e)
+                (mu, alpha, self.reported_deviation(dev), e)
             }
         };
         let curve = self.updated_curve(&self.best)?;
@@ -1880,19 +1872,25 @@ impl FairingSetup {
         (v, rough)
     }
 
+    /// The deviation [`Self::fair`] reports for the accepted update with band-check bound `dev`: the band
+    /// checks stop at the first point within the band, so the bound is sharpened (with the measure's check
+    /// samples; as it is with `check_samples = 0`).
+    fn reported_deviation(&mut self, dev: f64) -> f64 {
+        if !self.sharp_report {
+            return dev;
+        }
+        let best = std::mem::take(&mut self.best);
+        let dev = self.sharp_deviation(&best, dev);
+        self.best = best;
+        dev
+    }
+
     /// The reference smoother ([`FitMode::Smoothing`]): the μ search on its system, the sharp report.
     fn fair_smoothing(&mut self) -> Result<FairingResult> {
         let accept = band_accept(self.opts.tolerance, &self.work);
         let mut solves = 0;
         let (mu, alpha, dev) = self.search_smoothing(accept, &mut solves)?;
-        let dev = if self.sharp_report {
-            let best = std::mem::take(&mut self.best);
-            let dev = self.sharp_deviation(&best, dev);
-            self.best = best;
-            dev
-        } else {
-            dev
-        };
+        let dev = self.reported_deviation(dev);
         Ok(FairingResult {
             curve: self.updated_curve(&self.best)?,
             max_deviation: dev,
