@@ -163,11 +163,12 @@ fn e_polish_slider_caps_the_polish_of_the_full_fair() {
     );
 }
 
-/// The "Polish" choice (Fairing ▸ Advanced): "Interior point" re-fairs the preview with the core's
-/// interior-point polish, whose E is below the line search's at the same iteration count, inside the
-/// band; "Line search" brings the default back, bit for bit.
+/// The "Polish" choice (Fairing ▸ Advanced): each choice re-fairs the preview with that polish of the core,
+/// inside the band — "Interior point" gives another curve than "Line search", "Variation" (the default)
+/// no more curvature extrema than either — and choosing "Line search" again brings its result back, bit
+/// for bit.
 #[test]
-fn interior_point_polish_choice_lowers_e_inside_the_band() {
+fn polish_choice_refairs_the_preview_inside_the_band() {
     let mut h = whole_curve_with_advanced_options();
     let mut fair = |name: &str| {
         h.get_by_label(name).click();
@@ -176,27 +177,33 @@ fn interior_point_polish_choice_lowers_e_inside_the_band() {
         let p = h.state().preview().expect("a faired preview").clone();
         assert!(!p.draft);
         assert!(p.result.max_deviation <= m * (1.0 + 1e-9), "{name}: band");
-        let d = fairway::measure::measure(h.state().curve(), &p.result.curve).dev_max;
-        assert!(d <= m * (1.0 + 1e-9), "{name}: measured {d}");
+        let mm = fairway::measure::measure(h.state().curve(), &p.result.curve);
+        assert!(mm.dev_max <= m * (1.0 + 1e-9), "{name}: measured {}", mm.dev_max);
         (
             h.state().prefs.fair.polish_method,
-            p.result.energy,
+            mm.n_curv_extrema,
             p.result.curve.points().to_vec(),
         )
     };
-    let (m0, e0, p0) = fair("Line search");
-    let (m1, e1, _) = fair("Interior point");
-    let (m2, e2, p2) = fair("Line search");
+    let (m0, x0, p0) = fair("Line search");
+    let (m1, x1, p1) = fair("Interior point");
+    let (m3, x3, _) = fair("Variation");
+    let (m2, _, p2) = fair("Line search");
     assert_eq!(
-        (m0, m1, m2),
+        (m0, m1, m3, m2),
         (
             PolishMethod::LineSearch,
             PolishMethod::InteriorPoint,
+            PolishMethod::Variation,
             PolishMethod::LineSearch
         )
     );
-    assert!(e1 < e0, "E line search {e0}, interior point {e1}");
-    assert_eq!((e2, p2), (e0, p0));
+    assert_ne!(p0, p1, "the interior point is another fair");
+    assert!(
+        x3 <= x0.min(x1),
+        "extrema: variation {x3}, line search {x0}, interior point {x1}"
+    );
+    assert_eq!(p2, p0);
 }
 
 /// The bundled profile with a 20° kink (a triple knot at u = 0.6, its control point 23): a region across
