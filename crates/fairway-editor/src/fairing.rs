@@ -285,6 +285,8 @@ impl Fairing {
                 integrator: opts.integrator,
                 polish,
                 ease_curve_ends: opts.ease_ends,
+                // easing keeps the G2 curve end (by default a curve end keeps position and tangent only)
+                curve_ends: opts.ease_ends.then_some(EndCondition::G2),
                 mode: opts.mode,
                 ..FairingOptions::default()
             };
