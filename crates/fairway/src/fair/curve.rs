@@ -78,10 +78,13 @@
 //!    largest bound is projected further — Newton, then `measure`'s search
 //!    near u_j, then over the whole curve — until a fully searched sample is
 //!    the largest): it equals the measured `dev_max` to rounding.
-//! 7. **Polish** of the paper's E inside the band ([`FairingOptions::polish`], up to
-//!    [`FairingOptions::polish_iterations`] steps), by one of two optimizers
+//! 7. **Polish** inside the band ([`FairingOptions::polish`], up to
+//!    [`FairingOptions::polish_iterations`] steps). The default, [`PolishMethod::Variation`]
+//!    ([`variation`]), minimizes the curvature variation ∫(dκ/ds)² ds plus a mild target term by an
+//!    interior point from the fairest of the fit, the reference smoother ([`FitMode::Smoothing`]) and
+//!    the original. The paper's E can be polished instead, by one of two optimizers
 //!    ([`PolishMethod`]): Levenberg–Marquardt steps with a backtracking band
-//!    check (the default, which stops well short of E's minimum), or a
+//!    check (which stops well short of E's minimum), or a
 //!    primal–dual interior point on the parametric band at the check samples
 //!    (every iterate holds the band; it follows the target as closely as the
 //!    band allows: on the bench curve a lower E than the iterative baseline's
