@@ -80,7 +80,7 @@
 //!    the largest): it equals the measured `dev_max` to rounding.
 //! 7. **Polish** inside the band ([`FairingOptions::polish`], up to
 //!    [`FairingOptions::polish_iterations`] steps). The default, [`PolishMethod::Variation`]
-//!    ([`variation`]), minimizes the curvature variation ∫(dκ/ds)² ds plus a mild target term by an
+//!    (`fair/curve/variation.rs`), minimizes the curvature variation ∫(dκ/ds)² ds plus a mild target term by an
 //!    interior point from the fairest of the fit, the reference smoother ([`FitMode::Smoothing`]) and
 //!    the original. The paper's E can be polished instead, by one of two optimizers
 //!    ([`PolishMethod`]): Levenberg–Marquardt steps with a backtracking band
