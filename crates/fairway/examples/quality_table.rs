@@ -3,7 +3,12 @@
 //! its weight searched to hold the band) and Fairway's default fair, judged by the independent measures
 //! of `measure` (curvature extrema with hysteresis, inflections, ∫(dκ/ds)² ds, max deviation / m).
 //!
-//! `cargo run --release -p fairway --example quality_table [-- --markdown]`
+//! `cargo run --release -p fairway --example quality_table [-- --markdown] [--dump DIR]`
+//!
+//! `--dump DIR` writes κ(s) of each row for `scripts/plot_kappa.py`. Environment knobs for comparisons:
+//! `QT_CASE` (rows whose name contains it), `QT_NOISE` (noise scale; 0 = the noise-free best fits),
+//! `QT_POLISH` (variation | line-search | interior-point), `QT_CURVE_ENDS` (g0 | g1 | g2), `QT_BETA`
+//! (target weight), `QT_ITERS` (polish iterations).
 
 #[path = "../tests/common/suite.rs"]
 mod suite;
