@@ -259,10 +259,12 @@ pub struct FairingOptions {
 /// The optimizer of the E polish ([`FairingOptions::polish_method`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum PolishMethod {
-    /// Levenberg–Marquardt steps with the band-edge samples frozen and a backtracking band check. It stops well short of E's minimum in the band, and that is why it is the default:
-    /// the automatic target is smoothed from noisy curvature and flattens sharp features, and a result
-    /// that follows it closely is not a more accurate curve (on the noisy closed ellipses of the
-    /// closed-curve tests the curvature error against the noise-free curve rises above the input's).
+    /// Levenberg–Marquardt steps on the paper's E with the band-edge samples frozen and a backtracking band
+    /// check (the default before [`PolishMethod::Variation`]). It stops well short of E's minimum in the
+    /// band, on purpose: the automatic target is smoothed from noisy curvature and flattens sharp
+    /// features, and a result that follows it closely is not a more accurate curve (on the noisy closed
+    /// ellipses of the closed-curve tests the curvature error against the noise-free curve rises above
+    /// the input's).
     LineSearch,
     /// Primal–dual interior point on the parametric band, the iterative baseline's band
     /// (`FairingSetup::polish_interior`): every iterate holds the band, and a few iterations reach a
@@ -273,7 +275,9 @@ pub enum PolishMethod {
     /// Interior point on `∫ (dκ/ds)² ds + β ∫ (κ − g)² ds / ℓ²` inside the parametric band: the curvature
     /// variation of the whole stretch (quadrature over every knot span, so ripples between samples
     /// count) plus the distance from the target g, with ℓ the mean arc length of a knot span and β
-    /// [`FairingOptions::target_weight`]. Started from the reference smoother's band-holding result.
+    /// [`FairingOptions::target_weight`]. Started from the fairest of the band-holding fit, the reference
+    /// smoother's result ([`FitMode::Smoothing`]) and the original; iterates ranked by curvature extrema,
+    /// then E_var; the original is returned unless the result is fairer.
     /// The default.
     #[default]
     Variation,
@@ -1663,7 +1667,7 @@ impl FairingSetup {
             r0.max(rg) * POLISH_ROUGHNESS_CAP
         };
         let (start_value, start_var) = if obj.var > 0.0 {
-            self.objective_value(obj, &self.best.clone())
+            self.objective_value(obj, &self.best)
         } else {
             (e, 0.0)
         };
@@ -1937,15 +1941,17 @@ impl FairingSetup {
         } else {
             Objective { paper: 0.0, var: 1.0 }
         };
+        // how fair an update is: (curvature extrema, E_var), as the interior point ranks its iterates
+        let rank_of = |s: &Self, d: &[DVec3]| (s.node_extrema(d), s.variation_parts(d).0);
         let fit = (self.best.clone(), dev, e);
-        let fit_rank = (self.node_extrema(&fit.0), self.variation_of_update(&fit.0));
+        let fit_rank = rank_of(self, &fit.0);
         let (_, _, sdev) = self.search_smoothing(accept, solves)?;
-        let smooth_rank = (self.node_extrema(&self.best), self.variation_of_update(&self.best));
+        let smooth_rank = rank_of(self, &self.best);
         let zero = vec![DVec3::ZERO; self.nf];
-        let orig_rank = (self.node_extrema(&zero), self.variation_of_update(&zero));
+        let orig_rank = rank_of(self, &zero);
         // the start: the fairest of the smoother's result, the fit's and the original
         let (dev, e) = if smooth_rank <= fit_rank && smooth_rank <= orig_rank {
-            (sdev, self.energy_of_update(&self.best.clone()))
+            (sdev, self.energy_of_update(&self.best))
         } else if fit_rank <= orig_rank {
             self.best = fit.0;
             (fit.1, fit.2)
@@ -1956,7 +1962,7 @@ impl FairingSetup {
         let (dev, e) = self.interior_point(accept, dev, e, solves, obj);
         // never less fair than the input: a result without fewer curvature extrema or a lower E_var than the
         // original's (a straight line, which the smoother would only re-parametrize) leaves it as it is
-        let rank = (self.node_extrema(&self.best), self.variation_of_update(&self.best));
+        let rank = rank_of(self, &self.best);
         if rank.0 > orig_rank.0 || (rank.0 == orig_rank.0 && !(rank.1 < orig_rank.1 * (1.0 - 1e-9))) {
             self.best = zero;
             return Ok((0.0, self.original_energy()));

@@ -347,14 +347,8 @@ impl FairingSetup {
         crate::measure::zigzag_extrema(&k, self.var.delta)
     }
 
-    /// `E_var` of `c₀ + Σ N_i d_i` over the moving stretch (module docs), with the third-derivative term of
-    /// a non-planar 3D curve.
-    pub(crate) fn variation_of_update(&self, d: &[DVec3]) -> f64 {
-        let (e, third) = self.variation_parts(d);
-        e + third
-    }
-
-    /// (`E_var` with the curvature steps, the third-derivative term).
+    /// `E_var` of `c₀ + Σ N_i d_i` over the moving stretch (module docs) with the curvature steps, and the
+    /// third-derivative term of a non-planar 3D curve.
     pub(crate) fn variation_parts(&self, d: &[DVec3]) -> (f64, f64) {
         let np1 = self.work.degree() + 1;
         let plane = self.signed_plane();
