@@ -60,6 +60,11 @@ fn benches(c: &mut Criterion) {
     c.bench_function("curve100_s1000/full, reference smoother (FitMode::Smoothing)", |b| {
         b.iter(|| FairingSetup::new(black_box(&cv), smoothing).unwrap().fair().unwrap())
     });
+    // the sound band bound of the default result alone (part of every full fair above)
+    let faired = FairingSetup::new(&cv, o).unwrap().fair().unwrap().curve;
+    c.bench_function("curve100_s1000/band bound of the result (fair::band_bound)", |b| {
+        b.iter(|| fairway::fair::band_bound(black_box(&cv), black_box(&faired), o.tolerance, usize::MAX).unwrap())
+    });
     // the line-search polish run long enough to reach the iterative baseline's E on this curve (test
     // more_polish_iterations_reach_the_iterative_energy_on_the_bench_curve): the "equal E" comparison
     c.bench_function("curve100_s1000/full at the baseline's E (24 polish iterations)", |b| {

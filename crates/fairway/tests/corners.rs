@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{Rng, Shape, dev_max, noisy_curve, opts};
+use common::{Rng, Shape, dev_max, noisy_curve, opts, reported_bound_ok, reported_bound_ok_dense};
 use fairway::corners::{Corner, corners};
 use fairway::fair::FairingOptions;
 use fairway::fair::{CornerSetups, EndCondition, FairingSetup, Seam, Target, fair_curve};
@@ -136,11 +136,7 @@ fn a_kink_is_kept_and_the_arcs_on_either_side_are_faired() {
         assert_eq!(r.curve.n_points() - c.n_points(), extra, "{ends:?}");
         let measured = measure(&c, &r.curve).dev_max;
         assert!(
-            r.max_deviation <= m && measured <= r.max_deviation + 1e-12,
-            "{ends:?}: {measured}"
-        );
-        assert!(
-            r.max_deviation - measured <= 1e-6 * m,
+            reported_bound_ok(r.max_deviation, measured, m),
             "{ends:?}: {} vs {measured}",
             r.max_deviation
         );
@@ -364,7 +360,7 @@ fn a_closed_curve_with_a_kink_is_faired_across_its_seam_and_keeps_the_kink() {
         let measured = dev_max(&c, f);
         assert!(measured <= m * (1.0 + 1e-9), "seed {seed}: {measured}");
         assert!(
-            (r.max_deviation - measured).abs() <= 1e-6 * m,
+            reported_bound_ok(r.max_deviation, measured, m),
             "{} vs {measured}",
             r.max_deviation
         );
@@ -414,7 +410,7 @@ fn a_region_across_the_seam_with_a_kink_is_faired_stretch_by_stretch() {
     let f = &r.curve;
     assert_eq!(f.knots().values(), c.knots().values());
     let measured = dev_max(&c, f);
-    assert!(measured <= m * (1.0 + 1e-9) && (r.max_deviation - measured).abs() <= 1e-6 * m);
+    assert!(measured <= m * (1.0 + 1e-9) && reported_bound_ok(r.max_deviation, measured, m));
     // control points whose support lies in the untouched (0.4, 0.85) do not move; both stretches do
     let kv = c.knots().values();
     let mut moved_in = [false; 2];
@@ -547,7 +543,7 @@ proptest::proptest! {
                 proptest::prop_assert!(measured <= m * (1.0 + 1e-9), "measured {} > m {}", measured, m);
                 proptest::prop_assert!(r.max_deviation <= m * (1.0 + 1e-9));
                 proptest::prop_assert!(
-                    (r.max_deviation - measured).abs() <= 1e-6 * m,
+                    reported_bound_ok_dense(r.max_deviation, measured, &c, f, m),
                     "reported {} vs measured {}", r.max_deviation, measured
                 );
                 proptest::prop_assert!(f.points()[0].distance(*f.points().last().unwrap()) <= 1e-12);

@@ -40,11 +40,12 @@
 //!    samples of the original that [`crate::measure`] uses, each projected on the result by
 //!    safeguarded Newton within one mean knot span of its own parameter (the result keeps the
 //!    parametrization; next to the seam also near the twin parameter u ± L): every projection is a
-//!    point of the result, so this bounds the measure's closest-point `dev_max` from above (the
-//!    tests check that they agree to 1e-9·m). A blend of two
+//!    point of the result, so this bounds the measure's closest-point `dev_max` from above; where
+//!    they all hold, [`super::verify::band_bound`] bounds the deviation between them. A blend of two
 //!    band-holding curves can leave the band where they deviate to opposite sides; then the blend's
 //!    update `φ (P₂ − P₁)` is halved around every sample out of the band (tapered over 3 control
-//!    points), up to 12 times, until the bound holds. The result's `max_deviation` is that bound and
+//!    points; where only the bound between the samples fails, around its worst point), up to 12
+//!    times, until the bound holds. The result's `max_deviation` is that bound and
 //!    `alpha` the smallest factor applied.
 //!
 //! Why two full passes of the original rather than a second pass over the stretch around the seam
@@ -620,14 +621,27 @@ fn fair_closed_with(
         };
         let devs = devs_of(&cand);
         let dmax = devs.iter().fold(0.0f64, |x, &y| x.max(y));
+        // out of the band: the samples beyond it, else (all within) where the sound bound between
+        // them is
+        let mut out_at: Vec<f64> = us
+            .iter()
+            .zip(&devs)
+            .filter(|(_, d)| !(**d <= accept))
+            .map(|(u, _)| *u)
+            .collect();
         if dmax <= accept {
-            accepted = Some((cand, dmax));
-            break;
+            match super::verify::certify(&input, &cand, m) {
+                Some(b) if b.bound > m => out_at.push(b.at),
+                b => {
+                    accepted = Some((cand, b.map_or(dmax, |b| b.bound)));
+                    break;
+                }
+            }
         }
         // halve the update around every sample out of the band, tapered over TAPER points on each side
         let mut phi = vec![0.0f64; n];
-        for (j, _) in devs.iter().enumerate().filter(|(_, d)| !(**d <= accept)) {
-            let ur = if us[j] >= at { us[j] } else { us[j] + l };
+        for u in out_at {
+            let ur = if u >= at { u } else { u + l };
             let span = rot1.knots().find_span(ur);
             for i in span - p..=span {
                 for k in 0..=TAPER {

@@ -101,7 +101,6 @@ use super::integrate::{IntegrationScratch, Integrator, PullBack, Track, integrat
 use super::target::{Target, TargetMethod};
 use crate::arclength::ArcLengthTable;
 use crate::basis::{MAX_ORDER, basis_funs, ders_basis_funs};
-use crate::closest::CurveProjector;
 use crate::corners::{Corner, corners, counted, stretches_between};
 use crate::curve::{BSplineCurve, CurveDerivs};
 use crate::error::{Error, Result};
@@ -310,11 +309,11 @@ impl Default for FairingOptions {
 pub struct FairingResult {
     /// The faired curve (original knots; with G0/G1 ends the inserted knots too).
     pub curve: BSplineCurve,
-    /// Verified upper bound of the max deviation over the check samples
-    /// ([`CHECK_SAMPLES`] unless set with [`FairingSetup::with_check_samples`]): the largest of
-    /// their distances to the result, each found by a Newton projection (a point of the result), so
-    /// with the default check samples it is `measure`'s `dev_max` up to the projections' rounding.
-    /// With `check_samples = 0` it is the band checks' bound, which can be larger.
+    /// Sound upper bound of the distance from every point of the original to the result
+    /// ([`super::verify::band_bound`]: the check samples, and an interpolation bound between points
+    /// sampled per knot span), sharp to about 0.1 % of the largest distance found; never below
+    /// `measure`'s `dev_max`. With `check_samples = 0` (surface isocurves, which the surface verifies
+    /// itself) it is the band checks' bound at the samples.
     pub max_deviation: f64,
     /// Fairness weight μ chosen (0 in paper mode).
     pub mu: f64,
@@ -345,8 +344,15 @@ pub const MAX_SAMPLES: usize = 2_000_000;
 /// minutes (`--strength 99999999`: more than a minute).
 pub const MAX_PASS_WORK: usize = 1_000_000_000;
 
-/// Number of arc-length samples used to verify the band (as `measure`).
+/// Number of arc-length samples used to check the band (as `measure`), at least
+/// [`CHECK_SAMPLES_PER_SPAN`] per knot span of the curve.
 pub const CHECK_SAMPLES: usize = 2000;
+
+/// Check samples per knot span at least (a long curve gets more than [`CHECK_SAMPLES`]).
+pub const CHECK_SAMPLES_PER_SPAN: usize = 4;
+
+/// Fairs run again with a narrowed band when the result left the band between the check samples.
+pub const BAND_RETRIES: usize = 3;
 
 /// Prepared state of a curve fairing (see the module docs).
 #[derive(Debug, Clone)]
@@ -399,7 +405,7 @@ pub struct FairingSetup {
     chk_h: f64,
     /// Arc length of the original between consecutive check samples.
     chk_step: f64,
-    /// Whether [`Self::fair`] sharpens the reported deviation ([`Self::sharp_deviation`]): with the
+    /// Whether [`Self::fair`] bounds the band everywhere ([`super::verify::band_bound`]): with the
     /// measure's check samples; not with `check_samples = 0` (surface isocurves, which the surface
     /// verifies itself).
     sharp_report: bool,
@@ -436,10 +442,6 @@ pub struct FairingSetup {
     perp0: Vec<f64>,
 }
 
-/// Polyline points per knot span of the reported deviation's searches ([`FairingSetup::sharp_deviation`]),
-/// not `measure`'s 16: +1 % time per fair instead of +4 %; with 4 one probe case (quadratic,
-/// m = 4.6e-8) reported 0.7 % above `dev_max`.
-const REPORT_POLYLINE: usize = 8;
 /// The interior point's objective: `paper · E + var · E_var`, with `paper` 1 or 0 (the Gauss–Newton
 /// system of E is added with weight 1, the barrier is scaled to the objective).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -580,9 +582,15 @@ impl FairingSetup {
         check_phase: f64,
         keep_corners: bool,
     ) -> Result<Self> {
-        let check_samples = if check_samples == 0 { 0 } else { check_samples.max(2) };
         validate_tolerance(opts.tolerance)?;
         let input = curve.to_polynomial()?;
+        let check_samples = if check_samples == 0 {
+            0
+        } else {
+            check_samples
+                .max(2)
+                .max(CHECK_SAMPLES_PER_SPAN * input.knots().n_spans() + 1)
+        };
         let p = input.degree();
         if p < 2 {
             return Err(Error::InvalidInput(format!(
@@ -1372,9 +1380,58 @@ impl FairingSetup {
 
     /// Run integration, fit and band control for the current target and
     /// tolerance. Reuses every buffer of the setup.
+    ///
+    /// The result's `max_deviation` is a sound upper bound of the distance from every point of the
+    /// original stretch to the result ([`super::verify::band_bound`]), not only at the check samples.
+    /// Where the result left the band between the samples, the fair is run again with the band
+    /// narrowed by the excess (at most [`BAND_RETRIES`] times); if that does not hold it either, the
+    /// original is returned, with a note.
     pub fn fair(&mut self) -> Result<FairingResult> {
         let m = self.opts.tolerance;
         validate_tolerance(m)?;
+        let mut r = self.fair_pass()?;
+        if !self.sharp_report {
+            return Ok(r);
+        }
+        let work = self.work.clone();
+        let certify = |c: &BSplineCurve| super::verify::certify(&work, c, m);
+        let Some(mut bb) = certify(&r.curve) else {
+            return Ok(r);
+        };
+        let mut narrowed = m;
+        let mut retries = 0;
+        while bb.bound > m && retries < BAND_RETRIES {
+            retries += 1;
+            narrowed *= (m / bb.bound).powi(2) * (1.0 - 1e-3);
+            self.opts.tolerance = narrowed;
+            let again = self.fair_pass();
+            self.opts.tolerance = m;
+            r = again?;
+            match certify(&r.curve) {
+                Some(b) => bb = b,
+                None => break,
+            }
+        }
+        if bb.bound > m {
+            let u = bb.at;
+            self.best.fill(DVec3::ZERO);
+            r.curve = self.work.clone();
+            r.alpha = 0.0;
+            r.energy = self.original_energy();
+            r.max_deviation = 0.0;
+            r.notes.push(format!(
+                "the fair left the tolerance band between its check samples (near u = {u:.6}) and a narrower \
+                 band did not hold either: the curve was kept as it was"
+            ));
+            return Ok(r);
+        }
+        r.max_deviation = bb.bound;
+        Ok(r)
+    }
+
+    /// [`Self::fair`] without the final band bound: one run at the current tolerance.
+    fn fair_pass(&mut self) -> Result<FairingResult> {
+        let m = self.opts.tolerance;
         if self.opts.mode == FitMode::Smoothing {
             return self.fair_smoothing();
         }
@@ -1467,7 +1524,7 @@ impl FairingSetup {
                     (true, PolishMethod::Variation) => self.polish_variation(accept, dev, e, &mut solves)?,
                 };
                 // the band checks stop at the first point within the band: report the sharpest bound
-                (mu, alpha, self.reported_deviation(dev), e)
+                (mu, alpha, dev, e)
             }
         };
         let curve = self.updated_curve(&self.best)?;
@@ -1879,25 +1936,11 @@ impl FairingSetup {
         (v, rough)
     }
 
-    /// The deviation [`Self::fair`] reports for the accepted update with band-check bound `dev`: the band
-    /// checks stop at the first point within the band, so the bound is sharpened (with the measure's check
-    /// samples; as it is with `check_samples = 0`).
-    fn reported_deviation(&mut self, dev: f64) -> f64 {
-        if !self.sharp_report {
-            return dev;
-        }
-        let best = std::mem::take(&mut self.best);
-        let dev = self.sharp_deviation(&best, dev);
-        self.best = best;
-        dev
-    }
-
     /// The reference smoother ([`FitMode::Smoothing`]): the μ search on its system, the sharp report.
     fn fair_smoothing(&mut self) -> Result<FairingResult> {
         let accept = band_accept(self.opts.tolerance, &self.work);
         let mut solves = 0;
         let (mu, alpha, dev) = self.search_smoothing(accept, &mut solves)?;
-        let dev = self.reported_deviation(dev);
         Ok(FairingResult {
             curve: self.updated_curve(&self.best)?,
             max_deviation: dev,
@@ -2502,128 +2545,6 @@ impl FairingSetup {
         worst
     }
 
-    /// The reported deviation of the update `d`: an upper bound of the check samples' closest-point
-    /// distances to `c_orig + Σ N_i d_i` that is as sharp as the projections make it (`bound` is a
-    /// bound already known, e.g. the accepting band check's). The band checks only need to know that
-    /// a sample is within the band, so they stop each projection at the first point inside it and
-    /// search within four check spacings of u_j. Here every sample starts with its parametric
-    /// displacement (an upper bound); the sample with the largest bound is sharpened one level (the
-    /// point one Newton step from u_j, then a converged Newton projection whose window widens when
-    /// Newton leaves it: the faired curve may slide along itself by more than a few check spacings,
-    /// then `measure`'s search without a starting guess over the stretch around u_j, for where Newton
-    /// settled in the wrong local minimum, then over the whole curve, for a curve that passes q again
-    /// on another branch) and goes back into a max-heap, until a fully searched sample is on top: no
-    /// other sample can exceed it, and the result is the `dev_max` that `measure` reports. Only
-    /// samples whose bounds exceed the result are refined (≈ 270 of 2000 on the bench curve). Every
-    /// value is the distance to a point of the curve, so the result still bounds the measured
-    /// `dev_max` from above.
-    fn sharp_deviation(&mut self, d: &[DVec3], bound: f64) -> f64 {
-        let mut pad = std::mem::take(&mut self.pad);
-        let mut cache = std::mem::take(&mut self.chk_d);
-        let dev = self.sharp_deviation_with(d, bound, &mut pad, &mut cache);
-        self.chk_d = cache;
-        self.pad = pad;
-        dev
-    }
-
-    /// [`Self::sharp_deviation`] of an update `d` of the free points found elsewhere (the iterative
-    /// baseline), with buffers of its own.
-    pub(crate) fn sharp_deviation_of(&self, d: &[DVec3], bound: f64) -> f64 {
-        self.sharp_deviation_with(d, bound, &mut Vec::new(), &mut Vec::new())
-    }
-
-    fn sharp_deviation_with(
-        &self,
-        d: &[DVec3],
-        bound: f64,
-        pad: &mut Vec<DVec3>,
-        cache: &mut Vec<Option<ChkDeriv>>,
-    ) -> f64 {
-        let np1 = self.work.degree() + 1;
-        pad.clear();
-        pad.resize(self.nf + 2 * np1, DVec3::ZERO);
-        pad[np1..np1 + self.nf].copy_from_slice(d);
-        // lazy refinement: the sample with the largest bound so far is sharpened one level (0: the
-        // parametric displacement, 1: the point one Newton step from u_j, 2: the Newton projection, 3:
-        // the search of the stretch around u_j, 4: the search of the whole curve) and put back; a
-        // sample at level 4 on top bounds all the others
-        let mut all = Vec::with_capacity(self.chk_u.len());
-        for j in 0..self.chk_u.len() {
-            let v = self.chk_rows(pad, j).1.length();
-            // NaN-safe: a NaN displacement keeps the known bound
-            if !v.is_finite() {
-                return bound;
-            }
-            if v > 0.0 {
-                all.push(Bound {
-                    v,
-                    j: j as u32,
-                    level: 0,
-                    t: 0.0,
-                });
-            }
-        }
-        let Ok(c) = self.updated_curve(d) else {
-            return bound;
-        };
-        let mut heap = std::collections::BinaryHeap::from(all);
-        let mut worst = 0.0f64;
-        // how far the update moves the curve at most (convex hull: |Σ N_i d_i| ≤ max |d_i|)
-        let reach = d.iter().fold(0.0f64, |a, x| a.max(x.length()));
-        let n_chk = self.chk_u.len();
-        let (d0, d1) = c.domain();
-        let mut projector: Option<CurveProjector<'_>> = None;
-        while let Some(mut b) = heap.pop() {
-            let j = b.j as usize;
-            let q = self.chk_q[j];
-            match b.level {
-                0 => {
-                    let (rows, delta) = self.chk_rows(pad, j);
-                    let start = self.first_newton_step(j, rows, delta, cache);
-                    b.t = if start.is_finite() { start } else { self.chk_u[j] };
-                    b.v = b.v.min(c.point(b.t).distance(q));
-                }
-                1 => {
-                    b.v = b.v.min(project_widening(&c, q, self.chk_u[j], self.chk_h, b.t, 0.0));
-                }
-                2 => {
-                    // Newton finds the local minimum of the distance its start leads to: where the step
-                    // from u_j overshoots onto a stretch curving away (c''·(c − q) + |c'|² ≤ 0 there),
-                    // it stops far from the true foot (car roof, region, 24 polish iterations: 2.77e-2
-                    // for a true 5.6e-3; a straight line whose points slid along it: 8.8e-3 for 1e-14).
-                    // Search, without a start (`measure`'s polyline search, then Newton on the best
-                    // segments), the stretch where a nearer foot can be on this branch: the faired curve
-                    // is within `reach` of the original, so a point nearer than v lies where the original
-                    // is within v + reach of q, i.e. within that arc length of u_j or on another branch
-                    let k = ((b.v + reach) / self.chk_step).ceil();
-                    let k = if k < n_chk as f64 { k as usize + 1 } else { n_chk };
-                    let lo = if j >= k { self.chk_u[j - k] } else { d0 };
-                    let hi = if j + k < n_chk { self.chk_u[j + k] } else { d1 };
-                    let proj = projector.get_or_insert_with(|| CurveProjector::new(&c, REPORT_POLYLINE));
-                    b.v = b.v.min(proj.project_between(q, lo, hi).distance);
-                    if lo <= d0 && hi >= d1 {
-                        // the stretch was the whole curve: the next level would repeat the search
-                        b.level = 3;
-                    }
-                }
-                3 => {
-                    // the same search over the whole curve for the few samples that reach the top: the
-                    // faired curve may pass near q again on another branch (a curve doubling back on
-                    // itself, a hairpin, a zig-zag), beyond the arc-length window
-                    let proj = projector.get_or_insert_with(|| CurveProjector::new(&c, REPORT_POLYLINE));
-                    b.v = b.v.min(proj.project(q).distance);
-                }
-                _ => {
-                    worst = b.v;
-                    break;
-                }
-            }
-            b.level += 1;
-            heap.push(b);
-        }
-        worst.min(bound)
-    }
-
     /// Check sample j's p + 1 rows of the padded update `pad` (see [`Self::deviation`]) and the
     /// displacement `Σ N_i(u_j) d_i` they give.
     #[inline]
@@ -2814,15 +2735,8 @@ pub(crate) fn project_near(c: &BSplineCurve, q: DVec3, u: f64, w: f64, start: f6
     newton_distance(c, q, u, w, start, enough, false)
 }
 
-/// [`project_near`] whose window doubles (up to the whole domain) each time Newton wants to leave
-/// it, started anywhere in the domain: the faired curve may slide along itself by more than the
-/// window.
-fn project_widening(c: &BSplineCurve, q: DVec3, u: f64, w: f64, start: f64, enough: f64) -> f64 {
-    newton_distance(c, q, u, w, start, enough, true)
-}
-
-/// The Newton search of [`project_near`] (`widen` false: 12 steps in a fixed window) and
-/// [`project_widening`] (`widen` true: 40 steps, the window doubling when Newton leaves it).
+/// The Newton search of [`project_near`] (`widen` false: 12 steps in a fixed window; `widen` true:
+/// 40 steps, the window doubling up to the whole domain when Newton wants to leave it).
 #[inline(always)]
 fn newton_distance(c: &BSplineCurve, q: DVec3, u: f64, w: f64, start: f64, enough: f64, widen: bool) -> f64 {
     let (d0, d1) = c.domain();
@@ -2872,40 +2786,6 @@ fn newton_distance(c: &BSplineCurve, q: DVec3, u: f64, w: f64, start: f64, enoug
     }
     // the last step's point (not evaluated in the loop)
     best.min(c.point(t).distance(q))
-}
-
-/// A check sample's bound in [`FairingSetup::sharp_deviation`]'s heap (ordered by `v`).
-#[derive(Debug, Clone, Copy)]
-struct Bound {
-    /// The bound.
-    v: f64,
-    /// The check sample.
-    j: u32,
-    /// How sharp `v` is: 0 the parametric displacement, 1 one Newton step, 2 the Newton projection, 3
-    /// the search of the stretch around u_j, 4 the search of the whole curve.
-    level: u8,
-    /// The parameter of the point `v` was measured at (levels 1 and 2).
-    t: f64,
-}
-
-impl PartialEq for Bound {
-    fn eq(&self, other: &Self) -> bool {
-        self.v.total_cmp(&other.v).is_eq()
-    }
-}
-
-impl Eq for Bound {}
-
-impl PartialOrd for Bound {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for Bound {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        self.v.total_cmp(&other.v)
-    }
 }
 
 /// The error of a region whose moving stretch crosses `found` (not empty): which corners, why they

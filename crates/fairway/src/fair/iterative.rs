@@ -181,24 +181,53 @@ pub fn fair_iterative(setup: &FairingSetup, opts: IterativeOptions) -> Result<Fa
             break;
         }
     }
-    let curve: BSplineCurve = work.with_points(loc.pts.clone())?;
-    // the parametric distance bounds the band; the reported value is sharpened by projection
-    let mut dev = 0.0f64;
-    for &u in &chk_u {
-        dev = dev.max(curve.point(u).distance(work.point(u)));
+    let mut curve: BSplineCurve = work.with_points(loc.pts.clone())?;
+    let tol = setup.options().tolerance;
+    // The moves were checked by the parametric distance at the check samples; between them the
+    // result may leave the band: the sound bound decides, and the update is scaled back by the
+    // excess until it holds (the parametric distance scales with it), else the original is kept.
+    let mut alpha = 1.0;
+    let mut notes = vec![];
+    let mut bb = super::verify::certify(work, &curve, tol);
+    for _ in 0..super::curve::BAND_RETRIES {
+        let Some(b) = bb.filter(|b| b.bound > tol) else { break };
+        alpha *= (tol / b.bound) * (1.0 - 1e-3);
+        let pts: Vec<DVec3> = work
+            .points()
+            .iter()
+            .zip(&loc.pts)
+            .map(|(o, x)| *o + (*x - *o) * alpha)
+            .collect();
+        curve = work.with_points(pts)?;
+        bb = super::verify::certify(work, &curve, tol);
     }
-    let update: Vec<DVec3> = free.clone().map(|i| loc.pts[i] - work.points()[i]).collect();
-    let dev = setup.sharp_deviation_of(&update, dev);
+    let dev = match bb {
+        Some(b) if b.bound <= tol => b.bound,
+        Some(b) => {
+            notes.push(format!(
+                "the iterative fair left the tolerance band between its check samples (near u = {:.6}): \
+                 the curve was kept as it was",
+                b.at
+            ));
+            alpha = 0.0;
+            curve = work.clone();
+            0.0
+        }
+        // a rational curve: the parametric distance at the check samples
+        None => chk_u
+            .iter()
+            .fold(0.0f64, |a, &u| a.max(curve.point(u).distance(work.point(u)))),
+    };
     let energy = setup.energy(&curve);
     Ok(FairingResult {
         curve,
         max_deviation: dev,
         mu: 0.0,
-        alpha: 1.0,
+        alpha,
         solves: sweeps * free.len(),
         energy,
         seam: setup.seam().clone(),
-        notes: vec![],
+        notes,
     })
 }
 

@@ -10,6 +10,7 @@
 //! * [`closed`] — closed curves faired across the seam (re-seaming, two passes);
 //! * [`split`] — curves with corners: the stretches between corners faired one by one;
 //! * [`iterative`] — the downhill-simplex baseline;
+//! * [`verify`] — a sound bound of the band between the samples;
 //! * [`surface`] — surfaces (paper §3.2): isocurves faired by the curve engine, combined, fitted.
 //!
 //! Typical use (the editor keeps the setup and re-runs `fair` while the
@@ -39,6 +40,7 @@ pub mod iterative;
 pub mod split;
 pub mod surface;
 pub mod target;
+pub mod verify;
 
 pub use closed::{Seam, fair_closed, fair_closed_iterative};
 pub use curve::{EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, PolishMethod, fair_curve};
@@ -47,3 +49,4 @@ pub use iterative::{IterativeOptions, fair_iterative};
 pub use split::{CornerFair, CornerSetups, Stretch, fair_between_corners};
 pub use surface::{Combine, SurfaceFairingOptions, SurfaceFairingResult, SurfaceTimings, fair_surface};
 pub use target::{Target, TargetMethod};
+pub use verify::{BandBound, band_bound};

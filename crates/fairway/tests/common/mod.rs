@@ -6,6 +6,8 @@ use fairway::fit::{Smoothing, fit_curve_points};
 use fairway::measure::deviations;
 use fairway::{BSplineCurve, DVec3, KnotVector};
 
+pub mod dense;
+
 /// The largest distance between corresponding control points of `a` and `b` (same count): how far
 /// the fairing moved the curve's points.
 pub fn max_point_diff(a: &BSplineCurve, b: &BSplineCurve) -> f64 {
@@ -255,4 +257,32 @@ pub fn zigzag(k: &[f64], delta: f64) -> usize {
         }
     }
     count
+}
+
+/// How far above the measured deviation a reported `max_deviation` may be, relative to m: the
+/// report is a sound bound of the distance everywhere ([`fairway::fair::band_bound`]), sharp to
+/// 0.1 % of the largest distance it sampled; `measure` samples 2000 points, so the true maximum
+/// between them can add a little more.
+pub const REPORT_SHARPNESS: f64 = 2e-3;
+
+/// Whether a reported `max_deviation` is what it must be for tolerance `m`: at least what `measure`
+/// found (`measured`), within the band, and no more than [`REPORT_SHARPNESS`]·m above `measured`.
+pub fn reported_bound_ok(reported: f64, measured: f64, m: f64) -> bool {
+    measured <= reported * (1.0 + 1e-9) + 1e-15
+        && reported <= m * (1.0 + 1e-9)
+        && reported - measured <= REPORT_SHARPNESS * m
+}
+
+/// [`reported_bound_ok`] against the independent dense check ([`dense::dense_deviation`], 20 points
+/// per span) as well as against `measure`'s `measured`: the report bounds both and is sharp to the
+/// larger.
+pub fn reported_bound_ok_dense(
+    reported: f64,
+    measured: f64,
+    original: &BSplineCurve,
+    faired: &BSplineCurve,
+    m: f64,
+) -> bool {
+    let dense = dense::dense_deviation(original, faired, 20, 2).0;
+    reported_bound_ok(reported, measured.max(dense), m) && dense <= reported * (1.0 + 1e-9) + 1e-15
 }

@@ -1,0 +1,130 @@
+//! An independent dense check of the band: its own B-spline evaluation (Cox–de Boor recursion, not
+//! the crate's), `per_span` samples in every knot span of the query curve, each projected onto the
+//! other curve by a polyline search in a window of spans around the last foot followed by a
+//! golden-section refinement. Shares no code path with the engine's check or `measure`.
+#![allow(dead_code)]
+
+use fairway::{BSplineCurve, DVec3};
+
+/// Cox–de Boor: N_{i,p}(u) by the recursion, with the right end of the domain in the last span.
+fn basis(k: &[f64], i: usize, p: usize, u: f64) -> f64 {
+    if p == 0 {
+        let last = *k.last().unwrap();
+        let (a, b) = (k[i], k[i + 1]);
+        return if (a <= u && u < b) || (u == last && b == last && a < b) {
+            1.0
+        } else {
+            0.0
+        };
+    }
+    let mut v = 0.0;
+    let d1 = k[i + p] - k[i];
+    if d1 > 0.0 {
+        v += (u - k[i]) / d1 * basis(k, i, p - 1, u);
+    }
+    let d2 = k[i + p + 1] - k[i + 1];
+    if d2 > 0.0 {
+        v += (k[i + p + 1] - u) / d2 * basis(k, i + 1, p - 1, u);
+    }
+    v
+}
+
+/// A curve evaluated by [`basis`] (non-rational).
+pub struct Plain<'a> {
+    k: &'a [f64],
+    pts: &'a [DVec3],
+    p: usize,
+}
+
+impl<'a> Plain<'a> {
+    pub fn new(c: &'a BSplineCurve) -> Self {
+        assert!(!c.is_rational());
+        Self {
+            k: c.knots().values(),
+            pts: c.points(),
+            p: c.degree(),
+        }
+    }
+
+    /// The non-empty spans [a, b].
+    pub fn spans(&self) -> Vec<(f64, f64)> {
+        let n = self.pts.len();
+        (self.p..n)
+            .filter(|&s| self.k[s + 1] > self.k[s])
+            .map(|s| (self.k[s], self.k[s + 1]))
+            .collect()
+    }
+
+    pub fn point(&self, u: f64) -> DVec3 {
+        // the span's p + 1 functions only (the others vanish): find it by bisection
+        let n = self.pts.len();
+        let (lo, hi) = (self.k[self.p], self.k[n]);
+        let u = u.clamp(lo, hi);
+        let s = if u >= hi {
+            (self.p..n).rev().find(|&s| self.k[s + 1] > self.k[s]).unwrap()
+        } else {
+            self.k.partition_point(|&x| x <= u) - 1
+        };
+        (s - self.p..=s)
+            .map(|i| self.pts[i] * basis(self.k, i, self.p, u))
+            .sum()
+    }
+}
+
+/// Max over `per_span` points per knot span of `a` of the distance to `b` (same domain), by a search
+/// of `b` in a window of `window` spans either side of the previous foot.
+pub fn dense_deviation(a: &BSplineCurve, b: &BSplineCurve, per_span: usize, window: usize) -> (f64, f64) {
+    let (pa, pb) = (Plain::new(a), Plain::new(b));
+    let bs = pb.spans();
+    let mut worst = (0.0f64, 0.0);
+    let mut foot = 0usize; // index into bs
+    for (sa, sb) in pa.spans() {
+        for k in 0..per_span {
+            let u = sa + (sb - sa) * (k as f64 + 0.5) / per_span as f64;
+            let q = pa.point(u);
+            // b's span holding u (the curves share their domain and nearly their parametrization)
+            let at = bs.partition_point(|s| s.1 <= u).min(bs.len() - 1);
+            let centre = if foot.abs_diff(at) > window { at } else { foot };
+            let (i0, i1) = (centre.saturating_sub(window), (centre + window).min(bs.len() - 1));
+            let mut best = (f64::INFINITY, 0.0, 0usize);
+            for (j, &(x0, x1)) in bs.iter().enumerate().take(i1 + 1).skip(i0) {
+                for m in 0..=16 {
+                    let t = x0 + (x1 - x0) * m as f64 / 16.0;
+                    let d = pb.point(t).distance(q);
+                    if d < best.0 {
+                        best = (d, t, j);
+                    }
+                }
+            }
+            // golden section on the two polyline segments around the best vertex
+            let (x0, x1) = bs[best.2];
+            let h = (x1 - x0) / 16.0;
+            let (mut lo, mut hi) = (best.1 - h, best.1 + h);
+            let g = 0.5 * (5f64.sqrt() - 1.0);
+            let f = |t: f64| pb.point(t).distance(q);
+            let (mut c, mut d) = (hi - g * (hi - lo), lo + g * (hi - lo));
+            let (mut fc, mut fd) = (f(c), f(d));
+            for _ in 0..40 {
+                if fc < fd {
+                    hi = d;
+                    d = c;
+                    fd = fc;
+                    c = hi - g * (hi - lo);
+                    fc = f(c);
+                } else {
+                    lo = c;
+                    c = d;
+                    fc = fd;
+                    d = lo + g * (hi - lo);
+                    fd = f(d);
+                }
+            }
+            let dist = best.0.min(fc).min(fd);
+            foot = best.2;
+            if dist > worst.0 {
+                worst = (dist, u);
+            }
+        }
+    }
+    worst
+}
