@@ -143,12 +143,13 @@ fn check_keys(map: &serde_json::Map<String, Value>, spec: &[KeySpec]) -> Result<
 
 /// Geometry as JSON text (pretty enough to read, exact floats).
 pub fn to_string(g: &Geometry) -> String {
-    let v = match g {
-        Geometry::Curve(c) => serde_json::to_value(CurveRecord::from(c)),
-        Geometry::Surface(s) => serde_json::to_value(SurfaceRecord::from(s)),
+    // straight from the records (no tree of JSON values: memory about that of the text); their fields are
+    // in alphabetical order, so the text is the same as through a (sorted) serde_json::Value
+    let mut s = match g {
+        Geometry::Curve(c) => serde_json::to_string(&CurveRecord::from(c)),
+        Geometry::Surface(s) => serde_json::to_string(&SurfaceRecord::from(s)),
     }
     .expect("records serialize");
-    let mut s = serde_json::to_string(&v).expect("values serialize");
     s.push('\n');
     s
 }
