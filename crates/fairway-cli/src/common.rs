@@ -4,17 +4,12 @@
 use std::io::Write;
 use std::path::Path;
 
-use anyhow::{Result, anyhow};
+use anyhow::{Result, anyhow, bail};
 use fairway::{DVec3, Geometry};
 
 /// Load the geometry of a JSON or RON file. Errors name the file and the problem.
 pub fn load_geometry(path: &Path) -> Result<Geometry> {
-    match fairway::io::load_geometry(path) {
-        Ok(g) => Ok(g),
-        // I/O errors already start with the path
-        Err(e @ fairway::Error::Io { .. }) => Err(anyhow!("{e}")),
-        Err(e) => Err(anyhow!("{}: {e}", path.display())),
-    }
+    Ok(load_document(path)?.geometry)
 }
 
 /// `n ≥ 2` uniform parameters over `[a, b]`, first and last included:
@@ -43,4 +38,306 @@ pub fn print_json<T: serde::Serialize>(value: &T) -> Result<()> {
     writeln!(out)?;
     out.flush()?;
     Ok(())
+}
+
+/// Load a whole document (geometry and saved settings). Errors name the file and the problem.
+pub fn load_document(path: &Path) -> Result<fairway::io::Document> {
+    fairway::io::load(path).map_err(|e| match e {
+        // I/O errors already start with the path
+        e @ fairway::Error::Io { .. } => anyhow!("{e}"),
+        e => anyhow!("{}: {e}", path.display()),
+    })
+}
+
+/// The file a path names, links resolved: the path itself if it exists, else its folder resolved and its
+/// name (a file still to be written).
+pub fn resolved(path: &Path) -> std::path::PathBuf {
+    if let Ok(p) = path.canonicalize() {
+        return p;
+    }
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    match (dir.canonicalize(), path.file_name()) {
+        (Ok(d), Some(name)) => d.join(name),
+        _ => path.to_path_buf(),
+    }
+}
+
+/// Refuse an output or report that is the input, or a report that is the output (compared after
+/// resolving links), before any work.
+pub fn refuse_same_files(input: &Path, output: &Path, report: Option<&Path>) -> Result<()> {
+    let (i, o) = (resolved(input), resolved(output));
+    if i == o {
+        bail!(
+            "the output {} is the input file: write the result to another file",
+            output.display()
+        );
+    }
+    if let Some(r) = report.map(resolved) {
+        if r == i {
+            bail!(
+                "the report {} is the input file: write the report to another file",
+                report.unwrap().display()
+            );
+        }
+        if r == o {
+            bail!(
+                "the report {} is the output file: give the report its own file",
+                report.unwrap().display()
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Refuse `value` if it holds a NaN or an infinity (which JSON would write as `null`): `what`'s field
+/// `a.b[3]` is not a finite number (`inf`). Nothing is written then.
+pub fn refuse_non_finite<T: serde::Serialize>(what: &str, value: &T) -> Result<()> {
+    let mut f = finite::Finder::default();
+    let _ = value.serialize(&mut f);
+    match f.found {
+        None => Ok(()),
+        Some((path, x)) => bail!(
+            "{what}: {path} is not a finite number ({x}): nothing was written (the input is outside what \
+             Fairway evaluates, see docs/DEGENERATE_INPUTS.md)"
+        ),
+    }
+}
+
+/// A serializer that only looks for the first non-finite float and its path.
+mod finite {
+    use serde::ser::{self, Serialize};
+
+    #[derive(Debug)]
+    pub struct Stop;
+    impl std::fmt::Display for Stop {
+        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            f.write_str("stop")
+        }
+    }
+    impl std::error::Error for Stop {}
+    impl ser::Error for Stop {
+        fn custom<T: std::fmt::Display>(_: T) -> Self {
+            Stop
+        }
+    }
+
+    #[derive(Default)]
+    pub struct Finder {
+        path: Vec<String>,
+        index: Vec<usize>,
+        pub found: Option<(String, f64)>,
+    }
+
+    impl Finder {
+        fn float(&mut self, x: f64) -> Result<(), Stop> {
+            if x.is_finite() {
+                return Ok(());
+            }
+            let mut p = String::new();
+            for s in &self.path {
+                if !s.starts_with('[') && !p.is_empty() {
+                    p.push('.');
+                }
+                p.push_str(s);
+            }
+            self.found = Some((if p.is_empty() { "the value".into() } else { p }, x));
+            Err(Stop)
+        }
+        fn field<T: ?Sized + Serialize>(&mut self, name: String, v: &T) -> Result<(), Stop> {
+            self.path.push(name);
+            v.serialize(&mut *self)?;
+            self.path.pop();
+            Ok(())
+        }
+        fn element<T: ?Sized + Serialize>(&mut self, v: &T) -> Result<(), Stop> {
+            let i = self.index.last_mut().expect("in a sequence");
+            let name = format!("[{i}]");
+            *i += 1;
+            self.field(name, v)
+        }
+    }
+
+    macro_rules! ok_scalars {
+        ($($f:ident: $t:ty),*) => {
+            $(fn $f(self, _: $t) -> Result<(), Stop> { Ok(()) })*
+        };
+    }
+
+    impl ser::Serializer for &mut Finder {
+        type Ok = ();
+        type Error = Stop;
+        type SerializeSeq = Self;
+        type SerializeTuple = Self;
+        type SerializeTupleStruct = Self;
+        type SerializeTupleVariant = Self;
+        type SerializeMap = Self;
+        type SerializeStruct = Self;
+        type SerializeStructVariant = Self;
+        ok_scalars!(serialize_bool: bool, serialize_i8: i8, serialize_i16: i16, serialize_i32: i32,
+            serialize_i64: i64, serialize_u8: u8, serialize_u16: u16, serialize_u32: u32, serialize_u64: u64,
+            serialize_char: char, serialize_str: &str, serialize_bytes: &[u8]);
+        fn serialize_f32(self, v: f32) -> Result<(), Stop> {
+            self.float(v as f64)
+        }
+        fn serialize_f64(self, v: f64) -> Result<(), Stop> {
+            self.float(v)
+        }
+        fn serialize_none(self) -> Result<(), Stop> {
+            Ok(())
+        }
+        fn serialize_some<T: ?Sized + Serialize>(self, v: &T) -> Result<(), Stop> {
+            v.serialize(self)
+        }
+        fn serialize_unit(self) -> Result<(), Stop> {
+            Ok(())
+        }
+        fn serialize_unit_struct(self, _: &'static str) -> Result<(), Stop> {
+            Ok(())
+        }
+        fn serialize_unit_variant(self, _: &'static str, _: u32, _: &'static str) -> Result<(), Stop> {
+            Ok(())
+        }
+        fn serialize_newtype_struct<T: ?Sized + Serialize>(self, _: &'static str, v: &T) -> Result<(), Stop> {
+            v.serialize(self)
+        }
+        fn serialize_newtype_variant<T: ?Sized + Serialize>(
+            self,
+            _: &'static str,
+            _: u32,
+            variant: &'static str,
+            v: &T,
+        ) -> Result<(), Stop> {
+            self.field(variant.into(), v)
+        }
+        fn serialize_seq(self, _: Option<usize>) -> Result<Self, Stop> {
+            self.index.push(0);
+            Ok(self)
+        }
+        fn serialize_tuple(self, _: usize) -> Result<Self, Stop> {
+            self.index.push(0);
+            Ok(self)
+        }
+        fn serialize_tuple_struct(self, _: &'static str, _: usize) -> Result<Self, Stop> {
+            self.index.push(0);
+            Ok(self)
+        }
+        fn serialize_tuple_variant(self, _: &'static str, _: u32, _: &'static str, _: usize) -> Result<Self, Stop> {
+            self.index.push(0);
+            Ok(self)
+        }
+        fn serialize_map(self, _: Option<usize>) -> Result<Self, Stop> {
+            self.index.push(0);
+            Ok(self)
+        }
+        fn serialize_struct(self, _: &'static str, _: usize) -> Result<Self, Stop> {
+            Ok(self)
+        }
+        fn serialize_struct_variant(self, _: &'static str, _: u32, _: &'static str, _: usize) -> Result<Self, Stop> {
+            Ok(self)
+        }
+    }
+
+    macro_rules! seq_like {
+        ($($tr:ident: $m:ident),*) => {
+            $(impl ser::$tr for &mut Finder {
+                type Ok = ();
+                type Error = Stop;
+                fn $m<T: ?Sized + Serialize>(&mut self, v: &T) -> Result<(), Stop> {
+                    self.element(v)
+                }
+                fn end(self) -> Result<(), Stop> {
+                    self.index.pop();
+                    Ok(())
+                }
+            })*
+        };
+    }
+    seq_like!(SerializeSeq: serialize_element, SerializeTuple: serialize_element,
+        SerializeTupleStruct: serialize_field, SerializeTupleVariant: serialize_field);
+
+    impl ser::SerializeMap for &mut Finder {
+        type Ok = ();
+        type Error = Stop;
+        fn serialize_key<T: ?Sized + Serialize>(&mut self, _: &T) -> Result<(), Stop> {
+            Ok(())
+        }
+        fn serialize_value<T: ?Sized + Serialize>(&mut self, v: &T) -> Result<(), Stop> {
+            self.element(v)
+        }
+        fn end(self) -> Result<(), Stop> {
+            self.index.pop();
+            Ok(())
+        }
+    }
+
+    impl ser::SerializeStruct for &mut Finder {
+        type Ok = ();
+        type Error = Stop;
+        fn serialize_field<T: ?Sized + Serialize>(&mut self, key: &'static str, v: &T) -> Result<(), Stop> {
+            self.field(key.into(), v)
+        }
+        fn end(self) -> Result<(), Stop> {
+            Ok(())
+        }
+    }
+
+    impl ser::SerializeStructVariant for &mut Finder {
+        type Ok = ();
+        type Error = Stop;
+        fn serialize_field<T: ?Sized + Serialize>(&mut self, key: &'static str, v: &T) -> Result<(), Stop> {
+            self.field(key.into(), v)
+        }
+        fn end(self) -> Result<(), Stop> {
+            Ok(())
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[derive(serde::Serialize)]
+    struct Inner {
+        a: f64,
+        list: Vec<[f64; 2]>,
+    }
+    #[derive(serde::Serialize)]
+    struct Outer {
+        name: &'static str,
+        maybe: Option<f64>,
+        inner: Inner,
+    }
+
+    #[test]
+    fn non_finite_values_are_found_with_their_path() {
+        let mut v = Outer {
+            name: "x",
+            maybe: None,
+            inner: Inner {
+                a: 1.0,
+                list: vec![[0.0, 1.0], [2.0, 3.0]],
+            },
+        };
+        refuse_non_finite("the report", &v).unwrap();
+        v.inner.list[1][0] = f64::INFINITY;
+        let e = refuse_non_finite("the report", &v).unwrap_err().to_string();
+        assert!(
+            e.starts_with("the report: inner.list[1][0] is not a finite number (inf): nothing was written"),
+            "{e}"
+        );
+        v.maybe = Some(f64::NAN);
+        let e = refuse_non_finite("the report", &v).unwrap_err().to_string();
+        assert!(e.starts_with("the report: maybe is not a finite number (NaN)"), "{e}");
+        let e = refuse_non_finite("the output", &f64::NEG_INFINITY)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("the output: the value is not a finite number (-inf)"),
+            "{e}"
+        );
+    }
 }

@@ -9,7 +9,7 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result, anyhow, bail};
+use anyhow::{Result, anyhow, bail};
 use fairway::Geometry;
 use fairway::io::{self, Document, iges, points, svg};
 
@@ -56,7 +56,7 @@ pub fn read_input(a: &Args) -> Result<Document> {
     let path = &a.input;
     match ext(path).as_str() {
         "igs" | "iges" => {
-            let bytes = std::fs::read(path).with_context(|| path.display().to_string())?;
+            let bytes = io::read_bytes(path).map_err(|e| with_path(path, e))?;
             let f = iges::read_all(&bytes).map_err(|e| with_path(path, e))?;
             for n in &f.notices {
                 eprintln!("fairway: {}: {n}", path.display());
@@ -109,6 +109,8 @@ pub fn run(a: &Args) -> Result<()> {
             bail!("--band {m}: must be a positive number");
         }
     }
+    // the output must be another file than the input (links resolved), or the input would be lost
+    crate::common::refuse_same_files(&a.input, &a.output, None)?;
     let doc = read_input(a)?;
     match ext(&a.output).as_str() {
         "svg" => {
@@ -122,7 +124,8 @@ pub fn run(a: &Args) -> Result<()> {
                 band: a.band.or(doc.settings.tolerance),
                 ..Default::default()
             };
-            io::write_atomic(&a.output, svg::curve_svg(c, None, &opts).as_bytes()).map_err(|e| with_path(&a.output, e))
+            let text = svg::try_curve_svg(c, None, &opts).map_err(|e| with_path(&a.output, e))?;
+            io::write_atomic(&a.output, text.as_bytes()).map_err(|e| with_path(&a.output, e))
         }
         _ => io::save(&a.output, &doc).map_err(|e| with_path(&a.output, e)),
     }

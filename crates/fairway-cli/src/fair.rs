@@ -20,7 +20,7 @@ use fairway::measure_surface::{SurfaceMeasures, surface_measures};
 use fairway::{BSplineCurve, BSplineSurface};
 use serde::Serialize;
 
-use crate::common::load_geometry;
+use crate::common::{load_document, refuse_non_finite, refuse_same_files};
 
 /// Arguments of `fairway fair`.
 #[derive(clap::Args, Debug)]
@@ -311,56 +311,82 @@ pub fn run(a: &Args) -> Result<()> {
             }
         }
     }
-    match load_geometry(&a.input)? {
-        Geometry::Curve(c) => fair_curve_cmd(a, &c, opts),
-        Geometry::Surface(s) => fair_surface_cmd(a, &s, opts),
+    let doc = load_document(&a.input)?;
+    // a tolerance below the precision of the coordinates cannot be verified: the same message for curves
+    // and surfaces
+    fairway::range::check_tolerance(a.tolerance, &doc.geometry).map_err(|e| anyhow!("--{e}"))?;
+    let region = region_to_fair(a, &doc)?;
+    match &doc.geometry {
+        Geometry::Curve(c) => fair_curve_cmd(a, c, opts, region.as_ref()),
+        Geometry::Surface(s) => fair_surface_cmd(a, s, opts, region.as_ref()),
     }
 }
 
-/// The file a path names, links resolved: the path itself if it exists, else its folder resolved and its
-/// name (a file still to be written).
-fn resolved(path: &std::path::Path) -> std::path::PathBuf {
-    if let Ok(p) = path.canonicalize() {
-        return p;
+/// The region to fair: `--region` if given, else the region saved in a document's settings
+/// (`settings.region` of a curve, `settings.region_uv` of a surface), refused with the reason if it
+/// cannot apply (non-finite, empty, outside the domain, of the other kind, backwards on an open curve).
+/// The core checks the rest (a region too small to move a control point) as for `--region`.
+fn region_to_fair(a: &Args, doc: &Document) -> Result<Option<Region>> {
+    if a.region.is_some() {
+        return Ok(a.region.clone());
     }
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(std::path::Path::new("."));
-    match (dir.canonicalize(), path.file_name()) {
-        (Ok(d), Some(name)) => d.join(name),
-        _ => path.to_path_buf(),
-    }
-}
-
-/// Refuse an output or report that is the input, or a report that is the output.
-fn refuse_same_files(
-    input: &std::path::Path,
-    output: &std::path::Path,
-    report: Option<&std::path::Path>,
-) -> Result<()> {
-    let (i, o) = (resolved(input), resolved(output));
-    if i == o {
-        bail!(
-            "the output {} is the input file: write the result to another file",
-            output.display()
-        );
-    }
-    if let Some(r) = report.map(resolved) {
-        if r == i {
+    let st = &doc.settings;
+    let name = a.input.display();
+    let fix = "correct it in the document, or give --region";
+    let check = |r: (f64, f64), d: (f64, f64), what: &str| -> Result<()> {
+        let s = fairway::range::short;
+        let eps = 1e-12 * (d.1 - d.0);
+        if !(r.0.is_finite() && r.1.is_finite()) {
+            bail!("{name}: {what} ({}, {}) is not finite: {fix}", r.0, r.1);
+        }
+        if r.0 == r.1 {
+            bail!("{name}: {what} ({}, {}) is empty: {fix}", s(r.0), s(r.1));
+        }
+        if [r.0, r.1].iter().any(|&u| u < d.0 - eps || u > d.1 + eps) {
             bail!(
-                "the report {} is the input file: write the report to another file",
-                report.unwrap().display()
+                "{name}: {what} ({}, {}) is outside the domain [{}, {}]: {fix}",
+                s(r.0),
+                s(r.1),
+                s(d.0),
+                s(d.1)
             );
         }
-        if r == o {
-            bail!(
-                "the report {} is the output file: give the report its own file",
-                report.unwrap().display()
-            );
+        Ok(())
+    };
+    let region = match &doc.geometry {
+        Geometry::Curve(c) => {
+            if st.region.is_none() && st.region_uv.is_some() {
+                bail!("{name}: settings.region_uv is a surface region, but the document holds a curve: {fix}");
+            }
+            let Some(r) = st.region else { return Ok(None) };
+            check(r, c.domain(), "settings.region")?;
+            if r.0 > r.1 && !closed::is_closed_curve(c) {
+                bail!(
+                    "{name}: settings.region ({}, {}) runs backwards on an open curve (only a closed curve has a \
+                     region across its seam): {fix}",
+                    fairway::range::short(r.0),
+                    fairway::range::short(r.1)
+                );
+            }
+            Region(vec![r.0, r.1])
         }
-    }
-    Ok(())
+        Geometry::Surface(srf) => {
+            if st.region_uv.is_none() && st.region.is_some() {
+                bail!("{name}: settings.region is a curve region, but the document holds a surface: {fix}");
+            }
+            let Some((ru, rv)) = st.region_uv else { return Ok(None) };
+            let (du, dv) = srf.domain();
+            check(ru, du, "settings.region_uv in u")?;
+            check(rv, dv, "settings.region_uv in v")?;
+            Region(vec![ru.0, ru.1, rv.0, rv.1])
+        }
+    };
+    let list: Vec<String> = region.0.iter().map(|&x| fairway::range::short(x)).collect();
+    eprintln!(
+        "fairway: {name}: fairing the document's region {} (--region overrides it)",
+        list.join(", ")
+    );
+    Ok(Some(region))
 }
 
 /// Write the report after the output `written`: a failure says that the output is there.
@@ -374,8 +400,8 @@ fn write_report<T: Serialize>(path: &std::path::Path, report: &T, written: &std:
     })
 }
 
-fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions) -> Result<()> {
-    opts.region = match a.region.as_ref().map(|r| r.0.as_slice()) {
+fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions, region: Option<&Region>) -> Result<()> {
+    opts.region = match region.map(|r| r.0.as_slice()) {
         None => None,
         Some(&[u1, u2]) => Some((u1, u2)),
         Some(r) => bail!(
@@ -425,29 +451,38 @@ fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions) -> R
         None => result,
     };
     let solve_ms = t1.elapsed().as_secs_f64() * 1e3;
-    fairway::io::save(&a.output, &Document::new(Geometry::Curve(result.curve.clone())))?;
-    if let Some(path) = &a.report {
-        let report = Report {
-            kind: "curve",
-            method: a.method.clone(),
-            polish: polish_name(a),
-            tolerance: a.tolerance,
-            setup_ms,
-            solve_ms,
-            max_deviation_bound: result.max_deviation,
-            mu: result.mu,
-            alpha: result.alpha,
-            solves: result.solves,
-            energy_before: setup.original_energy(),
-            energy: result.energy,
-            free_points: [setup.free_points().start, setup.free_points().end],
-            seam: seam_text(&result.seam),
-            ends_kept: ends_kept(curve, a, &opts),
-            measures: measure(curve, &result.curve),
-            corners: vec![],
-            stretches: vec![],
-        };
-        write_report(path, &report, &a.output)?;
+    let report = a.report.as_ref().map(|_| Report {
+        kind: "curve",
+        method: a.method.clone(),
+        polish: polish_name(a),
+        tolerance: a.tolerance,
+        setup_ms,
+        solve_ms,
+        max_deviation_bound: result.max_deviation,
+        mu: result.mu,
+        alpha: result.alpha,
+        solves: result.solves,
+        energy_before: setup.original_energy(),
+        energy: result.energy,
+        free_points: [setup.free_points().start, setup.free_points().end],
+        seam: seam_text(&result.seam),
+        ends_kept: ends_kept(curve, a, &opts),
+        measures: measure(curve, &result.curve),
+        corners: vec![],
+        stretches: vec![],
+    });
+    save_result(a, Geometry::Curve(result.curve.clone()), report.as_ref())
+}
+
+/// Write the output and then the report (if asked for); a report holding a NaN or an infinity is refused
+/// before either is written.
+fn save_result<T: Serialize>(a: &Args, result: Geometry, report: Option<&T>) -> Result<()> {
+    if let Some(r) = report {
+        refuse_non_finite("the report", r)?;
+    }
+    fairway::io::save(&a.output, &Document::new(result))?;
+    if let (Some(path), Some(r)) = (&a.report, report) {
+        write_report(path, r, &a.output)?;
     }
     Ok(())
 }
@@ -463,15 +498,11 @@ fn write_corner_fair(
 ) -> Result<()> {
     let solve_ms = t0.elapsed().as_secs_f64() * 1e3;
     let result = &split.result;
-    fairway::io::save(&a.output, &Document::new(Geometry::Curve(result.curve.clone())))?;
     for n in &result.notes {
         eprintln!("fairway: {}: {n}", a.input.display());
     }
-    let Some(path) = &a.report else {
-        return Ok(());
-    };
     let faired = || split.stretches.iter().filter(|s| s.left.is_none());
-    let report = Report {
+    let report = a.report.as_ref().map(|_| Report {
         kind: "curve",
         method: a.method.clone(),
         polish: polish_name(a),
@@ -512,8 +543,8 @@ fn write_corner_fair(
                 left: s.left.clone(),
             })
             .collect(),
-    };
-    write_report(path, &report, &a.output)
+    });
+    save_result(a, Geometry::Curve(result.curve.clone()), report.as_ref())
 }
 
 fn seam_text(seam: &Seam) -> String {
@@ -525,14 +556,14 @@ fn seam_text(seam: &Seam) -> String {
     }
 }
 
-fn fair_surface_cmd(a: &Args, surface: &BSplineSurface, curve: FairingOptions) -> Result<()> {
+fn fair_surface_cmd(a: &Args, surface: &BSplineSurface, curve: FairingOptions, region: Option<&Region>) -> Result<()> {
     if a.method != "fast" {
         bail!(
             "surfaces are faired by the fast method only (got --method {})",
             a.method
         );
     }
-    let region = match a.region.as_ref().map(|r| r.0.as_slice()) {
+    let region = match region.map(|r| r.0.as_slice()) {
         None => None,
         Some(&[u1, u2, v1, v2]) => Some(((u1, u2), (v1, v2))),
         Some(r) => bail!(
@@ -552,23 +583,19 @@ fn fair_surface_cmd(a: &Args, surface: &BSplineSurface, curve: FairingOptions) -
     let t0 = Instant::now();
     let result = fair_surface(surface, opts).context("surface fairing")?;
     let solve_ms = t0.elapsed().as_secs_f64() * 1e3;
-    fairway::io::save(&a.output, &Document::new(Geometry::Surface(result.surface.clone())))?;
-    if let Some(path) = &a.report {
-        let report = SurfaceReport {
-            kind: "surface",
-            method: a.method.clone(),
-            tolerance: a.tolerance,
-            solve_ms,
-            max_deviation_bound: result.max_deviation,
-            alpha: result.alpha,
-            rounds: result.rounds,
-            free_u: [result.free_u.start, result.free_u.end],
-            free_v: [result.free_v.start, result.free_v.end],
-            measures: surface_measures(surface, &result.surface),
-        };
-        write_report(path, &report, &a.output)?;
-    }
-    Ok(())
+    let report = a.report.as_ref().map(|_| SurfaceReport {
+        kind: "surface",
+        method: a.method.clone(),
+        tolerance: a.tolerance,
+        solve_ms,
+        max_deviation_bound: result.max_deviation,
+        alpha: result.alpha,
+        rounds: result.rounds,
+        free_u: [result.free_u.start, result.free_u.end],
+        free_v: [result.free_v.start, result.free_v.end],
+        measures: surface_measures(surface, &result.surface),
+    });
+    save_result(a, Geometry::Surface(result.surface.clone()), report.as_ref())
 }
 
 #[cfg(test)]

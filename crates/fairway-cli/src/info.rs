@@ -16,7 +16,7 @@ use anyhow::Result;
 use fairway::{BSplineCurve, BSplineSurface, Geometry};
 use serde::Serialize;
 
-use crate::common::{load_geometry, print_json};
+use crate::common::{load_geometry, print_json, refuse_non_finite};
 
 /// Samples per knot span for the curvature ranges.
 pub const SAMPLES_PER_SPAN: usize = 32;
@@ -50,10 +50,10 @@ pub struct CurveInfo {
     pub domain: [f64; 2],
     /// Arc length.
     pub length: f64,
-    /// Smallest sampled curvature (signed in 2D).
-    pub curvature_min: f64,
-    /// Largest sampled curvature.
-    pub curvature_max: f64,
+    /// Smallest sampled curvature (signed in 2D); `null` if undefined everywhere (a curve that is a point).
+    pub curvature_min: Option<f64>,
+    /// Largest sampled curvature; `null` if undefined everywhere.
+    pub curvature_max: Option<f64>,
     /// Number of inflections (2D; 0 in 3D).
     pub n_inflections: usize,
     /// Parameters of the inflections (2D).
@@ -85,14 +85,25 @@ pub struct SurfaceInfo {
     pub domain_u: [f64; 2],
     /// Domain in v.
     pub domain_v: [f64; 2],
-    /// Range of k_max.
-    pub k_max_range: [f64; 2],
+    /// Range of k_max (`null` if undefined everywhere, as the ranges below).
+    pub k_max_range: Option<[f64; 2]>,
     /// Range of k_min.
-    pub k_min_range: [f64; 2],
+    pub k_min_range: Option<[f64; 2]>,
     /// Range of the mean curvature.
-    pub mean_range: [f64; 2],
+    pub mean_range: Option<[f64; 2]>,
     /// Range of the Gaussian curvature.
-    pub gauss_range: [f64; 2],
+    pub gauss_range: Option<[f64; 2]>,
+}
+
+/// Call `f` at `m` uniform parameters in each span, then at the domain end (without storing them: a curve of
+/// a million spans takes no memory for its samples).
+fn for_span_samples(breakpoints: &[f64], m: usize, mut f: impl FnMut(f64)) {
+    for w in breakpoints.windows(2) {
+        for k in 0..m {
+            f(w[0] + (w[1] - w[0]) * k as f64 / m as f64);
+        }
+    }
+    f(*breakpoints.last().unwrap());
 }
 
 /// Parameters: `m` uniform samples in each span, plus the domain end.
@@ -118,8 +129,9 @@ impl Range {
             self.0[1] = self.0[1].max(x);
         }
     }
-    fn get(self) -> [f64; 2] {
-        if self.0[0] <= self.0[1] { self.0 } else { [f64::NAN; 2] }
+    /// The range, `None` if no sample was finite (never NaN).
+    fn get(self) -> Option<[f64; 2]> {
+        (self.0[0] <= self.0[1]).then_some(self.0)
     }
 }
 
@@ -127,10 +139,8 @@ impl Range {
 pub fn curve_info(c: &BSplineCurve) -> CurveInfo {
     let (a, b) = c.domain();
     let mut k = Range::EMPTY;
-    for u in span_samples(&c.knots().breakpoints(), SAMPLES_PER_SPAN) {
-        k.add(c.curvature(u));
-    }
-    let [kmin, kmax] = k.get();
+    for_span_samples(&c.knots().breakpoints(), SAMPLES_PER_SPAN, |u| k.add(c.curvature(u)));
+    let (kmin, kmax) = k.get().map_or((None, None), |[a, b]| (Some(a), Some(b)));
     let inflections = c.inflections(SAMPLES_PER_SPAN);
     CurveInfo {
         kind: "curve",
@@ -188,6 +198,7 @@ pub fn run(args: &Args) -> Result<()> {
     match load_geometry(&args.file)? {
         Geometry::Curve(c) => {
             let i = curve_info(&c);
+            refuse_non_finite("the summary", &i)?;
             if args.json {
                 return print_json(&i);
             }
@@ -201,7 +212,10 @@ pub fn run(args: &Args) -> Result<()> {
             println!("  knot spans      {}", i.spans);
             println!("  domain          [{}, {}]", i.domain[0], i.domain[1]);
             println!("  length          {:.12}", i.length);
-            println!("  curvature       {:.6e} .. {:.6e}", i.curvature_min, i.curvature_max);
+            match (i.curvature_min, i.curvature_max) {
+                (Some(a), Some(b)) => println!("  curvature       {a:.6e} .. {b:.6e}"),
+                _ => println!("  curvature       undefined (the curve is a point)"),
+            }
             if i.dimension == 2 {
                 let list: Vec<String> = i.inflections.iter().map(|u| format!("{u:.6}")).collect();
                 println!("  inflections     {} [{}]", i.n_inflections, list.join(", "));
@@ -209,6 +223,7 @@ pub fn run(args: &Args) -> Result<()> {
         }
         Geometry::Surface(s) => {
             let i = surface_info(&s);
+            refuse_non_finite("the summary", &i)?;
             if args.json {
                 return print_json(&i);
             }
@@ -225,7 +240,7 @@ pub fn run(args: &Args) -> Result<()> {
                 "  domain          [{}, {}] × [{}, {}]",
                 i.domain_u[0], i.domain_u[1], i.domain_v[0], i.domain_v[1]
             );
-            let r = |x: [f64; 2]| format!("{:.6e} .. {:.6e}", x[0], x[1]);
+            let r = |x: Option<[f64; 2]>| x.map_or("undefined".into(), |x| format!("{:.6e} .. {:.6e}", x[0], x[1]));
             println!("  k_max           {}", r(i.k_max_range));
             println!("  k_min           {}", r(i.k_min_range));
             println!("  mean            {}", r(i.mean_range));

@@ -16,7 +16,7 @@ use fairway::measure::{measure, paper_energy};
 use fairway::measure_surface::surface_measures;
 use serde_json::Value;
 
-use crate::common::{load_geometry, print_json};
+use crate::common::{load_geometry, print_json, refuse_non_finite};
 
 /// Arguments of `fairway measure`.
 #[derive(clap::Args, Debug)]
@@ -46,7 +46,7 @@ fn load_target(path: &Path) -> Result<Vec<f64>> {
             .target
             .ok_or_else(|| anyhow!("{}: the document holds no target curvature", path.display()));
     }
-    let text = std::fs::read_to_string(path).with_context(|| format!("{}: cannot read", path.display()))?;
+    let text = fairway::io::read_text(path).map_err(|e| anyhow!("{e}"))?;
     let v: Vec<f64> = serde_json::from_str(&text)
         .with_context(|| format!("{}: expected a JSON array of curvature values", path.display()))?;
     Ok(v)
@@ -59,7 +59,9 @@ pub fn run(a: &Args) -> Result<()> {
             if o.dim() != f.dim() {
                 bail!("the curves have different dimensions ({}D and {}D)", o.dim(), f.dim());
             }
-            let mut v = serde_json::to_value(measure(&o, &f))?;
+            let m = measure(&o, &f);
+            refuse_non_finite("the measures", &m)?;
+            let mut v = serde_json::to_value(m)?;
             if let Some(path) = &a.target {
                 let g = load_target(path)?;
                 let e = paper_energy(&f, &g).ok_or_else(|| {
@@ -69,6 +71,7 @@ pub fn run(a: &Args) -> Result<()> {
                         g.len()
                     )
                 })?;
+                refuse_non_finite("E_paper_target", &e)?;
                 v["E_paper_target"] = Value::from(e);
             }
             v
@@ -77,7 +80,9 @@ pub fn run(a: &Args) -> Result<()> {
             if a.target.is_some() {
                 bail!("--target applies to curves only");
             }
-            serde_json::to_value(surface_measures(&o, &f))?
+            let m = surface_measures(&o, &f);
+            refuse_non_finite("the measures", &m)?;
+            serde_json::to_value(m)?
         }
         (o, f) => bail!(
             "cannot measure a {} against a {} ({} and {})",

@@ -430,16 +430,14 @@ impl BSplineCurve {
         };
         let bp = self.knots.breakpoints();
         let m = samples_per_span.max(2);
-        let mut samples: Vec<f64> = Vec::with_capacity((bp.len() - 1) * m + 1);
-        for w in bp.windows(2) {
-            for k in 0..m {
-                samples.push(w[0] + (w[1] - w[0]) * k as f64 / m as f64);
-            }
-        }
-        samples.push(*bp.last().unwrap());
+        // the samples, not stored (a curve of a million spans would need 32 million of them)
+        let samples = bp
+            .windows(2)
+            .flat_map(|w| (0..m).map(move |k| w[0] + (w[1] - w[0]) * k as f64 / m as f64))
+            .chain(std::iter::once(*bp.last().unwrap()));
         let mut out = vec![];
         let mut prev: Option<(f64, f64)> = None; // last sample with a non-zero sign
-        for &u in &samples {
+        for u in samples {
             let sg = sign(u);
             if sg == 0.0 {
                 continue;

@@ -28,6 +28,7 @@ pub mod measure;
 pub mod measure_surface;
 pub mod mesh;
 pub mod quadrature;
+pub mod range;
 pub mod suggest;
 pub mod surface;
 

@@ -66,7 +66,27 @@ fn error_table() -> Vec<(&'static str, String, &'static str)> {
     let curve = |t: &str| io::json::from_str(t).map(|_| ()).unwrap_err().to_string();
     let w = wiggly();
     vec![
-        ("empty file (JSON)", curve("  \n"), "JSON: the file is empty"),
+        ("empty file (JSON)", curve(""), "JSON: the file is empty"),
+        (
+            "file of only whitespace (JSON)",
+            curve("  \n"),
+            "JSON: the file holds no data (only whitespace)",
+        ),
+        (
+            "file of only whitespace (RON)",
+            io::Document::from_ron("\n\t ").unwrap_err().to_string(),
+            "RON: the file holds no data (only whitespace)",
+        ),
+        (
+            "file of only whitespace (IGES)",
+            io::iges::read_all(b"   \n").unwrap_err().to_string(),
+            "IGES: the file holds no data (only whitespace)",
+        ),
+        (
+            "file of only whitespace (CSV)",
+            points::parse(" \n\n").unwrap_err().to_string(),
+            "CSV: the file holds no data (only whitespace)",
+        ),
         (
             "empty file (RON)",
             io::Document::from_ron("").unwrap_err().to_string(),
@@ -230,6 +250,68 @@ fn error_table() -> Vec<(&'static str, String, &'static str)> {
             "region [NaN, 0.4] is not finite",
         ),
         (
+            "coordinate near the limit of f64 (1e308)",
+            curve(r#"{"degree": 3, "knots": [0,0,0,0,1,1,1,1], "points": [[0,0],[1,1e308],[2,-1],[3,0]]}"#),
+            "points: control point 1 has a coordinate of 1e308, beyond the 1e100 Fairway computes with (squared \
+             distances and curvatures would overflow): rescale the model",
+        ),
+        (
+            "coordinate near the limit of f64 (RON)",
+            io::Document::from_ron(&io::Document::new(moved(&w, |q| q * 1e200).into()).to_ron().unwrap())
+                .unwrap_err()
+                .to_string(),
+            "points: control point 1 has a coordinate of 1e200, beyond the 1e100 Fairway computes with (squared \
+             distances and curvatures would overflow): rescale the model",
+        ),
+        (
+            "coordinate near the limit of f64 (IGES)",
+            io::iges::read_all(io::iges::to_string(&moved(&w, |q| q * 1e200).into()).as_bytes())
+                .unwrap_err()
+                .to_string(),
+            "IGES: entity 1 (curve, 126): points: control point 1 has a coordinate of 1e200, beyond the 1e100 \
+             Fairway computes with (squared distances and curvatures would overflow): rescale the model",
+        ),
+        (
+            "point coordinate near the limit of f64 (CSV)",
+            points::parse("0,0\n1,1e200\n2,0\n3,1\n4,0\n")
+                .and_then(|s| points::fit_points(&s, &points::FitOptions::default()))
+                .unwrap_err()
+                .to_string(),
+            "points: point 2 has a coordinate of 1e200, beyond the 1e100 Fairway computes with (squared distances \
+             and curvatures would overflow): rescale the model",
+        ),
+        (
+            "control points spanning less than 1e-100",
+            curve(r#"{"degree": 1, "knots": [0,0,1,1], "points": [[0,0],[1e-120,0]]}"#),
+            "points: the control points span only 1e-120, below the 1e-100 Fairway computes with (squared distances \
+             would underflow to 0): rescale the model",
+        ),
+        (
+            "knots scaled by 1e300 (speeds underflow)",
+            curve(r#"{"degree": 3, "knots": [0,0,0,0,1e300,1e300,1e300,1e300], "points": [[0,0],[1,1],[2,-1],[3,0]]}"#),
+            "knots: the domain [0, 1e300] is too long for control points spanning 3.6056: first derivatives (speeds) \
+             of about 1e-299 would underflow (Fairway computes with derivatives between 1e-100 and 1e100): rescale \
+             the knots, e.g. to [0, 1]",
+        ),
+        (
+            "knots scaled by 1e-300 (derivatives overflow)",
+            curve(r#"{"degree": 3, "knots": [0,0,0,0,1e-300,1e-300,1e-300,1e-300], "points": [[0,0],[1,1],[2,-1],[3,0]]}"#),
+            "knots: the knot span [0, 1e-300] (length 1e-300) is too short for control points spanning 3.6056: \
+             first derivatives (speeds) of about 1e301 would overflow (Fairway computes with derivatives between \
+             1e-100 and 1e100): rescale the knots, e.g. to [0, 1], or remove the near-duplicate knot",
+        ),
+        (
+            "weight near the limit of f64",
+            curve(r#"{"degree": 1, "knots": [0,0,1,1], "points": [[0,0],[1,0]], "weights": [1, 1e-200]}"#),
+            "weights: weight 1e-200 at index 1 is outside [1e-100, 1e100], the range Fairway computes with",
+        ),
+        (
+            "tolerance below the precision of the coordinates",
+            fairway::range::check_tolerance(1e-300, &w.clone().into()).unwrap_err().to_string(),
+            "tolerance 1e-300 is below the precision of the coordinates: they reach 9 in magnitude, where a double \
+             resolves about 1.9984e-15, so the smallest tolerance is 9e-13 (1e-13 × 9)",
+        ),
+        (
             "degree 1 (no curvature)",
             fair_err(&BSplineCurve::new_2d(1, vec![0., 0., 1., 1.], &[DVec2::ZERO, DVec2::X]).unwrap(), opts(0.01, None)),
             "fairing needs a curve of degree ≥ 2 (curvature), got degree 1",
@@ -239,9 +321,13 @@ fn error_table() -> Vec<(&'static str, String, &'static str)> {
 
 #[test]
 fn every_degenerate_input_has_its_exact_message() {
+    let mut wrong = vec![];
     for (case, got, want) in error_table() {
-        assert_eq!(got, want, "case: {case}");
+        if got != want {
+            wrong.push(format!("case: {case}\n  got:  {got}\n  want: {want}"));
+        }
     }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }
 
 /// Max distance between curves sampled at the same parameters.

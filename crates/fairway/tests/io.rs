@@ -39,10 +39,12 @@ fn awkward_curve(dim: usize, rational: bool) -> BSplineCurve {
         -2.2250738585072014e-308,
         123456789.12345679,
         -0.0,
-        f64::MAX / 3.0,
+        // the largest magnitudes a model may hold (fairway::range: derivatives up to 1e100 over these
+        // knot spans); f64::MAX / 3 and -f64::MAX were used before the range check refused them
+        1e95 / 3.0,
         9007199254740993.0,
         2.0f64.sqrt(),
-        -1.7976931348623157e308,
+        -1.7976931348623157e95,
         0.7,
         1e22,
         -4.35e-9,
@@ -151,7 +153,13 @@ type IsVariant = fn(&Error) -> bool;
 fn json_cases() -> Vec<(&'static str, String, Vec<&'static str>, IsVariant)> {
     let parse = |e: &Error| matches!(e, Error::Parse { .. });
     vec![
-        ("empty file", "  \n ".into(), vec!["JSON", "empty"], parse),
+        ("empty file", "".into(), vec!["JSON", "empty"], parse),
+        (
+            "file of only whitespace",
+            "  \n ".into(),
+            vec!["JSON: the file holds no data (only whitespace)"],
+            parse,
+        ),
         (
             "syntax error",
             r#"{"degree": 3, "knots": [0, 0,"#.into(),

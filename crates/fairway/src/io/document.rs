@@ -68,8 +68,8 @@ impl Document {
             format: "RON".into(),
             message: m,
         };
-        if text.trim().is_empty() {
-            return Err(perr("the file is empty".into()));
+        if let Some(m) = super::blank_text_message(text.as_bytes()) {
+            return Err(perr(m.into()));
         }
         let f: DocumentFile = ron::from_str(text).map_err(|e| perr(e.to_string()))?;
         if f.format != "fairway" {
@@ -86,8 +86,10 @@ impl Document {
         {
             return Err(perr(format!("settings.tolerance: {t} must be a positive number")));
         }
+        let geometry: Geometry = f.geometry.try_into()?;
+        crate::range::check_geometry(&geometry)?;
         Ok(Self {
-            geometry: f.geometry.try_into()?,
+            geometry,
             settings: f.settings,
         })
     }

@@ -433,8 +433,8 @@ pub fn read_all(bytes: &[u8]) -> Result<IgesFile> {
 
 /// [`read_all`] with options (unit conversion).
 pub fn read_all_with(bytes: &[u8], opts: ReadOptions) -> Result<IgesFile> {
-    if bytes.iter().all(|b| b.is_ascii_whitespace()) {
-        return Err(perr("the file is empty"));
+    if let Some(m) = super::blank_text_message(bytes) {
+        return Err(perr(m));
     }
     let recs = records(bytes)?;
     let mut gtext: Vec<u8> = Vec::new();
@@ -598,6 +598,7 @@ pub fn read_all_with(bytes: &[u8], opts: ReadOptions) -> Result<IgesFile> {
         if factor != 1.0 {
             geom = apply(geom, |q| q * factor)?;
         }
+        crate::range::check_geometry(&geom).map_err(|e| perr(format!("{what}: {e}")))?;
         objects.push(geom);
         infos.push(EntityInfo {
             entity: e.seq,

@@ -19,11 +19,33 @@ fn parse_err(message: impl Into<String>) -> Error {
 
 /// Parse geometry JSON, validating it.
 pub fn from_str(text: &str) -> Result<Geometry> {
-    if text.trim().is_empty() {
-        return Err(parse_err("the file is empty"));
+    if let Some(m) = super::blank_text_message(text.as_bytes()) {
+        return Err(parse_err(m));
+    }
+    // Typed first: the keys alone (their values skipped without allocating), then the record straight
+    // from the text, so the memory is that of the geometry (about 3 times the file), not of a tree of
+    // JSON values (about 20 times). Only a file that does not deserialize goes through the tree, for its
+    // message with the path of the wrong value.
+    if let Ok(keys) = serde_json::from_str::<std::collections::BTreeMap<String, serde::de::IgnoredAny>>(text) {
+        let has = |k: &str| keys.contains_key(k);
+        if has("degree_u") || has("knots_u") {
+            if let Ok(r) = serde_json::from_str::<SurfaceRecord>(text) {
+                return checked(Geometry::Surface(r.try_into()?));
+            }
+        } else if (has("degree") || has("knots"))
+            && let Ok(r) = serde_json::from_str::<CurveRecord>(text)
+        {
+            return checked(Geometry::Curve(r.try_into()?));
+        }
     }
     let v: Value = serde_json::from_str(text).map_err(|e| parse_err(e.to_string()))?;
     from_value(v)
+}
+
+/// Geometry read, refused if outside the numeric range (see [`crate::range`]).
+fn checked(g: Geometry) -> Result<Geometry> {
+    crate::range::check_geometry(&g)?;
+    Ok(g)
 }
 
 /// Validate geometry from an already parsed JSON value.
@@ -36,11 +58,11 @@ pub fn from_value(v: Value) -> Result<Geometry> {
     if map.contains_key("degree_u") || map.contains_key("knots_u") {
         check_keys(map, SURFACE_KEYS)?;
         let r: SurfaceRecord = serde_json::from_value(v).map_err(|e| parse_err(format!("surface: {e}")))?;
-        Ok(Geometry::Surface(r.try_into()?))
+        checked(Geometry::Surface(r.try_into()?))
     } else if map.contains_key("degree") || map.contains_key("knots") {
         check_keys(map, CURVE_KEYS)?;
         let r: CurveRecord = serde_json::from_value(v).map_err(|e| parse_err(format!("curve: {e}")))?;
-        Ok(Geometry::Curve(r.try_into()?))
+        checked(Geometry::Curve(r.try_into()?))
     } else {
         Err(parse_err(
             "neither a curve (key \"degree\") nor a surface (key \"degree_u\")",
@@ -121,12 +143,13 @@ fn check_keys(map: &serde_json::Map<String, Value>, spec: &[KeySpec]) -> Result<
 
 /// Geometry as JSON text (pretty enough to read, exact floats).
 pub fn to_string(g: &Geometry) -> String {
-    let v = match g {
-        Geometry::Curve(c) => serde_json::to_value(CurveRecord::from(c)),
-        Geometry::Surface(s) => serde_json::to_value(SurfaceRecord::from(s)),
+    // straight from the records (no tree of JSON values: memory about that of the text); their fields are
+    // in alphabetical order, so the text is the same as through a (sorted) serde_json::Value
+    let mut s = match g {
+        Geometry::Curve(c) => serde_json::to_string(&CurveRecord::from(c)),
+        Geometry::Surface(s) => serde_json::to_string(&SurfaceRecord::from(s)),
     }
     .expect("records serialize");
-    let mut s = serde_json::to_string(&v).expect("values serialize");
     s.push('\n');
     s
 }

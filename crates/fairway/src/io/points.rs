@@ -145,8 +145,8 @@ pub fn parse(text: &str) -> Result<PointSet> {
         points.push(DVec3::new(v[0], v[1], if d == 3 { v[2] } else { 0.0 }));
     }
     if points.is_empty() {
-        return Err(perr(if text.trim().is_empty() {
-            "the file is empty".to_string()
+        return Err(perr(if let Some(m) = super::blank_text_message(text.as_bytes()) {
+            m.to_string()
         } else {
             "no points found (expected lines of 2 or 3 numbers)".to_string()
         }));
@@ -220,6 +220,7 @@ pub fn fit_points(set: &PointSet, opts: &FitOptions) -> Result<BSplineCurve> {
             index: i,
         });
     }
+    crate::range::check_points(&set.points, "points", |i| format!("point {}", i + 1))?;
     let (lo, hi) = crate::curve::point_bounds(&set.points);
     let size = (hi - lo).length();
     if !(size > 0.0) || !size.is_finite() {
@@ -270,7 +271,9 @@ pub fn fit_points(set: &PointSet, opts: &FitOptions) -> Result<BSplineCurve> {
     } else {
         ctrl
     };
-    BSplineCurve::try_new(p, knots.values().to_vec(), ctrl, None, set.dim)
+    let curve = BSplineCurve::try_new(p, knots.values().to_vec(), ctrl, None, set.dim)?;
+    crate::range::check_curve(&curve)?;
+    Ok(curve)
 }
 
 #[cfg(test)]

@@ -13,6 +13,7 @@ use std::fmt::Write;
 use glam::{DVec2, DVec3};
 
 use crate::curve::BSplineCurve;
+use crate::error::{Error, Result};
 
 /// What to draw, and how large.
 #[derive(Debug, Clone, PartialEq)]
@@ -77,6 +78,31 @@ fn normal_xy(c: &BSplineCurve, u: f64) -> (DVec2, f64) {
     let n = DVec2::new(-t.y, t.x) / len;
     let k = (t.x * d.d2.y - t.y * d.d2.x) / (len * len * len);
     (n, if k.is_finite() { k } else { 0.0 })
+}
+
+/// [`curve_svg`], refused if the drawing holds a coordinate that is not a finite number (a band or a
+/// curve too large for the drawing's arithmetic): an SVG with `height="inf"` or `NaN` points is never
+/// returned.
+pub fn try_curve_svg(curve: &BSplineCurve, faired: Option<&BSplineCurve>, opts: &SvgOptions) -> Result<String> {
+    let text = curve_svg(curve, faired, opts);
+    // every number of the drawing is written by `{:.0}` or `{:.3}`: a non-finite one reads NaN, inf or -inf
+    if text.contains("NaN") || text.contains("inf") {
+        return Err(Error::InvalidInput(format!(
+            "the drawing's coordinates overflow (the curve spans {}{}): nothing was written",
+            crate::range::short(diagonal(curve)),
+            opts.band.map_or(String::new(), |m| format!(
+                ", the band is {} wide",
+                crate::range::short(2.0 * m)
+            ))
+        )));
+    }
+    Ok(text)
+}
+
+/// The diagonal of the control points' bounding box in the xy plane.
+fn diagonal(c: &BSplineCurve) -> f64 {
+    let (lo, hi) = crate::curve::point_bounds(c.points());
+    (xy(hi) - xy(lo)).length()
 }
 
 /// The SVG drawing of `curve` (and of `faired`, if given, in another colour).
