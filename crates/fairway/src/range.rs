@@ -118,13 +118,18 @@ pub fn coordinate_size(g: &Geometry) -> f64 {
 /// coordinates ([`MIN_RELATIVE_TOLERANCE`] × the largest coordinate magnitude). The same message for
 /// curves and surfaces.
 pub fn check_tolerance(tolerance: f64, g: &Geometry) -> Result<()> {
+    check_tolerance_at(tolerance, coordinate_size(g))
+}
+
+/// [`check_tolerance`] for coordinates whose largest magnitude is `size` (what the fairing engines
+/// call on their input).
+pub fn check_tolerance_at(tolerance: f64, size: f64) -> Result<()> {
     if !(tolerance.is_finite() && tolerance > 0.0) {
         return Err(Error::InvalidInput(format!(
             "tolerance must be a positive finite number, got {}",
             short(tolerance)
         )));
     }
-    let size = coordinate_size(g);
     let min = MIN_RELATIVE_TOLERANCE * size;
     if tolerance < min {
         return Err(Error::InvalidInput(format!(

@@ -406,10 +406,17 @@ fn fairable_degenerate_inputs_give_checked_results() {
         let rf = fair_curve(&far, opts_p(pm, 0.01, None)).unwrap();
         assert!(rf.max_deviation <= 0.01 && band_dev(&far, &rf.curve) <= 0.01 + 1e-6);
 
-        // tolerance 1e-15: the step is scaled down, the curve does not move beyond it
-        let r = fair_curve(&w, opts_p(pm, 1e-15, None)).unwrap();
-        assert!(r.max_deviation <= 1e-15 && r.alpha < 1.0);
-        assert!(max_dist(&r.curve, &w) <= 1e-14);
+        // tolerance 1e-15, below the precision of coordinates of magnitude 9 (issue 26: it used to
+        // "succeed" with a deviation the report could not resolve): refused in the user's terms
+        let e = fair_curve(&w, opts_p(pm, 1e-15, None)).unwrap_err().to_string();
+        assert!(
+            e.contains("below the precision of the coordinates") && e.contains("9e-13"),
+            "{e}"
+        );
+        // the smallest tolerance allowed: the curve does not move beyond it
+        let r = fair_curve(&w, opts_p(pm, 1e-12, None)).unwrap();
+        assert!(r.max_deviation <= 1e-12);
+        assert!(max_dist(&r.curve, &w) <= 1e-11);
 
         // tolerance larger than the curve: fairness weight at its cap, deviation well inside
         let r = fair_curve(&w, opts_p(pm, 1e3, None)).unwrap();

@@ -584,6 +584,8 @@ impl FairingSetup {
     ) -> Result<Self> {
         validate_tolerance(opts.tolerance)?;
         let input = curve.to_polynomial()?;
+        let size = input.points().iter().map(|p| p.abs().max_element()).fold(0.0, f64::max);
+        crate::range::check_tolerance_at(opts.tolerance, size)?;
         let check_samples = if check_samples == 0 {
             0
         } else {
@@ -1203,6 +1205,13 @@ impl FairingSetup {
     /// Change the tolerance (then call [`Self::fair`] again).
     pub fn set_tolerance(&mut self, m: f64) -> Result<()> {
         validate_tolerance(m)?;
+        let size = self
+            .work
+            .points()
+            .iter()
+            .map(|p| p.abs().max_element())
+            .fold(0.0, f64::max);
+        crate::range::check_tolerance_at(m, size)?;
         self.opts.tolerance = m;
         Ok(())
     }

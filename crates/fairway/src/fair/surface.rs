@@ -322,11 +322,12 @@ fn span_grid(knots: &KnotVector, a: f64, b: f64, per_span: usize) -> Vec<f64> {
 /// Fair `surface` (see the module docs).
 pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Result<SurfaceFairingResult> {
     let m = opts.tolerance;
-    if !(m > 0.0 && m.is_finite()) {
-        return Err(Error::InvalidInput(format!(
-            "tolerance must be a positive number, got {m}"
-        )));
-    }
+    let size = surface
+        .points()
+        .iter()
+        .map(|p| p.abs().max_element())
+        .fold(0.0, f64::max);
+    crate::range::check_tolerance_at(m, size)?;
     if opts.samples_per_span < 2 {
         return Err(Error::InvalidInput("samples_per_span must be at least 2".into()));
     }
