@@ -76,6 +76,7 @@ impl<'a> Plain<'a> {
 pub fn dense_deviation(a: &BSplineCurve, b: &BSplineCurve, per_span: usize, window: usize) -> (f64, f64) {
     let (pa, pb) = (Plain::new(a), Plain::new(b));
     let bs = pb.spans();
+    let closed = b.points()[0].distance(*b.points().last().unwrap()) <= 1e-12 * (1.0 + b.points()[0].length());
     let mut worst = (0.0f64, 0.0);
     let mut foot = 0usize; // index into bs
     for (sa, sb) in pa.spans() {
@@ -86,40 +87,60 @@ pub fn dense_deviation(a: &BSplineCurve, b: &BSplineCurve, per_span: usize, wind
             let at = bs.partition_point(|s| s.1 <= u).min(bs.len() - 1);
             let centre = if foot.abs_diff(at) > window { at } else { foot };
             let (i0, i1) = (centre.saturating_sub(window), (centre + window).min(bs.len() - 1));
-            let mut best = (f64::INFINITY, 0.0, 0usize);
-            for (j, &(x0, x1)) in bs.iter().enumerate().take(i1 + 1).skip(i0) {
+            let mut spans: Vec<usize> = (i0..=i1).collect();
+            // a closed curve: a window at one end continues past the seam at the other
+            if closed {
+                let last = bs.len() - 1;
+                if centre < window {
+                    spans.extend(last.saturating_sub(window - centre)..=last);
+                }
+                if centre + window > last {
+                    spans.extend(0..=(centre + window - last).min(last));
+                }
+            }
+            // the polyline's vertices; the three nearest are refined (a closed curve's seam point
+            // is a vertex twice, once per end, and only one side of it may hold the foot)
+            let mut verts: Vec<(f64, f64, usize)> = vec![];
+            for j in spans {
+                let (x0, x1) = bs[j];
                 for m in 0..=16 {
                     let t = x0 + (x1 - x0) * m as f64 / 16.0;
-                    let d = pb.point(t).distance(q);
-                    if d < best.0 {
-                        best = (d, t, j);
+                    verts.push((pb.point(t).distance(q), t, j));
+                }
+            }
+            verts.sort_by(|x, y| x.0.total_cmp(&y.0));
+            let mut best = verts[0];
+            let mut dist = best.0;
+            for &v in verts.iter().take(3) {
+                // golden section on the two polyline segments around the vertex
+                let (x0, x1) = bs[v.2];
+                let h = (x1 - x0) / 16.0;
+                let (mut lo, mut hi) = (v.1 - h, v.1 + h);
+                let g = 0.5 * (5f64.sqrt() - 1.0);
+                let f = |t: f64| pb.point(t).distance(q);
+                let (mut c, mut d) = (hi - g * (hi - lo), lo + g * (hi - lo));
+                let (mut fc, mut fd) = (f(c), f(d));
+                for _ in 0..40 {
+                    if fc < fd {
+                        hi = d;
+                        d = c;
+                        fd = fc;
+                        c = hi - g * (hi - lo);
+                        fc = f(c);
+                    } else {
+                        lo = c;
+                        c = d;
+                        fc = fd;
+                        d = lo + g * (hi - lo);
+                        fd = f(d);
                     }
                 }
-            }
-            // golden section on the two polyline segments around the best vertex
-            let (x0, x1) = bs[best.2];
-            let h = (x1 - x0) / 16.0;
-            let (mut lo, mut hi) = (best.1 - h, best.1 + h);
-            let g = 0.5 * (5f64.sqrt() - 1.0);
-            let f = |t: f64| pb.point(t).distance(q);
-            let (mut c, mut d) = (hi - g * (hi - lo), lo + g * (hi - lo));
-            let (mut fc, mut fd) = (f(c), f(d));
-            for _ in 0..40 {
-                if fc < fd {
-                    hi = d;
-                    d = c;
-                    fd = fc;
-                    c = hi - g * (hi - lo);
-                    fc = f(c);
-                } else {
-                    lo = c;
-                    c = d;
-                    fc = fd;
-                    d = lo + g * (hi - lo);
-                    fd = f(d);
+                let here = fc.min(fd);
+                if here < dist {
+                    dist = here;
+                    best = v;
                 }
             }
-            let dist = best.0.min(fc).min(fd);
             foot = best.2;
             if dist > worst.0 {
                 worst = (dist, u);
