@@ -74,15 +74,17 @@ fn assets_load_with_the_promised_kinds() {
     );
 }
 
-/// The engine's reported `max_deviation` is the deviation the user would measure, not only a bound
-/// of it: on every bundled curve, whole and over a region (across the seam on a closed one), at a
-/// tolerance where the band binds and one where it does not, it is ≥ `measure`'s `dev_max` (a bound)
-/// and within 1e-6·m of it, with the default polish and a long one. Before the final sharpening the
+/// The engine's reported `max_deviation` is a sound bound of the deviation the user would measure and
+/// a sharp one: on every bundled curve, whole and over a region (across the seam on a closed one), at a
+/// tolerance where the band binds and one where it does not, it is ≥ `measure`'s `dev_max` (a bound),
+/// ≤ m, and within 2e-3·m of it (the certified bound of session 19 is sharp to 1e-3·m by design; before
+/// it the report was the measured maximum on samples, which missed deviations between samples on long
+/// curves), with the default polish and a long one. Before the final sharpening the
 /// band checks' early exits reported, e.g., 9.97e-3 for a measured 6.90e-3 (car roof, region
 /// [0.35, 0.75], m = 0.01); before session 8's search without a starting guess, 24 polish iterations
 /// there reported 2.02e-2 for a measured 6.45e-3 (Newton settled in another local minimum).
 #[test]
-fn reported_deviation_is_the_measured_one_on_the_samples() {
+fn reported_deviation_is_a_sharp_bound_of_the_measured_one() {
     use fairway::fair::{FairingOptions, PolishMethod, curve::POLISH_ITERS, fair_curve};
     let mut cases = 0;
     for (name, c) in &bundled_curves() {
@@ -121,7 +123,7 @@ fn reported_deviation_is_the_measured_one_on_the_samples() {
                 assert!(r.max_deviation <= m, "{name}: {} > m", r.max_deviation);
                 assert!(measured <= r.max_deviation + 1e-12 * size, "{name}: not a bound");
                 assert!(
-                    r.max_deviation - measured <= 1e-6 * m,
+                    r.max_deviation - measured <= 2e-3 * m,
                     "{name} {region:?} m {m}, {its} iterations: reported {} vs measured {measured}",
                     r.max_deviation
                 );
