@@ -218,6 +218,25 @@ pub fn band_bound(original: &BSplineCurve, faired: &BSplineCurve, level: f64, bu
         let (s0, s1) = (c.knots().find_span(lo), c.knots().find_span(hi));
         (s0..=s1).fold(0.0f64, |a, s| a.max(bc.m2[s]))
     };
+    // the faired curve's interior C0 breakpoints (its corners): a closest point there is not a
+    // stationary point of the distance, so Newton cannot find it; they are tried directly
+    let corners: Vec<f64> = {
+        let kn = c.knots();
+        let bp = kn.breakpoints();
+        bp[1..bp.len().saturating_sub(1)]
+            .iter()
+            .copied()
+            .filter(|&k| kn.multiplicity(k) >= p)
+            .collect()
+    };
+    let nearest_corner = |q: DVec3, t: f64, lo: f64, hi: f64| -> Option<(f64, f64)> {
+        let i = corners.partition_point(|&k| k < lo);
+        corners[i..]
+            .iter()
+            .take_while(|&&k| k <= hi)
+            .map(|&k| (k, c.point(k).distance(q)))
+            .min_by(|a, b| a.1.total_cmp(&b.1).then((a.0 - t).abs().total_cmp(&(b.0 - t).abs())))
+    };
     let sample = |u: f64, t_guess: f64, level: u8, evals: &mut usize| -> Sample {
         *evals += 1;
         let e0 = c0.derivs(u);
@@ -232,13 +251,22 @@ pub fn band_bound(original: &BSplineCurve, faired: &BSplineCurve, level: f64, bu
                 (t, dist, speed, converged) = (t2, dist2, speed2, conv2);
             }
         }
-        let (t, dist) = if pdist <= dist { (u, pdist) } else { (t, dist) };
+        let (mut t, mut dist) = if pdist <= dist { (u, pdist) } else { (t, dist) };
         // a foot Newton reached near the guess is trusted locally (level 1); one it did not
         // converge to, that slid more than a span from u, or where the faired curve nearly stops
         // (a cusp: Newton settles there without a minimum) is searched around first (level 0)
         let sk = c.knots().find_span(t);
-        let width = c.knots().values()[sk + 1] - c.knots().values()[sk];
-        let trusted = converged && (t - u).abs() <= width && speed >= 0.05 * e0.d1.length();
+        let kvc = c.knots().values();
+        let width = kvc[sk + 1] - kvc[sk];
+        let mut trusted = converged && (t - u).abs() <= width && speed >= 0.05 * e0.d1.length();
+        // a corner of the faired curve in the spans around the foot may be nearer
+        let (lo, hi) = (kvc[sk.saturating_sub(1).max(p)], kvc[(sk + 2).min(kvc.len() - p - 1)]);
+        if let Some((k, dk)) = nearest_corner(q, t, lo, hi)
+            && dk < dist
+        {
+            (t, dist) = (k, dk);
+            trusted = (t - u).abs() <= 2.0 * width;
+        }
         Sample {
             u,
             t,
@@ -288,7 +316,34 @@ pub fn band_bound(original: &BSplineCurve, faired: &BSplineCurve, level: f64, bu
             (b.t - a.t, m2_faired(a.t, b.t))
         };
         let s = dt / h;
-        let proj = a.dist.max(b.dist) + e * (b0.m2[span] + s * s * m2c);
+        let (lo, hi) = (a.t.min(b.t), a.t.max(b.t));
+        let i0 = corners.partition_point(|&k| k <= lo);
+        let crossed = &corners[i0..i0 + corners[i0..].partition_point(|&k| k < hi)];
+        let proj = if crossed.is_empty() || (b.t - a.t).abs() > 0.5 * (d1 - d0) {
+            a.dist.max(b.dist) + e * (b0.m2[span] + s * s * m2c)
+        } else {
+            // φ crosses C0 knots of c (c' jumps there, so g is not C1): φ piecewise linear instead,
+            // through each crossed knot k at the proportional u, where |g| is evaluated; the
+            // interpolation bound on each piece (the slope s is the same on all)
+            let mut nodes = a.dist.max(b.dist);
+            let mut curv = 0.0f64;
+            let mut prev = a.t;
+            let ordered: Vec<f64> = if dt > 0.0 {
+                crossed.to_vec()
+            } else {
+                crossed.iter().rev().copied().collect()
+            };
+            for &k in ordered.iter().chain(std::iter::once(&b.t)) {
+                let hk = h * (k - prev) / dt;
+                curv = curv.max(hk * hk / 8.0 * (b0.m2[span] + s * s * m2_faired(prev, k)));
+                if k != b.t {
+                    let uk = a.u + h * (k - a.t) / dt;
+                    nodes = nodes.max(c0.point(uk).distance(c.point(k)));
+                }
+                prev = k;
+            }
+            nodes + curv
+        };
         param.min(proj) + slack
     };
     // the distance at a sample whose foot is trusted (a lower estimate of the true maximum)

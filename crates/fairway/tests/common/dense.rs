@@ -71,81 +71,109 @@ impl<'a> Plain<'a> {
     }
 }
 
-/// Max over `per_span` points per knot span of `a` of the distance to `b` (same domain), by a search
-/// of `b` in a window of `window` spans either side of the previous foot.
+/// Max over `per_span` points per knot span of `a` (and its knots) of the distance to `b` (same
+/// domain), by a search of `b` in a window of `window` spans either side of the previous foot; the
+/// five largest local maxima found are then sharpened by a golden-section search between their
+/// neighbouring samples (a deviation peak at a join can be narrower than the sample spacing).
 pub fn dense_deviation(a: &BSplineCurve, b: &BSplineCurve, per_span: usize, window: usize) -> (f64, f64) {
     let (pa, pb) = (Plain::new(a), Plain::new(b));
     let bs = pb.spans();
     let closed = b.points()[0].distance(*b.points().last().unwrap()) <= 1e-12 * (1.0 + b.points()[0].length());
-    let mut worst = (0.0f64, 0.0);
+    let project = |u: f64, foot: usize| -> (f64, usize) {
+        let q = pa.point(u);
+        // b's span holding u (the curves share their domain and nearly their parametrization)
+        let at = bs.partition_point(|s| s.1 <= u).min(bs.len() - 1);
+        let centre = if foot.abs_diff(at) > window { at } else { foot };
+        let (i0, i1) = (centre.saturating_sub(window), (centre + window).min(bs.len() - 1));
+        let mut spans: Vec<usize> = (i0..=i1).collect();
+        // a closed curve: a window at one end continues past the seam at the other
+        if closed {
+            let last = bs.len() - 1;
+            if centre < window {
+                spans.extend(last.saturating_sub(window - centre)..=last);
+            }
+            if centre + window > last {
+                spans.extend(0..=(centre + window - last).min(last));
+            }
+        }
+        // the polyline's vertices; the three nearest are refined (a closed curve's seam point
+        // is a vertex twice, once per end, and only one side of it may hold the foot)
+        let mut verts: Vec<(f64, f64, usize)> = vec![];
+        for j in spans {
+            let (x0, x1) = bs[j];
+            for m in 0..=16 {
+                let t = x0 + (x1 - x0) * m as f64 / 16.0;
+                verts.push((pb.point(t).distance(q), t, j));
+            }
+        }
+        verts.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let mut best = verts[0];
+        let mut dist = best.0;
+        for &v in verts.iter().take(3) {
+            // golden section on the two polyline segments around the vertex
+            let (x0, x1) = bs[v.2];
+            let h = (x1 - x0) / 16.0;
+            let f = |t: f64| pb.point(t).distance(q);
+            let here = golden(v.1 - h, v.1 + h, f, false).1;
+            if here < dist {
+                dist = here;
+                best = v;
+            }
+        }
+        (dist, best.2)
+    };
+    let mut samples: Vec<(f64, f64, usize)> = vec![]; // (u, distance, foot span)
     let mut foot = 0usize; // index into bs
     for (sa, sb) in pa.spans() {
-        for k in 0..per_span {
-            let u = sa + (sb - sa) * (k as f64 + 0.5) / per_span as f64;
-            let q = pa.point(u);
-            // b's span holding u (the curves share their domain and nearly their parametrization)
-            let at = bs.partition_point(|s| s.1 <= u).min(bs.len() - 1);
-            let centre = if foot.abs_diff(at) > window { at } else { foot };
-            let (i0, i1) = (centre.saturating_sub(window), (centre + window).min(bs.len() - 1));
-            let mut spans: Vec<usize> = (i0..=i1).collect();
-            // a closed curve: a window at one end continues past the seam at the other
-            if closed {
-                let last = bs.len() - 1;
-                if centre < window {
-                    spans.extend(last.saturating_sub(window - centre)..=last);
-                }
-                if centre + window > last {
-                    spans.extend(0..=(centre + window - last).min(last));
-                }
-            }
-            // the polyline's vertices; the three nearest are refined (a closed curve's seam point
-            // is a vertex twice, once per end, and only one side of it may hold the foot)
-            let mut verts: Vec<(f64, f64, usize)> = vec![];
-            for j in spans {
-                let (x0, x1) = bs[j];
-                for m in 0..=16 {
-                    let t = x0 + (x1 - x0) * m as f64 / 16.0;
-                    verts.push((pb.point(t).distance(q), t, j));
-                }
-            }
-            verts.sort_by(|x, y| x.0.total_cmp(&y.0));
-            let mut best = verts[0];
-            let mut dist = best.0;
-            for &v in verts.iter().take(3) {
-                // golden section on the two polyline segments around the vertex
-                let (x0, x1) = bs[v.2];
-                let h = (x1 - x0) / 16.0;
-                let (mut lo, mut hi) = (v.1 - h, v.1 + h);
-                let g = 0.5 * (5f64.sqrt() - 1.0);
-                let f = |t: f64| pb.point(t).distance(q);
-                let (mut c, mut d) = (hi - g * (hi - lo), lo + g * (hi - lo));
-                let (mut fc, mut fd) = (f(c), f(d));
-                for _ in 0..40 {
-                    if fc < fd {
-                        hi = d;
-                        d = c;
-                        fd = fc;
-                        c = hi - g * (hi - lo);
-                        fc = f(c);
-                    } else {
-                        lo = c;
-                        c = d;
-                        fc = fd;
-                        d = lo + g * (hi - lo);
-                        fd = f(d);
-                    }
-                }
-                let here = fc.min(fd);
-                if here < dist {
-                    dist = here;
-                    best = v;
-                }
-            }
-            foot = best.2;
-            if dist > worst.0 {
-                worst = (dist, u);
-            }
+        for k in 0..=per_span + 1 {
+            // the span's ends and per_span points inside
+            let u = match k {
+                0 => sa,
+                k if k == per_span + 1 => sb,
+                k => sa + (sb - sa) * (k as f64 - 0.5) / per_span as f64,
+            };
+            let (d, f) = project(u, foot);
+            foot = f;
+            samples.push((u, d, f));
+        }
+    }
+    let mut worst = samples.iter().fold((0.0f64, 0.0), |w, s| if s.1 > w.0 { (s.1, s.0) } else { w });
+    let mut peaks: Vec<usize> = (1..samples.len().saturating_sub(1))
+        .filter(|&i| samples[i].1 >= samples[i - 1].1 && samples[i].1 >= samples[i + 1].1)
+        .collect();
+    peaks.sort_by(|&i, &j| samples[j].1.total_cmp(&samples[i].1));
+    for &i in peaks.iter().take(5) {
+        let (lo, hi, f0) = (samples[i - 1].0, samples[i + 1].0, samples[i].2);
+        let (u, d) = golden(lo, hi, |u| project(u, f0).0, true);
+        if d > worst.0 {
+            worst = (d, u);
         }
     }
     worst
+}
+
+/// Golden-section search of `f` on [lo, hi] (40 steps) for its minimum, or its maximum with `max`:
+/// (argument, value).
+fn golden(mut lo: f64, mut hi: f64, f: impl Fn(f64) -> f64, max: bool) -> (f64, f64) {
+    let sign = if max { -1.0 } else { 1.0 };
+    let g = |t: f64| sign * f(t);
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut c, mut d) = (hi - r * (hi - lo), lo + r * (hi - lo));
+    let (mut fc, mut fd) = (g(c), g(d));
+    for _ in 0..40 {
+        if fc < fd {
+            hi = d;
+            d = c;
+            fd = fc;
+            c = hi - r * (hi - lo);
+            fc = g(c);
+        } else {
+            lo = c;
+            c = d;
+            fc = fd;
+            d = lo + r * (hi - lo);
+            fd = g(d);
+        }
+    }
+    if fc < fd { (c, sign * fc) } else { (d, sign * fd) }
 }
