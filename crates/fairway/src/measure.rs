@@ -6,6 +6,10 @@
 //!   arc length (ends included), each projected on the FAIRED curve (dense
 //!   seeds, then Newton on `c'(t)·(c(t) − q)`); `dev_max_reverse` the same
 //!   from FAIRED to ORIGINAL; `hausdorff` the larger;
+//! * beyond the reference, so that the measures scale: a curve of more than
+//!   100 knot spans is sampled at 20 points per span for the deviation and 40
+//!   for the curvature (the counts are reported in `params`), and beyond 200
+//!   spans each point is projected near the previous one's foot;
 //! * target g — curvature at 200 points uniform in arc length, centred
 //!   moving average over 2h+1 = 21 samples (h = round(0.1/2·199) = 10),
 //!   truncated at the ends; `threshold_delta` δ = 0.01·max|g| of the
@@ -31,10 +35,33 @@ use crate::closest::CurveProjector;
 use crate::curve::BSplineCurve;
 use crate::quadrature::gl10;
 
-/// Samples for the deviation.
+/// Samples for the deviation (the reference's count; a curve of more than 100 knot spans gets
+/// [`DEV_SAMPLES_PER_SPAN`] per span instead, see [`dev_samples`]).
 pub const DEV_SAMPLES: usize = 2000;
-/// Samples for extrema and inflections.
+/// Samples for extrema and inflections (a curve of more than 100 knot spans gets
+/// [`CURV_SAMPLES_PER_SPAN`] per span, see [`curv_samples`]).
 pub const CURV_SAMPLES: usize = 4000;
+/// Deviation samples per knot span at least.
+pub const DEV_SAMPLES_PER_SPAN: usize = 20;
+/// Curvature samples per knot span at least.
+pub const CURV_SAMPLES_PER_SPAN: usize = 40;
+/// Curves of more knot spans than this project each sample near the previous one's foot (a window of
+/// spans) instead of over the whole curve, so that the measures cost time linear in the curve.
+const LOCAL_SEARCH_SPANS: usize = 200;
+/// Knot spans either side of the previous foot (and of the sample's own parameter) searched.
+const LOCAL_WINDOW: usize = 8;
+
+/// Deviation samples of a measure of `c`: [`DEV_SAMPLES`], or [`DEV_SAMPLES_PER_SPAN`] per knot span
+/// where that is more.
+pub fn dev_samples(c: &BSplineCurve) -> usize {
+    DEV_SAMPLES.max(DEV_SAMPLES_PER_SPAN * c.knots().n_spans())
+}
+
+/// Curvature samples of a measure of `c`: [`CURV_SAMPLES`], or [`CURV_SAMPLES_PER_SPAN`] per knot span
+/// where that is more.
+pub fn curv_samples(c: &BSplineCurve) -> usize {
+    CURV_SAMPLES.max(CURV_SAMPLES_PER_SPAN * c.knots().n_spans())
+}
 /// Samples of the target and E.
 pub const PAPER_SAMPLES: usize = 200;
 /// Relative threshold δ / max|g|.
@@ -45,9 +72,9 @@ pub const WINDOW_FRAC: f64 = 0.1;
 /// The sampling parameters, reported with the measures.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MeasureParams {
-    /// 2000.
+    /// 2000, or 20 per knot span of the original where that is more.
     pub dev_samples: usize,
-    /// 4000.
+    /// 4000, or 40 per knot span of the faired curve where that is more.
     pub curv_samples: usize,
     /// 0.01.
     pub rel_threshold: f64,
@@ -130,12 +157,60 @@ fn kappa(c: &BSplineCurve, u: f64) -> f64 {
     c.derivs(u).curvature(c.dim())
 }
 
-/// Distances from `n` arc-length samples of `from` to the curve `to` (closest point).
+/// Distances from `n` arc-length samples of `from` to the curve `to` (closest point). On a curve `to` of
+/// more than 200 knot spans each sample is projected onto the spans around the previous sample's foot
+/// and around its own parameter (when the curves share a domain) — time linear in the curves, where a
+/// search of the whole curve per sample is quadratic; a foot found there is a true distance, so a
+/// missed nearer pass elsewhere could only make the figure larger.
 pub fn deviations(from: &BSplineCurve, to: &BSplineCurve, n: usize) -> Vec<f64> {
     let proj = CurveProjector::new(to, 16);
-    arc_params(from, n)
-        .into_iter()
-        .map(|u| proj.project(from.point(u)).distance)
+    let us = arc_params(from, n);
+    let spans = to.knots().n_spans();
+    if spans <= LOCAL_SEARCH_SPANS {
+        return us.into_iter().map(|u| proj.project(from.point(u)).distance).collect();
+    }
+    let bp = to.knots().breakpoints();
+    let (t0, t1) = to.domain();
+    let same_domain = from.domain() == (t0, t1);
+    let closed = to.points()[0].distance(*to.points().last().expect("points")) == 0.0;
+    let span_of = |t: f64| bp.partition_point(|&b| b <= t).saturating_sub(1).min(bp.len() - 2);
+    let mut foot: Option<f64> = None;
+    us.into_iter()
+        .map(|u| {
+            let q = from.point(u);
+            let hit = match foot {
+                None => proj.project(q),
+                Some(f) => {
+                    let (mut lo, mut hi) = (span_of(f), span_of(f));
+                    if same_domain {
+                        (lo, hi) = (lo.min(span_of(u)), hi.max(span_of(u)));
+                    }
+                    let (a, b) = (
+                        lo.saturating_sub(LOCAL_WINDOW),
+                        (hi + 1 + LOCAL_WINDOW).min(bp.len() - 1),
+                    );
+                    let mut best = proj.project_between(q, bp[a], bp[b]);
+                    // a closed curve: the window continues past the seam
+                    if closed && lo < LOCAL_WINDOW {
+                        let a = (bp.len() - 1).saturating_sub(LOCAL_WINDOW - lo);
+                        let other = proj.project_between(q, bp[a], t1);
+                        if other.distance < best.distance {
+                            best = other;
+                        }
+                    }
+                    if closed && hi + 1 + LOCAL_WINDOW > bp.len() - 1 {
+                        let b = (hi + 1 + LOCAL_WINDOW - (bp.len() - 1)).min(bp.len() - 1);
+                        let other = proj.project_between(q, t0, bp[b]);
+                        if other.distance < best.distance {
+                            best = other;
+                        }
+                    }
+                    best
+                }
+            };
+            foot = Some(hit.param);
+            hit.distance
+        })
         .collect()
 }
 
@@ -323,8 +398,9 @@ pub fn paper_energy(curve: &BSplineCurve, target: &[f64]) -> Option<f64> {
 
 /// All measures of `faired` against `original`.
 pub fn measure(original: &BSplineCurve, faired: &BSplineCurve) -> Measures {
-    let fwd = deviations(original, faired, DEV_SAMPLES);
-    let rev = deviations(faired, original, DEV_SAMPLES);
+    let n_dev = dev_samples(original);
+    let fwd = deviations(original, faired, n_dev);
+    let rev = deviations(faired, original, n_dev);
     let dev_max = fwd.iter().copied().fold(0.0, f64::max);
     let dev_rms = (fwd.iter().map(|d| d * d).sum::<f64>() / fwd.len() as f64).sqrt();
     let dev_max_reverse = rev.iter().copied().fold(0.0, f64::max);
@@ -333,7 +409,8 @@ pub fn measure(original: &BSplineCurve, faired: &BSplineCurve) -> Measures {
     let (_, g_orig) = reference_target(original);
     let (k_f, g_self) = reference_target(faired);
     let delta = REL_THRESHOLD * g_orig.iter().fold(0.0f64, |m, g| m.max(g.abs()));
-    let us = arc_params(faired, CURV_SAMPLES);
+    let n_curv = curv_samples(faired);
+    let us = arc_params(faired, n_curv);
     let mut kk = Vec::with_capacity(us.len());
     let mut dk = Vec::with_capacity(us.len());
     for &u in &us {
@@ -395,8 +472,8 @@ pub fn measure(original: &BSplineCurve, faired: &BSplineCurve) -> Measures {
         E_paper_norm: e_paper * norm,
         E_paper_self_norm: e_self * norm,
         params: MeasureParams {
-            dev_samples: DEV_SAMPLES,
-            curv_samples: CURV_SAMPLES,
+            dev_samples: n_dev,
+            curv_samples: n_curv,
             rel_threshold: REL_THRESHOLD,
             paper_samples: PAPER_SAMPLES,
             window_frac: WINDOW_FRAC,
@@ -409,7 +486,7 @@ pub fn measure(original: &BSplineCurve, faired: &BSplineCurve) -> Measures {
 
 /// Curvature figures of a stretch `[u1, u2]` of `curve` (a region; `u1 > u2` on a closed curve: the
 /// stretch across the seam, `[u1, end]` then `[start, u2]`): curvature extrema counted as `measure` does
-/// (κ at the stretch's share of 4000 arc-length samples, zig-zag pivots beyond `delta` — pass the whole
+/// (κ at the stretch's share of [`curv_samples`] arc-length samples, zig-zag pivots beyond `delta` — pass the whole
 /// curve's `threshold_delta` so region and curve figures compare), and ∫(dκ/ds)² ds over the stretch
 /// (10-point Gauss–Legendre on 4 pieces of every knot span, clipped to the stretch).
 pub fn region_curvature(curve: &BSplineCurve, u1: f64, u2: f64, delta: f64) -> (usize, f64) {
@@ -419,7 +496,7 @@ pub fn region_curvature(curve: &BSplineCurve, u1: f64, u2: f64, delta: f64) -> (
     } else {
         vec![(u1, d1), (d0, u2)]
     };
-    let us = arc_params(curve, CURV_SAMPLES);
+    let us = arc_params(curve, curv_samples(curve));
     let mut kk = vec![];
     for &(a, b) in &pieces {
         kk.extend(us.iter().filter(|&&u| u >= a && u <= b).map(|&u| kappa(curve, u)));

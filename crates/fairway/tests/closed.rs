@@ -471,8 +471,9 @@ fn region_across_the_seam_is_one_faired_stretch() {
         assert!(f.point(u).distance(c.point(u)) <= 1e-12, "moved at u = {u}");
     }
     // G2 at the region ends, C2 at the seam (first and second derivatives at a and b)
+    // (on the region's side: right of u1, left of u2)
     for u in [u1, u2] {
-        let (a, b) = (c.derivs(u), f.derivs(u));
+        let (a, b) = common::join_derivs(&c, f, u, u == u2);
         assert!(a.p.distance(b.p) <= 1e-12);
         assert!(a.d1.angle_between(b.d1) <= 1e-9, "tangent at {u}");
         let (ka, kb) = (a.curvature_vector(), b.curvature_vector());
@@ -767,7 +768,7 @@ fn region_across_the_seam_takes_separate_end_conditions() {
         a.p.distance(f.p) <= 1e-12 && a.d1.angle_between(f.d1) <= 1e-9,
         "G1 at u1"
     );
-    let (a, f) = (c.derivs(u2), g1g2.derivs(u2));
+    let (a, f) = common::join_derivs(&c, &g1g2, u2, true);
     let (ka, kf) = (a.curvature_vector(), f.curvature_vector());
     assert!(
         a.p.distance(f.p) <= 1e-12 && ka.distance(kf) <= 1e-9 * ka.length(),

@@ -197,7 +197,8 @@ fn interior_point_holds_the_band_on_every_kind_of_curve() {
                     let (d0, d1) = c.domain();
                     let scale = (c.control_bounds().1 - c.control_bounds().0).length();
                     for u in [a, b].into_iter().filter(|&u| u > d0 && u < d1) {
-                        let (o, f) = (c.derivs(u), r.curve.derivs(u));
+                        // on the moving side: right of a, left of b
+                        let (o, f) = common::join_derivs(&c, &r.curve, u, u == b);
                         assert!(o.p.distance(f.p) <= 1e-9 * scale, "{what}: position at {u}");
                         assert!(
                             o.d1.normalize().distance(f.d1.normalize()) <= 1e-9,

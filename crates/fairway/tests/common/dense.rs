@@ -96,15 +96,21 @@ pub fn dense_deviation(a: &BSplineCurve, b: &BSplineCurve, per_span: usize, wind
                 spans.extend(0..=(centre + window - last).min(last));
             }
         }
-        // the polyline's vertices; the three nearest are refined (a closed curve's seam point
-        // is a vertex twice, once per end, and only one side of it may hold the foot)
+        // the polyline's vertices, the nearest of each span; those of the three nearest spans are
+        // refined (a closed curve's seam point is a vertex twice, once per end, and only one side of
+        // it may hold the foot; a very short span next to a long one crowds its vertices together,
+        // which must not hide the long span's)
         let mut verts: Vec<(f64, f64, usize)> = vec![];
         for j in spans {
             let (x0, x1) = bs[j];
-            for m in 0..=16 {
-                let t = x0 + (x1 - x0) * m as f64 / 16.0;
-                verts.push((pb.point(t).distance(q), t, j));
-            }
+            let nearest = (0..=16)
+                .map(|m| {
+                    let t = x0 + (x1 - x0) * m as f64 / 16.0;
+                    (pb.point(t).distance(q), t, j)
+                })
+                .min_by(|x, y| x.0.total_cmp(&y.0))
+                .expect("17 vertices");
+            verts.push(nearest);
         }
         verts.sort_by(|x, y| x.0.total_cmp(&y.0));
         let mut best = verts[0];
@@ -137,7 +143,9 @@ pub fn dense_deviation(a: &BSplineCurve, b: &BSplineCurve, per_span: usize, wind
             samples.push((u, d, f));
         }
     }
-    let mut worst = samples.iter().fold((0.0f64, 0.0), |w, s| if s.1 > w.0 { (s.1, s.0) } else { w });
+    let mut worst = samples
+        .iter()
+        .fold((0.0f64, 0.0), |w, s| if s.1 > w.0 { (s.1, s.0) } else { w });
     let mut peaks: Vec<usize> = (1..samples.len().saturating_sub(1))
         .filter(|&i| samples[i].1 >= samples[i - 1].1 && samples[i].1 >= samples[i + 1].1)
         .collect();

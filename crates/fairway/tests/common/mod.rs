@@ -19,6 +19,30 @@ pub fn max_point_diff(a: &BSplineCurve, b: &BSplineCurve) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// Point and derivatives of `c` at `u` as the limit from the left (the span ending at `u`), taken on
+/// the reversed curve: `d1` comes out negated, `p`, `d2` and the curvature vector as they are. At a
+/// knot, `c.derivs(u)` is the limit from the right; a join at the end of a moving stretch must be
+/// checked on its left, the faired side.
+pub fn derivs_left(c: &BSplineCurve, u: f64) -> fairway::CurveDerivs {
+    let (a, b) = c.domain();
+    c.reversed().derivs(a + b - u)
+}
+
+/// Both curves' derivatives at a join `u` of a moving stretch, on the stretch's side: from the left
+/// where the stretch ends at `u` (`stretch_ends_here`), else from the right.
+pub fn join_derivs(
+    original: &BSplineCurve,
+    faired: &BSplineCurve,
+    u: f64,
+    stretch_ends_here: bool,
+) -> (fairway::CurveDerivs, fairway::CurveDerivs) {
+    if stretch_ends_here {
+        (derivs_left(original, u), derivs_left(faired, u))
+    } else {
+        (original.derivs(u), faired.derivs(u))
+    }
+}
+
 /// Max closest-point distance from 2000 arc-length samples of `a` to `b` (the measure's dev_max).
 pub fn dev_max(a: &BSplineCurve, b: &BSplineCurve) -> f64 {
     deviations(a, b, 2000).into_iter().fold(0.0, f64::max)
