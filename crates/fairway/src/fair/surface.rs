@@ -158,9 +158,9 @@ use super::curve::{FairingOptions, FairingSetup};
 use super::target::TargetMethod;
 use crate::basis::{MAX_ORDER, basis_funs};
 use crate::error::{Error, Result};
-use crate::fit_surface::{GridFit, SurfaceSmoothing, free_range};
+use crate::fit_surface::{GridFit, PlateFit, SurfaceSmoothing, free_range};
 use crate::knots::KnotVector;
-use crate::measure_surface::newton_project;
+use crate::measure_surface::{iso_stats_in, mean_curvature_variation_in, newton_project};
 use crate::surface::BSplineSurface;
 
 /// How the u- and v-isocurve point clouds are combined (module docs, step 4).
@@ -193,6 +193,45 @@ impl std::str::FromStr for Combine {
     }
 }
 
+/// What [`fair_surface`] does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub enum SurfaceMethod {
+    /// The isocurve fairing (steps 1-7), then the fairest of it, the reference smoother and the smoother
+    /// run on its result (step 8).
+    #[default]
+    Fairway,
+    /// The reference smoother alone: tensor-product penalized least squares on the original's grid
+    /// samples with the thin-plate energy ([`PlateFit`], order [`REFERENCE_ORDER`]), the largest strength
+    /// whose result holds the verified band (module docs, step 8).
+    Smoothing,
+}
+
+impl std::str::FromStr for SurfaceMethod {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.to_ascii_lowercase().as_str() {
+            "fairway" | "fast" => Ok(Self::Fairway),
+            "smoothing" => Ok(Self::Smoothing),
+            _ => Err(Error::InvalidInput(format!(
+                "unknown surface method {s:?}: expected fast (fairway) or smoothing"
+            ))),
+        }
+    }
+}
+
+/// Which candidate [`fair_surface`] returned (module docs, step 8).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum SurfacePick {
+    /// The isocurve fairing's result (steps 1-7).
+    Isocurves,
+    /// The reference smoother's result on the original's samples.
+    Reference,
+    /// The reference smoother run on the isocurve fairing's result (band still against the original).
+    Combined,
+    /// The original: no candidate was fairer.
+    Original,
+}
+
 /// Options of a surface fairing.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SurfaceFairingOptions {
@@ -223,6 +262,8 @@ pub struct SurfaceFairingOptions {
     /// each level's tolerance m/3, m/9, … (one setup per isocurve, re-faired per level: about 2× the
     /// isocurve time). Measured in the module docs (step 6): the same fairness within a few per cent.
     pub refair_levels: bool,
+    /// The isocurve fairing with the step-8 choice (default) or the reference smoother alone.
+    pub method: SurfaceMethod,
 }
 
 impl Default for SurfaceFairingOptions {
@@ -242,6 +283,7 @@ impl Default for SurfaceFairingOptions {
             threads: None,
             iso_levels: 3,
             refair_levels: false,
+            method: SurfaceMethod::Fairway,
         }
     }
 }
@@ -269,6 +311,8 @@ pub struct SurfaceFairingResult {
     pub free_v: Range<usize>,
     /// Where the time went.
     pub timings: SurfaceTimings,
+    /// Which candidate was returned (module docs, step 8).
+    pub pick: SurfacePick,
 }
 
 /// Wall-clock time of the phases of one [`fair_surface`] call (summed over
@@ -283,12 +327,14 @@ pub struct SurfaceTimings {
     pub fit: Duration,
     /// Hard-tolerance verification (coarse and full check grids, α bisection).
     pub verify: Duration,
+    /// The reference smoother's searches and the ranking of the candidates (step 8).
+    pub reference: Duration,
 }
 
 impl SurfaceTimings {
     /// Sum of the phases.
     pub fn total(&self) -> Duration {
-        self.isocurves + self.combine + self.fit + self.verify
+        self.isocurves + self.combine + self.fit + self.verify + self.reference
     }
 }
 
@@ -398,209 +444,395 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
         isocurves: t_orig.elapsed(),
         ..Default::default()
     };
-    let mut m_iso = m;
-    let mut best: Option<(Vec<DVec3>, f64)> = None;
-    let mut rounds = 0;
-    let ladder: &[f64] = if opts.auto_smoothing {
-        &AUTO_STRENGTHS
-    } else {
-        &[f64::NAN]
-    };
-    // fairness energy over the moving rectangle (auto-smoothing selection, module docs step 6)
-    let energy = opts.auto_smoothing.then(|| FairnessGrid::new(&s, (au, bu), (av, bv)));
-    let grid_fit = GridFit::new(&s, &us, &vs, free_u.clone(), free_v.clone())?;
-    // the fairest candidate holding the band so far: (points, dev, m_iso, smoothing, round, energy)
-    type Pick = (Vec<DVec3>, f64, f64, SurfaceSmoothing, usize, f64);
-    let mut pick: Option<Pick> = None;
-    let max_rounds = if opts.auto_smoothing {
-        MAX_ROUNDS.max(opts.iso_levels.max(1))
-    } else {
-        MAX_ROUNDS
-    };
-    // With auto smoothing the clouds of all `iso_levels` levels m, m/3, m/9, … are made in the first round:
-    // the correction of the pass at m scaled by 1/3, 1/9, … or, with `refair_levels`, the isocurves faired at
-    // each tolerance (one setup per isocurve, re-faired per level). The rounds that step down a level take
-    // their cloud from here; a tightening round (no level held the band) fairs the isocurves at its own m_iso.
-    let mut level_clouds: Vec<(f64, Vec<DVec3>)> = Vec::new();
-    if opts.auto_smoothing && opts.iso_levels > 1 {
-        let mut levels = vec![m_iso];
-        for _ in 1..opts.iso_levels {
-            levels.push(levels[levels.len() - 1] * ISO_LEVEL_FACTOR);
-        }
-        let clouds = if opts.refair_levels {
-            combined_cloud(&s, &opts, &levels, (u1, u2), (v1, v2), &us, &vs, &orig, &mut tm)?
-        } else {
-            let first = combined_cloud(&s, &opts, &levels[..1], (u1, u2), (v1, v2), &us, &vs, &orig, &mut tm)?;
-            let first = first.into_iter().next().expect("one level");
-            let t0 = Instant::now();
-            let scaled = levels
-                .iter()
-                .map(|l| {
-                    let a = l / levels[0];
-                    first.iter().zip(&orig).map(|(c, o)| *o + (*c - *o) * a).collect()
-                })
-                .collect();
-            tm.combine += t0.elapsed();
-            scaled
-        };
-        level_clouds = levels.into_iter().zip(clouds).collect();
-    }
-    for _ in 0..max_rounds {
-        rounds += 1;
-        let data = match level_clouds.iter().position(|(l, _)| *l == m_iso) {
-            Some(i) => level_clouds.swap_remove(i).1,
-            None => combined_cloud(&s, &opts, &[m_iso], (u1, u2), (v1, v2), &us, &vs, &orig, &mut tm)?
-                .pop()
-                .expect("one level"),
-        };
-        let mut level_best: Option<Pick> = None;
-        // the fits and their fairness energies are independent: computed in parallel, then checked in order
+    let rect = ((au, bu), (av, bv));
+    if opts.method == SurfaceMethod::Smoothing {
         let t0 = Instant::now();
-        // After the first level only the pick's strength and its two neighbours on the ladder are fitted
-        // (module docs, step 6): the fairest strength moves little from one level to the next.
-        let near: Vec<f64> = match &pick {
-            Some(pk) => {
-                let i = ladder.iter().position(|&x| x == pk.3.strength_u).unwrap_or(0);
-                ladder[i.saturating_sub(1)..(i + 2).min(ladder.len())].to_vec()
-            }
-            _ => ladder.to_vec(),
+        let grid_fit = GridFit::new(&s, &us, &vs, free_u.clone(), free_v.clone())?;
+        let plate = plate_fit(&s, &grid_fit, &us, &vs)?;
+        let rhs = grid_fit.project(&orig)?;
+        let bands = Bands {
+            coarse: &coarse_check,
+            full: &full_check,
+            free_u: &free_u,
+            free_v: &free_v,
+            m,
         };
-        // the data term is the same for every strength: projected once per level
-        let rhs = grid_fit.project(&data)?;
-        let cands = par_map(&near, threads, |&st| {
-            let sm = if st.is_nan() {
-                opts.smoothing
-            } else {
-                SurfaceSmoothing {
-                    strength_u: st,
-                    strength_v: st,
-                    order: opts.smoothing.order,
-                }
-            };
-            let pts = grid_fit.solve(&rhs, sm)?;
-            let faired = s.with_points(pts.clone())?;
-            let e = energy.as_ref().map(|eg| eg.energy(&faired));
-            Ok::<_, Error>((sm, pts, faired, e))
-        });
-        tm.fit += t0.elapsed();
-        for cand in cands {
-            let (sm, pts, faired, e) = cand?;
-            let t1 = Instant::now();
-            // with auto smoothing: a candidate no fairer than the level's best is not checked
-            if let (Some(e), Some(lb)) = (e, level_best.as_ref())
-                && e >= lb.5
-            {
-                tm.verify += t1.elapsed();
-                continue;
-            }
-            // coarse check first (cheap), the full check only for a candidate that passes it
-            if coarse_check.deviation(&s, &faired, &free_u, &free_v, m, true) > m {
-                tm.verify += t1.elapsed();
-                continue;
-            }
-            let dev = full_check.deviation(&s, &faired, &free_u, &free_v, m, false);
-            if dev <= m {
-                match e {
-                    None => {
-                        tm.verify += t1.elapsed();
-                        return Ok(SurfaceFairingResult {
-                            surface: faired,
-                            max_deviation: dev,
-                            iso_tolerance: m_iso,
-                            rounds,
-                            alpha: 1.0,
-                            smoothing: sm,
-                            free_u,
-                            free_v,
-                            timings: tm,
-                        });
-                    }
-                    Some(e) => level_best = Some((pts.clone(), dev, m_iso, sm, rounds, e)),
-                }
-            }
-            tm.verify += t1.elapsed();
-            if best.as_ref().is_none_or(|b| dev < b.1) {
-                best = Some((pts, dev));
-            }
-        }
-        if let Some(lb) = level_best {
-            let improved = pick.as_ref().is_none_or(|p| lb.5 < p.5);
-            if improved {
-                pick = Some(lb);
-            }
-            if !improved || rounds >= opts.iso_levels.max(1) {
-                break;
-            }
-            m_iso *= ISO_LEVEL_FACTOR;
-            continue;
-        }
-        if pick.is_some() {
-            m_iso *= ISO_LEVEL_FACTOR;
-            continue;
-        }
-        if best.is_none() {
-            let t0 = Instant::now();
-            let pts = grid_fit.solve(&rhs, opts.smoothing)?;
-            let t1 = Instant::now();
-            tm.fit += t1 - t0;
-            let dev = full_check.deviation(&s, &s.with_points(pts.clone())?, &free_u, &free_v, m, false);
-            tm.verify += t1.elapsed();
-            best = Some((pts, dev));
-        }
-        let dev = best.as_ref().unwrap().1;
-        m_iso *= 0.8 * m / dev;
-    }
-    if let Some((pts, dev, m_iso, sm, round, _)) = pick {
+        let (pts, dev, strength) = plate_search(&s, &plate, &rhs, &bands)?;
+        tm.reference += t0.elapsed();
         return Ok(SurfaceFairingResult {
             surface: s.with_points(pts)?,
             max_deviation: dev,
-            iso_tolerance: m_iso,
-            rounds: round,
+            iso_tolerance: 0.0,
+            rounds: 0,
             alpha: 1.0,
-            smoothing: sm,
+            smoothing: SurfaceSmoothing {
+                strength_u: strength,
+                strength_v: strength,
+                order: REFERENCE_ORDER,
+            },
             free_u,
             free_v,
             timings: tm,
+            pick: SurfacePick::Reference,
         });
     }
-    // α fallback: bisect the largest α ∈ [0, 1] whose blend holds the band
-    let (pts, _) = best.expect("at least one round");
-    let blend = |alpha: f64| -> Vec<DVec3> {
-        s.points()
-            .iter()
-            .zip(&pts)
-            .map(|(a, b)| *a + (*b - *a) * alpha)
-            .collect()
-    };
-    let t0 = Instant::now();
-    let (mut lo, mut hi) = (0.0f64, 1.0f64);
-    let mut lo_dev = 0.0;
-    for _ in 0..20 {
-        let mid = 0.5 * (lo + hi);
-        let f = s.with_points(blend(mid))?;
-        let d = full_check.deviation(&s, &f, &free_u, &free_v, m, true);
-        if d <= m {
-            lo = mid;
-            lo_dev = d;
+    // today's isocurve fairing (module docs, steps 3-7)
+    let iso_result = (|| -> Result<SurfaceFairingResult> {
+        let mut m_iso = m;
+        let mut best: Option<(Vec<DVec3>, f64)> = None;
+        let mut rounds = 0;
+        let ladder: &[f64] = if opts.auto_smoothing {
+            &AUTO_STRENGTHS
         } else {
-            hi = mid;
+            &[f64::NAN]
+        };
+        // fairness energy over the moving rectangle (auto-smoothing selection, module docs step 6)
+        let energy = opts.auto_smoothing.then(|| FairnessGrid::new(&s, (au, bu), (av, bv)));
+        let grid_fit = GridFit::new(&s, &us, &vs, free_u.clone(), free_v.clone())?;
+        // the fairest candidate holding the band so far: (points, dev, m_iso, smoothing, round, energy)
+        type Pick = (Vec<DVec3>, f64, f64, SurfaceSmoothing, usize, f64);
+        let mut pick: Option<Pick> = None;
+        let max_rounds = if opts.auto_smoothing {
+            MAX_ROUNDS.max(opts.iso_levels.max(1))
+        } else {
+            MAX_ROUNDS
+        };
+        // With auto smoothing the clouds of all `iso_levels` levels m, m/3, m/9, … are made in the first round:
+        // the correction of the pass at m scaled by 1/3, 1/9, … or, with `refair_levels`, the isocurves faired at
+        // each tolerance (one setup per isocurve, re-faired per level). The rounds that step down a level take
+        // their cloud from here; a tightening round (no level held the band) fairs the isocurves at its own m_iso.
+        let mut level_clouds: Vec<(f64, Vec<DVec3>)> = Vec::new();
+        if opts.auto_smoothing && opts.iso_levels > 1 {
+            let mut levels = vec![m_iso];
+            for _ in 1..opts.iso_levels {
+                levels.push(levels[levels.len() - 1] * ISO_LEVEL_FACTOR);
+            }
+            let clouds = if opts.refair_levels {
+                combined_cloud(&s, &opts, &levels, (u1, u2), (v1, v2), &us, &vs, &orig, &mut tm)?
+            } else {
+                let first = combined_cloud(&s, &opts, &levels[..1], (u1, u2), (v1, v2), &us, &vs, &orig, &mut tm)?;
+                let first = first.into_iter().next().expect("one level");
+                let t0 = Instant::now();
+                let scaled = levels
+                    .iter()
+                    .map(|l| {
+                        let a = l / levels[0];
+                        first.iter().zip(&orig).map(|(c, o)| *o + (*c - *o) * a).collect()
+                    })
+                    .collect();
+                tm.combine += t0.elapsed();
+                scaled
+            };
+            level_clouds = levels.into_iter().zip(clouds).collect();
         }
-        if hi - lo < 1e-4 {
-            break;
+        for _ in 0..max_rounds {
+            rounds += 1;
+            let data = match level_clouds.iter().position(|(l, _)| *l == m_iso) {
+                Some(i) => level_clouds.swap_remove(i).1,
+                None => combined_cloud(&s, &opts, &[m_iso], (u1, u2), (v1, v2), &us, &vs, &orig, &mut tm)?
+                    .pop()
+                    .expect("one level"),
+            };
+            let mut level_best: Option<Pick> = None;
+            // the fits and their fairness energies are independent: computed in parallel, then checked in order
+            let t0 = Instant::now();
+            // After the first level only the pick's strength and its two neighbours on the ladder are fitted
+            // (module docs, step 6): the fairest strength moves little from one level to the next.
+            let near: Vec<f64> = match &pick {
+                Some(pk) => {
+                    let i = ladder.iter().position(|&x| x == pk.3.strength_u).unwrap_or(0);
+                    ladder[i.saturating_sub(1)..(i + 2).min(ladder.len())].to_vec()
+                }
+                _ => ladder.to_vec(),
+            };
+            // the data term is the same for every strength: projected once per level
+            let rhs = grid_fit.project(&data)?;
+            let cands = par_map(&near, threads, |&st| {
+                let sm = if st.is_nan() {
+                    opts.smoothing
+                } else {
+                    SurfaceSmoothing {
+                        strength_u: st,
+                        strength_v: st,
+                        order: opts.smoothing.order,
+                    }
+                };
+                let pts = grid_fit.solve(&rhs, sm)?;
+                let faired = s.with_points(pts.clone())?;
+                let e = energy.as_ref().map(|eg| eg.energy(&faired));
+                Ok::<_, Error>((sm, pts, faired, e))
+            });
+            tm.fit += t0.elapsed();
+            for cand in cands {
+                let (sm, pts, faired, e) = cand?;
+                let t1 = Instant::now();
+                // with auto smoothing: a candidate no fairer than the level's best is not checked
+                if let (Some(e), Some(lb)) = (e, level_best.as_ref())
+                    && e >= lb.5
+                {
+                    tm.verify += t1.elapsed();
+                    continue;
+                }
+                // coarse check first (cheap), the full check only for a candidate that passes it
+                if coarse_check.deviation(&s, &faired, &free_u, &free_v, m, true) > m {
+                    tm.verify += t1.elapsed();
+                    continue;
+                }
+                let dev = full_check.deviation(&s, &faired, &free_u, &free_v, m, false);
+                if dev <= m {
+                    match e {
+                        None => {
+                            tm.verify += t1.elapsed();
+                            return Ok(SurfaceFairingResult {
+                                surface: faired,
+                                max_deviation: dev,
+                                iso_tolerance: m_iso,
+                                rounds,
+                                alpha: 1.0,
+                                smoothing: sm,
+                                free_u: free_u.clone(),
+                                free_v: free_v.clone(),
+                                timings: tm,
+                                pick: SurfacePick::Isocurves,
+                            });
+                        }
+                        Some(e) => level_best = Some((pts.clone(), dev, m_iso, sm, rounds, e)),
+                    }
+                }
+                tm.verify += t1.elapsed();
+                if best.as_ref().is_none_or(|b| dev < b.1) {
+                    best = Some((pts, dev));
+                }
+            }
+            if let Some(lb) = level_best {
+                let improved = pick.as_ref().is_none_or(|p| lb.5 < p.5);
+                if improved {
+                    pick = Some(lb);
+                }
+                if !improved || rounds >= opts.iso_levels.max(1) {
+                    break;
+                }
+                m_iso *= ISO_LEVEL_FACTOR;
+                continue;
+            }
+            if pick.is_some() {
+                m_iso *= ISO_LEVEL_FACTOR;
+                continue;
+            }
+            if best.is_none() {
+                let t0 = Instant::now();
+                let pts = grid_fit.solve(&rhs, opts.smoothing)?;
+                let t1 = Instant::now();
+                tm.fit += t1 - t0;
+                let dev = full_check.deviation(&s, &s.with_points(pts.clone())?, &free_u, &free_v, m, false);
+                tm.verify += t1.elapsed();
+                best = Some((pts, dev));
+            }
+            let dev = best.as_ref().unwrap().1;
+            m_iso *= 0.8 * m / dev;
+        }
+        if let Some((pts, dev, m_iso, sm, round, _)) = pick {
+            return Ok(SurfaceFairingResult {
+                surface: s.with_points(pts)?,
+                max_deviation: dev,
+                iso_tolerance: m_iso,
+                rounds: round,
+                alpha: 1.0,
+                smoothing: sm,
+                free_u: free_u.clone(),
+                free_v: free_v.clone(),
+                timings: tm,
+                pick: SurfacePick::Isocurves,
+            });
+        }
+        // α fallback: bisect the largest α ∈ [0, 1] whose blend holds the band
+        let (pts, _) = best.expect("at least one round");
+        let blend = |alpha: f64| -> Vec<DVec3> {
+            s.points()
+                .iter()
+                .zip(&pts)
+                .map(|(a, b)| *a + (*b - *a) * alpha)
+                .collect()
+        };
+        let t0 = Instant::now();
+        let (mut lo, mut hi) = (0.0f64, 1.0f64);
+        let mut lo_dev = 0.0;
+        for _ in 0..20 {
+            let mid = 0.5 * (lo + hi);
+            let f = s.with_points(blend(mid))?;
+            let d = full_check.deviation(&s, &f, &free_u, &free_v, m, true);
+            if d <= m {
+                lo = mid;
+                lo_dev = d;
+            } else {
+                hi = mid;
+            }
+            if hi - lo < 1e-4 {
+                break;
+            }
+        }
+        tm.verify += t0.elapsed();
+        Ok(SurfaceFairingResult {
+            surface: s.with_points(blend(lo))?,
+            max_deviation: lo_dev,
+            iso_tolerance: m_iso,
+            rounds,
+            alpha: lo,
+            smoothing: opts.smoothing,
+            free_u: free_u.clone(),
+            free_v: free_v.clone(),
+            timings: tm,
+            pick: SurfacePick::Isocurves,
+        })
+    })()?;
+    let mut result = iso_result;
+    // step 8: the fairest of the isocurve fairing, the reference smoother and the smoother run on the
+    // isocurve fairing's result, never less fair than the original
+    let t0 = Instant::now();
+    let grid_fit = GridFit::new(&s, &us, &vs, free_u.clone(), free_v.clone())?;
+    let plate = plate_fit(&s, &grid_fit, &us, &vs)?;
+    let bands = Bands {
+        coarse: &coarse_check,
+        full: &full_check,
+        free_u: &free_u,
+        free_v: &free_v,
+        m,
+    };
+    let reference = plate_search(&s, &plate, &grid_fit.project(&orig)?, &bands)?;
+    let iso_grid = grid_points(&result.surface, &us, &vs);
+    let combined = plate_search(&s, &plate, &grid_fit.project(&iso_grid)?, &bands)?;
+    let ranker = Ranker::new(&s, rect);
+    let orig_rank = ranker.rank(&s);
+    let mut best_rank = ranker.rank(&result.surface);
+    for (pick, (pts, dev, strength)) in [(SurfacePick::Reference, reference), (SurfacePick::Combined, combined)] {
+        let cand = s.with_points(pts)?;
+        let r = ranker.rank(&cand);
+        if r < best_rank {
+            best_rank = r;
+            result.surface = cand;
+            result.max_deviation = dev;
+            result.alpha = 1.0;
+            result.smoothing = SurfaceSmoothing {
+                strength_u: strength,
+                strength_v: strength,
+                order: REFERENCE_ORDER,
+            };
+            result.pick = pick;
         }
     }
-    tm.verify += t0.elapsed();
-    Ok(SurfaceFairingResult {
-        surface: s.with_points(blend(lo))?,
-        max_deviation: lo_dev,
-        iso_tolerance: m_iso,
-        rounds,
-        alpha: lo,
-        smoothing: opts.smoothing,
-        free_u,
-        free_v,
-        timings: tm,
-    })
+    if !(best_rank < orig_rank) {
+        result.surface = s.clone();
+        result.max_deviation = 0.0;
+        result.alpha = 0.0;
+        result.pick = SurfacePick::Original;
+    }
+    result.timings.reference += t0.elapsed();
+    Ok(result)
+}
+
+/// Order of the reference smoother's energy: 2, the thin-plate energy (module docs, step 8).
+pub const REFERENCE_ORDER: usize = 2;
+/// Smallest and largest strength (log10) of the reference smoother's search.
+pub const REFERENCE_LOG_STRENGTH: (f64, f64) = (-6.0, 8.0);
+/// Bisection steps on log10 of the strength (resolution 14 / 2¹² decades, under 1 % in λ).
+pub const REFERENCE_STEPS: usize = 12;
+/// Isocurves per direction of the step-8 ranking (as `measure`'s [`crate::measure_surface::N_ISO`]).
+pub const RANK_ISO: usize = 20;
+
+/// The reference smoother's energy for `s` on its grid: [`PlateFit`] of [`REFERENCE_ORDER`] with the mean
+/// speeds `|S_u|`, `|S_v|` of the original over the grid as length scales.
+fn plate_fit<'g, 'a>(s: &BSplineSurface, grid: &'g GridFit<'a>, us: &[f64], vs: &[f64]) -> Result<PlateFit<'g, 'a>> {
+    let (mut lu, mut lv, mut n) = (0.0, 0.0, 0usize);
+    let step_u = (us.len() / 16).max(1);
+    let step_v = (vs.len() / 16).max(1);
+    for &u in us.iter().step_by(step_u) {
+        for &v in vs.iter().step_by(step_v) {
+            let d = s.derivs(u, v);
+            lu += d.su.length();
+            lv += d.sv.length();
+            n += 1;
+        }
+    }
+    PlateFit::new(grid, REFERENCE_ORDER, lu / n as f64, lv / n as f64)
+}
+
+/// The band as [`fair_surface`] verifies it: the coarse check, then the full one.
+struct Bands<'a> {
+    coarse: &'a CheckGrid,
+    full: &'a CheckGrid,
+    free_u: &'a Range<usize>,
+    free_v: &'a Range<usize>,
+    m: f64,
+}
+
+impl Bands<'_> {
+    /// The verified deviation bound of `f` from `s` if it is within the band.
+    fn holds(&self, s: &BSplineSurface, f: &BSplineSurface) -> Option<f64> {
+        if self.coarse.deviation(s, f, self.free_u, self.free_v, self.m, true) > self.m {
+            return None;
+        }
+        let dev = self.full.deviation(s, f, self.free_u, self.free_v, self.m, false);
+        (dev <= self.m).then_some(dev)
+    }
+}
+
+/// The smoother's search: the largest strength on [`REFERENCE_LOG_STRENGTH`] (bisection on its log,
+/// [`REFERENCE_STEPS`] steps) whose result holds the band; `(net, deviation bound, strength)`. When not
+/// even the smallest does, the original net (strength 0, deviation 0).
+fn plate_search(s: &BSplineSurface, plate: &PlateFit<'_, '_>, rhs: &[DVec3], bands: &Bands<'_>) -> Result<(Vec<DVec3>, f64, f64)> {
+    let attempt = |log_st: f64| -> Result<Option<(Vec<DVec3>, f64, f64)>> {
+        let st = 10f64.powf(log_st);
+        let pts = match plate.solve(rhs, st) {
+            Ok(p) => p,
+            // a strength too large for the factorization's pivots counts as not holding
+            Err(Error::Solve(_)) => return Ok(None),
+            Err(e) => return Err(e),
+        };
+        let f = s.with_points(pts)?;
+        Ok(bands.holds(s, &f).map(|dev| (f.points().to_vec(), dev, st)))
+    };
+    let (mut lo, mut hi) = REFERENCE_LOG_STRENGTH;
+    if let Some(r) = attempt(hi)? {
+        return Ok(r);
+    }
+    let Some(mut best) = attempt(lo)? else {
+        return Ok((s.points().to_vec(), 0.0, 0.0));
+    };
+    for _ in 0..REFERENCE_STEPS {
+        let mid = 0.5 * (lo + hi);
+        match attempt(mid)? {
+            Some(r) => {
+                best = r;
+                lo = mid;
+            }
+            None => hi = mid,
+        }
+    }
+    Ok(best)
+}
+
+/// The step-8 ranking over the moving rectangle: (isocurve curvature extrema with the 1 % dead band of
+/// the original's max |κ_n|, `∫∫|∇H|² dA`), compared lexicographically — the measures of
+/// [`crate::measure_surface`].
+struct Ranker {
+    rect: ((f64, f64), (f64, f64)),
+    delta: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, PartialOrd)]
+struct Rank(usize, f64);
+
+impl Ranker {
+    fn new(s: &BSplineSurface, rect: ((f64, f64), (f64, f64))) -> Self {
+        let delta = 0.01 * iso_stats_in(s, rect, RANK_ISO, 0.0).max_abs_kappa;
+        Self { rect, delta }
+    }
+
+    fn rank(&self, f: &BSplineSurface) -> Rank {
+        let st = iso_stats_in(f, self.rect, RANK_ISO, self.delta);
+        let e = mean_curvature_variation_in(f, self.rect);
+        Rank(st.extrema_u + st.extrema_v, if e.is_finite() { e } else { f64::INFINITY })
+    }
 }
 
 /// Rows next to a pole that a fair keeps: the pole row and the two after it fix the surface's position,
