@@ -160,7 +160,8 @@ use crate::basis::{MAX_ORDER, basis_funs};
 use crate::error::{Error, Result};
 use crate::fit_surface::{GridFit, PlateFit, SurfaceSmoothing, free_range};
 use crate::knots::KnotVector;
-use crate::measure_surface::{iso_stats_in, mean_curvature_variation_in, newton_project};
+use crate::measure_surface::{iso_stats_in, mean_curvature_variation_rule, newton_project};
+use crate::quadrature::GaussLegendre;
 use crate::surface::BSplineSurface;
 
 /// How the u- and v-isocurve point clouds are combined (module docs, step 4).
@@ -204,6 +205,8 @@ pub enum SurfaceMethod {
     /// samples with the thin-plate energy ([`PlateFit`], order [`REFERENCE_ORDER`]), the largest strength
     /// whose result holds the verified band (module docs, step 8).
     Smoothing,
+    /// The isocurve fairing alone (steps 1-7, without the step-8 choice): for comparisons.
+    Isocurves,
 }
 
 impl std::str::FromStr for SurfaceMethod {
@@ -212,8 +215,9 @@ impl std::str::FromStr for SurfaceMethod {
         match s.to_ascii_lowercase().as_str() {
             "fairway" | "fast" => Ok(Self::Fairway),
             "smoothing" => Ok(Self::Smoothing),
+            "isocurves" => Ok(Self::Isocurves),
             _ => Err(Error::InvalidInput(format!(
-                "unknown surface method {s:?}: expected fast (fairway) or smoothing"
+                "unknown surface method {s:?}: expected fast (fairway), smoothing or isocurves"
             ))),
         }
     }
@@ -228,6 +232,8 @@ pub enum SurfacePick {
     Reference,
     /// The reference smoother run on the isocurve fairing's result (band still against the original).
     Combined,
+    /// A blend of the isocurve result's net with the fairer smoother net ([`BLENDS`]).
+    Blend,
     /// The original: no candidate was fairer.
     Original,
 }
@@ -445,7 +451,16 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
         ..Default::default()
     };
     let rect = ((au, bu), (av, bv));
+    let fine_check = || {
+        CheckGrid::new(
+            &s,
+            &span_grid(&ku, au, bu, FINE_CHECK_PER_SPAN),
+            &span_grid(&kv, av, bv, FINE_CHECK_PER_SPAN),
+            threads,
+        )
+    };
     if opts.method == SurfaceMethod::Smoothing {
+        let fine = fine_check();
         let t0 = Instant::now();
         let grid_fit = GridFit::new(&s, &us, &vs, free_u.clone(), free_v.clone())?;
         let plate = plate_fit(&s, &grid_fit, &us, &vs)?;
@@ -453,11 +468,14 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
         let bands = Bands {
             coarse: &coarse_check,
             full: &full_check,
+            fine: &fine,
             free_u: &free_u,
             free_v: &free_v,
             m,
         };
-        let (pts, dev, strength) = plate_search(&s, &plate, &rhs, &bands)?;
+        let (pts, dev, strength) = plate_search(&s, &plate, &rhs, &bands)?
+            .pop()
+            .unwrap_or_else(|| (s.points().to_vec(), 0.0, 0.0));
         tm.reference += t0.elapsed();
         return Ok(SurfaceFairingResult {
             surface: s.with_points(pts)?,
@@ -685,50 +703,105 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
             pick: SurfacePick::Isocurves,
         })
     })()?;
+    if opts.method == SurfaceMethod::Isocurves {
+        return Ok(iso_result);
+    }
     let mut result = iso_result;
-    // step 8: the fairest of the isocurve fairing, the reference smoother and the smoother run on the
-    // isocurve fairing's result, never less fair than the original
+    // step 8 (module docs)
     let t0 = Instant::now();
     let grid_fit = GridFit::new(&s, &us, &vs, free_u.clone(), free_v.clone())?;
     let plate = plate_fit(&s, &grid_fit, &us, &vs)?;
+    let fine = fine_check();
     let bands = Bands {
         coarse: &coarse_check,
         full: &full_check,
+        fine: &fine,
         free_u: &free_u,
         free_v: &free_v,
         m,
     };
+    let ranker = Ranker::new(&s, rect);
+    // (rank, pick, surface, deviation bound, strength)
+    type Cand = (Rank, SurfacePick, BSplineSurface, f64, f64);
+    let mut cands: Vec<Cand> = vec![
+        (ranker.rank(&s), SurfacePick::Original, s.clone(), 0.0, 0.0),
+        (
+            ranker.rank(&result.surface),
+            SurfacePick::Isocurves,
+            result.surface.clone(),
+            result.max_deviation,
+            result.smoothing.strength_u,
+        ),
+    ];
+    let today = cands[1].0;
+    // the reference smoother: its answer is the largest strength; every band-holding strength of the
+    // search is a candidate too (ranked, not trusted to be fairer)
     let reference = plate_search(&s, &plate, &grid_fit.project(&orig)?, &bands)?;
     let iso_grid = grid_points(&result.surface, &us, &vs);
     let combined = plate_search(&s, &plate, &grid_fit.project(&iso_grid)?, &bands)?;
-    let ranker = Ranker::new(&s, rect);
-    let orig_rank = ranker.rank(&s);
-    let mut best_rank = ranker.rank(&result.surface);
-    for (pick, (pts, dev, strength)) in [(SurfacePick::Reference, reference), (SurfacePick::Combined, combined)] {
-        let cand = s.with_points(pts)?;
-        let r = ranker.rank(&cand);
-        if r < best_rank {
-            best_rank = r;
-            result.surface = cand;
-            result.max_deviation = dev;
-            result.alpha = 1.0;
-            result.smoothing = SurfaceSmoothing {
-                strength_u: strength,
-                strength_v: strength,
-                order: REFERENCE_ORDER,
-            };
-            result.pick = pick;
+    let ref_rank = match reference.last() {
+        Some((pts, ..)) => ranker.rank(&s.with_points(pts.clone())?),
+        None => cands[0].0,
+    };
+    for (pick, found) in [(SurfacePick::Reference, reference), (SurfacePick::Combined, combined)] {
+        for (pts, dev, st) in found {
+            let f = s.with_points(pts)?;
+            cands.push((ranker.rank(&f), pick, f, dev, st));
         }
     }
-    if !(best_rank < orig_rank) {
-        result.surface = s.clone();
-        result.max_deviation = 0.0;
-        result.alpha = 0.0;
-        result.pick = SurfacePick::Original;
+    // blends of the isocurve result with the lexicographically fairest smoother net: |S_blend − S| is at
+    // most the larger of the two nets' changes at every point; each is checked on the fine grid again
+    let smoother = cands[2..]
+        .iter()
+        .min_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal))
+        .map(|c| c.2.clone());
+    if let Some(sm) = smoother {
+        for w in BLENDS {
+            let pts: Vec<DVec3> = (result.surface.points().iter().zip(sm.points()))
+                .map(|(a, b)| *a * w + *b * (1.0 - w))
+                .collect();
+            let f = s.with_points(pts)?;
+            if let Some(dev) = bands.holds(&s, &f) {
+                cands.push((ranker.rank(&f), SurfacePick::Blend, f, dev, 0.0));
+            }
+        }
+    }
+    // the lexicographically fairest of the candidates no less fair than both the reference and the
+    // isocurve result on either measure; if none, of those no less fair than the reference
+    let dominates = |r: &Rank, o: &Rank| r.0 <= o.0 && r.1 <= o.1;
+    let best_of = |keep: &dyn Fn(&Rank) -> bool| {
+        cands
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| keep(&c.0))
+            .min_by(|a, b| a.1.0.partial_cmp(&b.1.0).unwrap_or(std::cmp::Ordering::Equal))
+            .map(|(i, _)| i)
+    };
+    let pick = best_of(&|r| dominates(r, &ref_rank) && dominates(r, &today))
+        .or_else(|| best_of(&|r| dominates(r, &ref_rank)))
+        .unwrap_or(1);
+    let (_, kind, f, dev, st) = cands.swap_remove(pick);
+    if kind != SurfacePick::Isocurves {
+        result.surface = f;
+        result.max_deviation = dev;
+        result.alpha = if kind == SurfacePick::Original { 0.0 } else { 1.0 };
+        result.smoothing = SurfaceSmoothing {
+            strength_u: st,
+            strength_v: st,
+            order: REFERENCE_ORDER,
+        };
+        result.pick = kind;
     }
     result.timings.reference += t0.elapsed();
     Ok(result)
 }
+
+/// Check samples per knot span and direction of the step-8 candidates (module docs, step 8).
+pub const FINE_CHECK_PER_SPAN: usize = 4 * CHECK_PER_SPAN;
+/// Blend weights of the isocurve result tried against the smoother's (step 8).
+pub const BLENDS: [f64; 5] = [0.1, 0.25, 0.5, 0.75, 0.9];
+/// Gauss–Legendre nodes per cell and direction of the step-8 ranking's `∫∫|∇H|²`.
+pub const RANK_GAUSS: usize = 4;
 
 /// Order of the reference smoother's energy: 2, the thin-plate energy (module docs, step 8).
 pub const REFERENCE_ORDER: usize = 2;
@@ -760,6 +833,9 @@ fn plate_fit<'g, 'a>(s: &BSplineSurface, grid: &'g GridFit<'a>, us: &[f64], vs: 
 struct Bands<'a> {
     coarse: &'a CheckGrid,
     full: &'a CheckGrid,
+    /// [`FINE_CHECK_PER_SPAN`] samples per span: the smoother's nets bulge between the full grid's nodes
+    /// (by up to 1 % of m, measured by dense projection), so its candidates are accepted on this grid.
+    fine: &'a CheckGrid,
     free_u: &'a Range<usize>,
     free_v: &'a Range<usize>,
     m: f64,
@@ -771,15 +847,24 @@ impl Bands<'_> {
         if self.coarse.deviation(s, f, self.free_u, self.free_v, self.m, true) > self.m {
             return None;
         }
-        let dev = self.full.deviation(s, f, self.free_u, self.free_v, self.m, false);
+        if self.full.deviation(s, f, self.free_u, self.free_v, self.m, true) > self.m {
+            return None;
+        }
+        let dev = self.fine.deviation(s, f, self.free_u, self.free_v, self.m, false);
         (dev <= self.m).then_some(dev)
     }
 }
 
-/// The smoother's search: the largest strength on [`REFERENCE_LOG_STRENGTH`] (bisection on its log,
-/// [`REFERENCE_STEPS`] steps) whose result holds the band; `(net, deviation bound, strength)`. When not
-/// even the smallest does, the original net (strength 0, deviation 0).
-fn plate_search(s: &BSplineSurface, plate: &PlateFit<'_, '_>, rhs: &[DVec3], bands: &Bands<'_>) -> Result<(Vec<DVec3>, f64, f64)> {
+/// The smoother's search: bisection on the log of the strength over [`REFERENCE_LOG_STRENGTH`]
+/// ([`REFERENCE_STEPS`] steps) for the largest strength whose result holds the band. Returns every
+/// band-holding result visited as `(net, deviation bound, strength)`, by increasing strength: the last is
+/// the smoother's answer. Empty when not even the smallest strength holds the band.
+fn plate_search(
+    s: &BSplineSurface,
+    plate: &PlateFit<'_, '_>,
+    rhs: &[DVec3],
+    bands: &Bands<'_>,
+) -> Result<Vec<(Vec<DVec3>, f64, f64)>> {
     let attempt = |log_st: f64| -> Result<Option<(Vec<DVec3>, f64, f64)>> {
         let st = 10f64.powf(log_st);
         let pts = match plate.solve(rhs, st) {
@@ -793,22 +878,23 @@ fn plate_search(s: &BSplineSurface, plate: &PlateFit<'_, '_>, rhs: &[DVec3], ban
     };
     let (mut lo, mut hi) = REFERENCE_LOG_STRENGTH;
     if let Some(r) = attempt(hi)? {
-        return Ok(r);
+        return Ok(vec![r]);
     }
-    let Some(mut best) = attempt(lo)? else {
-        return Ok((s.points().to_vec(), 0.0, 0.0));
+    let Some(first) = attempt(lo)? else {
+        return Ok(Vec::new());
     };
+    let mut found = vec![first];
     for _ in 0..REFERENCE_STEPS {
         let mid = 0.5 * (lo + hi);
         match attempt(mid)? {
             Some(r) => {
-                best = r;
+                found.push(r);
                 lo = mid;
             }
             None => hi = mid,
         }
     }
-    Ok(best)
+    Ok(found)
 }
 
 /// The step-8 ranking over the moving rectangle: (isocurve curvature extrema with the 1 % dead band of
@@ -817,6 +903,7 @@ fn plate_search(s: &BSplineSurface, plate: &PlateFit<'_, '_>, rhs: &[DVec3], ban
 struct Ranker {
     rect: ((f64, f64), (f64, f64)),
     delta: f64,
+    gl: GaussLegendre,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, PartialOrd)]
@@ -825,12 +912,16 @@ struct Rank(usize, f64);
 impl Ranker {
     fn new(s: &BSplineSurface, rect: ((f64, f64), (f64, f64))) -> Self {
         let delta = 0.01 * iso_stats_in(s, rect, RANK_ISO, 0.0).max_abs_kappa;
-        Self { rect, delta }
+        Self {
+            rect,
+            delta,
+            gl: GaussLegendre::new(RANK_GAUSS),
+        }
     }
 
     fn rank(&self, f: &BSplineSurface) -> Rank {
         let st = iso_stats_in(f, self.rect, RANK_ISO, self.delta);
-        let e = mean_curvature_variation_in(f, self.rect);
+        let e = mean_curvature_variation_rule(f, self.rect, &self.gl);
         Rank(st.extrema_u + st.extrema_v, if e.is_finite() { e } else { f64::INFINITY })
     }
 }
