@@ -743,12 +743,16 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
         Some((pts, ..)) => ranker.rank(&s.with_points(pts.clone())?),
         None => cands[0].0,
     };
-    for (pick, found) in [(SurfacePick::Reference, reference), (SurfacePick::Combined, combined)] {
-        for (pts, dev, st) in found {
-            let f = s.with_points(pts)?;
-            cands.push((ranker.rank(&f), pick, f, dev, st));
+    // the searches' strongest band-holding strengths, ranked in parallel (the ranking is most of step 8's cost)
+    let mut found = Vec::new();
+    for (pick, all) in [(SurfacePick::Reference, reference), (SurfacePick::Combined, combined)] {
+        let keep = all.len().saturating_sub(SEARCH_CANDIDATES);
+        for (pts, dev, st) in all.into_iter().skip(keep) {
+            found.push((pick, s.with_points(pts)?, dev, st));
         }
     }
+    let ranks = par_map(&found, threads, |c| ranker.rank(&c.1));
+    cands.extend(found.into_iter().zip(ranks).map(|((pick, f, dev, st), r)| (r, pick, f, dev, st)));
     // blends of the isocurve result with the lexicographically fairest smoother net: |S_blend − S| is at
     // most the larger of the two nets' changes at every point; each is checked on the fine grid again
     let smoother = cands[2..]
@@ -756,15 +760,18 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
         .min_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal))
         .map(|c| c.2.clone());
     if let Some(sm) = smoother {
+        let mut blends = Vec::new();
         for w in BLENDS {
             let pts: Vec<DVec3> = (result.surface.points().iter().zip(sm.points()))
                 .map(|(a, b)| *a * w + *b * (1.0 - w))
                 .collect();
             let f = s.with_points(pts)?;
             if let Some(dev) = bands.holds(&s, &f) {
-                cands.push((ranker.rank(&f), SurfacePick::Blend, f, dev, 0.0));
+                blends.push((f, dev));
             }
         }
+        let ranks = par_map(&blends, threads, |b| ranker.rank(&b.0));
+        cands.extend(blends.into_iter().zip(ranks).map(|((f, dev), r)| (r, SurfacePick::Blend, f, dev, 0.0)));
     }
     // the lexicographically fairest of the candidates no less fair than both the reference and the
     // isocurve result on either measure; if none, of those no less fair than the reference
@@ -798,10 +805,12 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
 
 /// Check samples per knot span and direction of the step-8 candidates (module docs, step 8).
 pub const FINE_CHECK_PER_SPAN: usize = 4 * CHECK_PER_SPAN;
+/// Band-holding strengths of each smoother search that step 8 ranks: the strongest ones.
+pub const SEARCH_CANDIDATES: usize = 3;
 /// Blend weights of the isocurve result tried against the smoother's (step 8).
 pub const BLENDS: [f64; 5] = [0.1, 0.25, 0.5, 0.75, 0.9];
 /// Gauss–Legendre nodes per cell and direction of the step-8 ranking's `∫∫|∇H|²`.
-pub const RANK_GAUSS: usize = 4;
+pub const RANK_GAUSS: usize = 10;
 
 /// Order of the reference smoother's energy: 2, the thin-plate energy (module docs, step 8).
 pub const REFERENCE_ORDER: usize = 2;
