@@ -763,7 +763,8 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
         let mut blends = Vec::new();
         for w in BLENDS {
             let pts: Vec<DVec3> = (result.surface.points().iter().zip(sm.points()))
-                .map(|(a, b)| *a * w + *b * (1.0 - w))
+                // a + (b − a)(1 − w): a held point (a = b) stays bit for bit
+                .map(|(a, b)| *a + (*b - *a) * (1.0 - w))
                 .collect();
             let f = s.with_points(pts)?;
             if let Some(dev) = bands.holds(&s, &f) {
@@ -1845,6 +1846,9 @@ mod tests {
                 tolerance: m,
                 combine: Combine::Weighted,
                 auto_smoothing: false,
+                // the isocurve fairing (steps 1-7) is what reproduces the curve engine; step 8 may return a
+                // fairer candidate
+                method: SurfaceMethod::Isocurves,
                 ..Default::default()
             },
         )
@@ -1880,6 +1884,7 @@ mod tests {
                 tolerance: m,
                 combine: Combine::Average,
                 auto_smoothing: false,
+                method: SurfaceMethod::Isocurves,
                 ..Default::default()
             },
         )
