@@ -337,7 +337,8 @@ pub fn iso_stats_in(s: &BSplineSurface, rect: ((f64, f64), (f64, f64)), n_iso: u
     st
 }
 
-/// Mean curvature H at (u, v) (PRODUCT.md convention).
+/// Mean curvature H at (u, v) (PRODUCT.md convention), point by point: the tests' direct quadrature.
+#[cfg(test)]
 fn mean_at(s: &BSplineSurface, u: f64, v: f64) -> f64 {
     s.derivs(u, v).mean_curvature()
 }

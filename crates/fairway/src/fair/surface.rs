@@ -463,7 +463,7 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
         let fine = fine_check();
         let t0 = Instant::now();
         let grid_fit = GridFit::new(&s, &us, &vs, free_u.clone(), free_v.clone())?;
-        let plate = plate_fit(&s, &grid_fit, &us, &vs)?;
+        let plate = plate_fit(&s, &grid_fit, &us, &vs, REFERENCE_ORDER)?;
         let rhs = grid_fit.project(&orig)?;
         let bands = Bands {
             coarse: &coarse_check,
@@ -710,7 +710,7 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
     // step 8 (module docs)
     let t0 = Instant::now();
     let grid_fit = GridFit::new(&s, &us, &vs, free_u.clone(), free_v.clone())?;
-    let plate = plate_fit(&s, &grid_fit, &us, &vs)?;
+    let plate = plate_fit(&s, &grid_fit, &us, &vs, REFERENCE_ORDER)?;
     let fine = fine_check();
     let bands = Bands {
         coarse: &coarse_check,
@@ -738,14 +738,18 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
     // search is a candidate too (ranked, not trusted to be fairer)
     let reference = plate_search(&s, &plate, &grid_fit.project(&orig)?, &bands)?;
     let iso_grid = grid_points(&result.surface, &us, &vs);
-    let combined = plate_search(&s, &plate, &grid_fit.project(&iso_grid)?, &bands)?;
+    let iso_rhs = grid_fit.project(&iso_grid)?;
+    let combined = plate_search(&s, &plate, &iso_rhs, &bands)?;
     let ref_rank = match reference.last() {
         Some((pts, ..)) => ranker.rank(&s.with_points(pts.clone())?),
         None => cands[0].0,
     };
     // the searches' strongest band-holding strengths, ranked in parallel (the ranking is most of step 8's cost)
     let mut found = Vec::new();
-    for (pick, all) in [(SurfacePick::Reference, reference), (SurfacePick::Combined, combined)] {
+    for (pick, all) in [
+        (SurfacePick::Reference, reference),
+        (SurfacePick::Combined, combined),
+    ] {
         let keep = all.len().saturating_sub(SEARCH_CANDIDATES);
         for (pts, dev, st) in all.into_iter().skip(keep) {
             found.push((pick, s.with_points(pts)?, dev, st));
@@ -755,27 +759,40 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
     cands.extend(found.into_iter().zip(ranks).map(|((pick, f, dev, st), r)| (r, pick, f, dev, st)));
     // blends of the isocurve result with the lexicographically fairest smoother net: |S_blend − S| is at
     // most the larger of the two nets' changes at every point; each is checked on the fine grid again
-    let smoother = cands[2..]
-        .iter()
-        .min_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal))
-        .map(|c| c.2.clone());
-    if let Some(sm) = smoother {
-        let mut blends = Vec::new();
-        for w in BLENDS {
-            let pts: Vec<DVec3> = (result.surface.points().iter().zip(sm.points()))
-                // a + (b − a)(1 − w): a held point (a = b) stays bit for bit
-                .map(|(a, b)| *a + (*b - *a) * (1.0 - w))
-                .collect();
-            let f = s.with_points(pts)?;
-            if let Some(dev) = bands.holds(&s, &f) {
-                blends.push((f, dev));
+    // blends of pairs of anchors — the isocurve result, the reference's answer and the fairest net of each
+    // smoother family: |S_blend − S| is at most the larger of the two nets' changes at every point; each
+    // blend is checked on the fine grid again
+    let mut anchors: Vec<usize> = vec![1];
+    if let Some(i) = cands.iter().rposition(|c| c.1 == SurfacePick::Reference) {
+        anchors.push(i);
+    }
+    for fam in [SurfacePick::Combined] {
+        let best = (cands.iter().enumerate())
+            .filter(|(_, c)| c.1 == fam)
+            .min_by(|a, b| a.1.0.partial_cmp(&b.1.0).unwrap_or(std::cmp::Ordering::Equal))
+            .map(|(i, _)| i);
+        anchors.extend(best);
+    }
+    let mut blends = Vec::new();
+    for (k, &i) in anchors.iter().enumerate() {
+        for &j in &anchors[k + 1..] {
+            for w in BLENDS {
+                let pts: Vec<DVec3> = (cands[i].2.points().iter().zip(cands[j].2.points()))
+                    // a + (b − a)(1 − w): a held point (a = b) stays bit for bit
+                    .map(|(a, b)| *a + (*b - *a) * (1.0 - w))
+                    .collect();
+                let f = s.with_points(pts)?;
+                if let Some(dev) = bands.holds(&s, &f) {
+                    blends.push((f, dev));
+                }
             }
         }
-        let ranks = par_map(&blends, threads, |b| ranker.rank(&b.0));
-        cands.extend(blends.into_iter().zip(ranks).map(|((f, dev), r)| (r, SurfacePick::Blend, f, dev, 0.0)));
     }
-    // the lexicographically fairest of the candidates no less fair than both the reference and the
-    // isocurve result on either measure; if none, of those no less fair than the reference
+    let ranks = par_map(&blends, threads, |b| ranker.rank(&b.0));
+    cands.extend(blends.into_iter().zip(ranks).map(|((f, dev), r)| (r, SurfacePick::Blend, f, dev, 0.0)));
+    // the lexicographically fairest of the candidates that are no less fair than the reference and the
+    // isocurve result on either measure and have no more extrema than the original; if none, of those no
+    // less fair than the reference with no more extrema than the original; if none, of all
     let dominates = |r: &Rank, o: &Rank| r.0 <= o.0 && r.1 <= o.1;
     let best_of = |keep: &dyn Fn(&Rank) -> bool| {
         cands
@@ -785,8 +802,10 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
             .min_by(|a, b| a.1.0.partial_cmp(&b.1.0).unwrap_or(std::cmp::Ordering::Equal))
             .map(|(i, _)| i)
     };
-    let pick = best_of(&|r| dominates(r, &ref_rank) && dominates(r, &today))
-        .or_else(|| best_of(&|r| dominates(r, &ref_rank)))
+    let orig_ext = cands[0].0.0;
+    let pick = best_of(&|r| dominates(r, &ref_rank) && dominates(r, &today) && r.0 <= orig_ext)
+        .or_else(|| best_of(&|r| dominates(r, &ref_rank) && r.0 <= orig_ext))
+        .or_else(|| best_of(&|_| true))
         .unwrap_or(1);
     let (_, kind, f, dev, st) = cands.swap_remove(pick);
     if kind != SurfacePick::Isocurves {
@@ -809,12 +828,12 @@ pub const FINE_CHECK_PER_SPAN: usize = 4 * CHECK_PER_SPAN;
 /// Band-holding strengths of each smoother search that step 8 ranks: the strongest ones.
 pub const SEARCH_CANDIDATES: usize = 3;
 /// Blend weights of the isocurve result tried against the smoother's (step 8).
-pub const BLENDS: [f64; 5] = [0.1, 0.25, 0.5, 0.75, 0.9];
+pub const BLENDS: [f64; 3] = [0.25, 0.5, 0.75];
 /// Gauss–Legendre nodes per cell and direction of the step-8 ranking's `∫∫|∇H|²`.
 pub const RANK_GAUSS: usize = 10;
 
 /// Order of the reference smoother's energy: 2, the thin-plate energy (module docs, step 8).
-pub const REFERENCE_ORDER: usize = 2;
+pub const REFERENCE_ORDER: usize = 3;
 /// Smallest and largest strength (log10) of the reference smoother's search.
 pub const REFERENCE_LOG_STRENGTH: (f64, f64) = (-6.0, 8.0);
 /// Bisection steps on log10 of the strength (resolution 14 / 2¹² decades, under 1 % in λ).
@@ -824,7 +843,13 @@ pub const RANK_ISO: usize = 20;
 
 /// The reference smoother's energy for `s` on its grid: [`PlateFit`] of [`REFERENCE_ORDER`] with the mean
 /// speeds `|S_u|`, `|S_v|` of the original over the grid as length scales.
-fn plate_fit<'g, 'a>(s: &BSplineSurface, grid: &'g GridFit<'a>, us: &[f64], vs: &[f64]) -> Result<PlateFit<'g, 'a>> {
+fn plate_fit<'g, 'a>(
+    s: &BSplineSurface,
+    grid: &'g GridFit<'a>,
+    us: &[f64],
+    vs: &[f64],
+    order: usize,
+) -> Result<PlateFit<'g, 'a>> {
     let (mut lu, mut lv, mut n) = (0.0, 0.0, 0usize);
     let step_u = (us.len() / 16).max(1);
     let step_v = (vs.len() / 16).max(1);
@@ -836,7 +861,7 @@ fn plate_fit<'g, 'a>(s: &BSplineSurface, grid: &'g GridFit<'a>, us: &[f64], vs: 
             n += 1;
         }
     }
-    PlateFit::new(grid, REFERENCE_ORDER, lu / n as f64, lv / n as f64)
+    PlateFit::new(grid, order, lu / n as f64, lv / n as f64)
 }
 
 /// The band as [`fair_surface`] verifies it: the coarse check, then the full one.
