@@ -9,8 +9,8 @@
 //! never has more than the original), is never less fair than the isocurve fairing alone on both measures
 //! and has no more extrema than the original.
 //!
-//! The suite's nets are 10 × 10 here (16 × 16 and the 20 × 16 bundled asset with `FAIRWAY_LONG=1`);
-//! `cargo run --release -p fairway --example surface_quality_table` prints the full table.
+//! The rows are those of `cargo run --release -p fairway --example surface_quality_table` (16 × 16 nets
+//! and the 20 × 16 bundled asset); `FAIRWAY_LONG=1` adds the suite on 24 × 24 nets.
 
 #[path = "common/surface_suite.rs"]
 mod surface_suite;
@@ -35,9 +35,11 @@ fn fair(s: &BSplineSurface, m: f64, method: SurfaceMethod) -> fairway::fair::Sur
 #[test]
 fn the_default_surface_fair_is_at_least_as_fair_as_the_reference_smoother() {
     let long = std::env::var("FAIRWAY_LONG").is_ok();
-    let mut cases = surface_suite::surface_cases(if long { 16 } else { 10 });
+    // the table's rows; with FAIRWAY_LONG the suite on 24 × 24 nets too
+    let mut cases = surface_suite::surface_cases(16);
+    cases.extend(surface_suite::asset_cases());
     if long {
-        cases.extend(surface_suite::asset_cases());
+        cases.extend(surface_suite::surface_cases(24));
     }
     let mut failures = vec![];
     let (mut n_as_fair, mut n_as_today, mut n_rows) = (0, 0, 0);
@@ -138,3 +140,4 @@ fn the_reference_smoother_at_the_ends_of_its_range_and_on_bad_input() {
     assert!("smoothing".parse::<SurfaceMethod>() == Ok(SurfaceMethod::Smoothing));
     assert!("thin".parse::<SurfaceMethod>().is_err());
 }
+

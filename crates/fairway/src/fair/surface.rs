@@ -869,7 +869,8 @@ struct Bands<'a> {
     coarse: &'a CheckGrid,
     full: &'a CheckGrid,
     /// [`FINE_CHECK_PER_SPAN`] samples per span: the smoother's nets bulge between the full grid's nodes
-    /// (by up to 1 % of m, measured by dense projection), so its candidates are accepted on this grid.
+    /// (by up to 1 % of m, measured by dense projection), so its candidates are accepted on this grid, by
+    /// their parametric change.
     fine: &'a CheckGrid,
     free_u: &'a Range<usize>,
     free_v: &'a Range<usize>,
@@ -885,9 +886,90 @@ impl Bands<'_> {
         if self.full.deviation(s, f, self.free_u, self.free_v, self.m, true) > self.m {
             return None;
         }
-        let dev = self.fine.deviation(s, f, self.free_u, self.free_v, self.m, false);
-        (dev <= self.m).then_some(dev)
+        // on the fine grid the parametric change |S_f − S| itself (no projection sharpening): it bounds both
+        // one-sided distances at every sample, and it varies little between samples this dense, where a
+        // projected distance can exceed m between nodes at which it did not
+        let mut dev = self.fine.deviation(s, f, self.free_u, self.free_v, f64::INFINITY, false);
+        if dev > self.m {
+            return None;
+        }
+        // between the nodes: the change's local maxima, from the grid's peaks near m
+        let mut peaks = self.fine.peaks(s, f, PEAK_FRACTION * self.m);
+        peaks.sort_by(|x, y| y.0.total_cmp(&x.0));
+        for &(_, u, v) in peaks.iter().take(MAX_PEAKS) {
+            dev = dev.max(local_max_change(s, f, (u, v)));
+            if dev > self.m {
+                return None;
+            }
+        }
+        Some(dev)
     }
+}
+
+/// Grid peaks of the change above this fraction of m are followed to their local maximum ([`Bands`]).
+pub const PEAK_FRACTION: f64 = 0.98;
+/// At most this many grid peaks (the largest) are followed.
+pub const MAX_PEAKS: usize = 64;
+
+/// The local maximum of the parametric change `|S_b − S_a|` near `uv`: Newton ascent on `|Δ|²/2` (gradient
+/// `Δ·Δ_u, Δ·Δ_v`, Hessian `Δ_u·Δ_u + Δ·Δ_uu, …`; a gradient step where that is not negative definite),
+/// steps clamped to the domain and halved until the change grows; a coordinate held at the domain boundary
+/// by the clamp is left out of the next step.
+fn local_max_change(a: &BSplineSurface, b: &BSplineSurface, uv: (f64, f64)) -> f64 {
+    let ((u0, u1), (v0, v1)) = a.domain();
+    let change = |u: f64, v: f64| (b.point(u, v) - a.point(u, v)).length();
+    let (mut u, mut v) = uv;
+    let mut best = change(u, v);
+    let scale = ((u1 - u0).powi(2) + (v1 - v0).powi(2)).sqrt();
+    for _ in 0..30 {
+        let (da, db) = (a.derivs(u, v), b.derivs(u, v));
+        let (d, du, dv) = (db.p - da.p, db.su - da.su, db.sv - da.sv);
+        let (duu, duv, dvv) = (db.suu - da.suu, db.suv - da.suv, db.svv - da.svv);
+        let mut g = [d.dot(du), d.dot(dv)];
+        let mut h = [du.dot(du) + d.dot(duu), du.dot(dv) + d.dot(duv), dv.dot(dv) + d.dot(dvv)];
+        // a coordinate at its bound whose gradient points outwards stays
+        let held_u = (u <= u0 && g[0] < 0.0) || (u >= u1 && g[0] > 0.0);
+        let held_v = (v <= v0 && g[1] < 0.0) || (v >= v1 && g[1] > 0.0);
+        if held_u {
+            g[0] = 0.0;
+            h[1] = 0.0;
+            h[0] = -1.0;
+        }
+        if held_v {
+            g[1] = 0.0;
+            h[1] = 0.0;
+            h[2] = -1.0;
+        }
+        let det = h[0] * h[2] - h[1] * h[1];
+        let (mut su, mut sv) = if h[0] < 0.0 && det > 0.0 {
+            // Newton: s = −H⁻¹ g
+            (-(h[2] * g[0] - h[1] * g[1]) / det, -(h[0] * g[1] - h[1] * g[0]) / det)
+        } else {
+            // gradient ascent, scaled to a step of at most 1 % of the domain
+            let n = (g[0] * g[0] + g[1] * g[1]).sqrt();
+            if n == 0.0 {
+                break;
+            }
+            (0.01 * scale * g[0] / n, 0.01 * scale * g[1] / n)
+        };
+        let mut moved = false;
+        for _ in 0..20 {
+            let (nu, nv) = ((u + su).clamp(u0, u1), (v + sv).clamp(v0, v1));
+            let c = change(nu, nv);
+            if c > best {
+                best = c;
+                moved = (nu - u).abs() + (nv - v).abs() > 1e-15 * scale;
+                (u, v) = (nu, nv);
+                break;
+            }
+            su *= 0.5;
+            sv *= 0.5;
+        }
+        if !moved {
+            break;
+        }
+    }
+    best
 }
 
 /// The smoother's search: bisection on the log of the strength over [`REFERENCE_LOG_STRENGTH`]
@@ -1439,6 +1521,37 @@ fn grid_points(s: &BSplineSurface, us: &[f64], vs: &[f64]) -> Vec<DVec3> {
 }
 
 impl CheckGrid {
+    /// The grid nodes where the parametric change `|S_b − S_a|` exceeds `thresh` and is no smaller than at
+    /// its four grid neighbours (the grid's local maxima above `thresh`), as `(change, u, v)`.
+    fn peaks(&self, a: &BSplineSurface, b: &BSplineSurface, thresh: f64) -> Vec<(f64, f64, f64)> {
+        let (us, vs) = (&self.u.params, &self.v.params);
+        let (mu, mv) = (us.len(), vs.len());
+        let d: Vec<f64> = grid_points(b, us, vs)
+            .iter()
+            .zip(grid_points(a, us, vs))
+            .map(|(p, q)| p.distance(q))
+            .collect();
+        let mut out = Vec::new();
+        for k in 0..mu {
+            for l in 0..mv {
+                let x = d[k * mv + l];
+                if !(x > thresh) {
+                    continue;
+                }
+                let nb = [
+                    (k > 0).then(|| d[(k - 1) * mv + l]),
+                    (k + 1 < mu).then(|| d[(k + 1) * mv + l]),
+                    (l > 0).then(|| d[k * mv + l - 1]),
+                    (l + 1 < mv).then(|| d[k * mv + l + 1]),
+                ];
+                if nb.iter().flatten().all(|&y| y <= x) {
+                    out.push((x, us[k], vs[l]));
+                }
+            }
+        }
+        out
+    }
+
     fn new(s: &BSplineSurface, cu: &[f64], cv: &[f64], threads: usize) -> Self {
         Self {
             u: GridBasis::new(s.knots_u(), cu),
