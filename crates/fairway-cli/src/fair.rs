@@ -11,8 +11,8 @@ use anyhow::{Context, Result, anyhow, bail};
 use fairway::Geometry;
 use fairway::fair::{
     Combine, CornerFair, EndCondition, FairingOptions, FairingSetup, FitMode, Integrator, IterativeOptions,
-    PolishMethod, Seam, SurfaceFairingOptions, SurfaceMethod, TargetMethod, closed, fair_between_corners, fair_iterative,
-    fair_surface,
+    PolishMethod, Seam, SurfaceFairingOptions, SurfaceMethod, TargetMethod, closed, fair_between_corners,
+    fair_iterative, fair_surface,
 };
 use fairway::io::Document;
 use fairway::measure::{Measures, measure};

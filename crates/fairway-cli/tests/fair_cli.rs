@@ -359,7 +359,10 @@ fn fair_surface_with_the_reference_smoother() {
     let input = reference("saddle.json");
     let mut reports = vec![];
     for method in ["smoothing", "fast"] {
-        let (out, rep) = (dir.join(format!("{method}.json")), dir.join(format!("{method}.report.json")));
+        let (out, rep) = (
+            dir.join(format!("{method}.json")),
+            dir.join(format!("{method}.report.json")),
+        );
         ok(&fairway(&[
             "fair",
             s(&input),
@@ -385,8 +388,14 @@ fn fair_surface_with_the_reference_smoother() {
         reports.push(r["measures"].clone());
     }
     let (sm, fw) = (&reports[0], &reports[1]);
-    assert!(fw["n_curv_extrema"].as_u64() <= sm["n_curv_extrema"].as_u64(), "{fw} vs {sm}");
-    assert!(fw["mean_curv_var"].as_f64() <= sm["mean_curv_var"].as_f64(), "{fw} vs {sm}");
+    assert!(
+        fw["n_curv_extrema"].as_u64() <= sm["n_curv_extrema"].as_u64(),
+        "{fw} vs {sm}"
+    );
+    assert!(
+        fw["mean_curv_var"].as_f64() <= sm["mean_curv_var"].as_f64(),
+        "{fw} vs {sm}"
+    );
     let bad = fairway(&[
         "fair",
         s(&input),

@@ -46,8 +46,22 @@ fn main() {
     let n = std::env::var("SQT_N").map_or(16, |v| v.parse().expect("net size"));
     let only = std::env::var("SQT_CASE").ok();
     let head: Vec<String> = [
-        "surface", "m/σ", "extrema", "ref", "today", "fairway", "∫∫|∇H|²", "ref", "today", "fairway", "dev/m ref",
-        "dev/m fw", "ms ref", "ms today", "ms fw", "pick",
+        "surface",
+        "m/σ",
+        "extrema",
+        "ref",
+        "today",
+        "fairway",
+        "∫∫|∇H|²",
+        "ref",
+        "today",
+        "fairway",
+        "dev/m ref",
+        "dev/m fw",
+        "ms ref",
+        "ms today",
+        "ms fw",
+        "pick",
     ]
     .iter()
     .map(|s| s.to_string())
@@ -58,7 +72,9 @@ fn main() {
     }
     let (mut total, mut vs_ref, mut vs_today, mut vs_orig) = (0, 0, 0, 0);
     let mut sums = [0usize; 4];
-    let cases = surface_suite::surface_cases(n).into_iter().chain(surface_suite::asset_cases());
+    let cases = surface_suite::surface_cases(n)
+        .into_iter()
+        .chain(surface_suite::asset_cases());
     for case in cases {
         if only.as_deref().is_some_and(|o| !case.name.contains(o)) {
             continue;

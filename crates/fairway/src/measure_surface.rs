@@ -371,11 +371,19 @@ pub fn mean_curvature_variation_rule(
         let hu = 1e-5 * (a1 - a0);
         let u_at = |x: f64| 0.5 * (a0 + a1) + 0.5 * (a1 - a0) * x;
         // per node: the node and its two difference points
-        let us: Vec<f64> = gl.nodes.iter().flat_map(|&x| [u_at(x), u_at(x) + hu, u_at(x) - hu]).collect();
+        let us: Vec<f64> = gl
+            .nodes
+            .iter()
+            .flat_map(|&x| [u_at(x), u_at(x) + hu, u_at(x) - hu])
+            .collect();
         for &(b0, b1) in &sv {
             let hv = 1e-5 * (b1 - b0);
             let v_at = |y: f64| 0.5 * (b0 + b1) + 0.5 * (b1 - b0) * y;
-            let vs: Vec<f64> = gl.nodes.iter().flat_map(|&y| [v_at(y), v_at(y) + hv, v_at(y) - hv]).collect();
+            let vs: Vec<f64> = gl
+                .nodes
+                .iter()
+                .flat_map(|&y| [v_at(y), v_at(y) + hv, v_at(y) - hv])
+                .collect();
             if !s.is_rational() {
                 cell.prepare(s, &us, &vs);
             }
@@ -883,7 +891,10 @@ mod tests {
             let p = s.point(0.3, 0.6);
             let k = s.curvature(0.3, 0.6);
             if name == "sphere" {
-                assert!((p.length() - r).abs() < 1e-12 && (k.mean.abs() - 1.0 / r).abs() < 1e-12, "{k:?}");
+                assert!(
+                    (p.length() - r).abs() < 1e-12 && (k.mean.abs() - 1.0 / r).abs() < 1e-12,
+                    "{k:?}"
+                );
             } else {
                 assert!((p.truncate().length() - r).abs() < 1e-12 && (k.mean.abs() - 0.5 / r).abs() < 1e-12);
             }
@@ -927,8 +938,17 @@ mod tests {
                 ws.push([1.0, w, 1.0][i]);
             }
         }
-        BSplineSurface::try_new(2, 1, vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0], vec![0.0, 0.0, 1.0, 1.0], 3, 2, pts, Some(ws))
-            .unwrap()
+        BSplineSurface::try_new(
+            2,
+            1,
+            vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+            vec![0.0, 0.0, 1.0, 1.0],
+            3,
+            2,
+            pts,
+            Some(ws),
+        )
+        .unwrap()
     }
 
     #[test]

@@ -95,7 +95,10 @@ fn the_default_surface_fair_is_at_least_as_fair_as_the_reference_smoother() {
             // never worse than the isocurve fairing alone on both measures (where it is worse on one, it is
             // fairer on the other: the two peers disagree and no candidate was as fair as both)
             if rt.0 <= rw.0 && rt.1 <= rw.1 && rt != rw {
-                failures.push(format!("{} {f}σ: fairway {rw:?} less fair than today's {rt:?}", case.name));
+                failures.push(format!(
+                    "{} {f}σ: fairway {rw:?} less fair than today's {rt:?}",
+                    case.name
+                ));
             }
             n_as_today += usize::from(rw.0 <= rt.0 && rw.1 <= rt.1);
             if rw.0 > orig.0 {
@@ -122,7 +125,10 @@ fn the_reference_smoother_at_the_ends_of_its_range_and_on_bad_input() {
     let case = &surface_suite::surface_cases(8)[0];
     let s = &case.surface;
     let loose = fair(s, 1.0, SurfaceMethod::Smoothing);
-    assert_eq!(loose.smoothing.strength_u, 1e8, "a 1 m band holds the strongest smoothing");
+    assert_eq!(
+        loose.smoothing.strength_u, 1e8,
+        "a 1 m band holds the strongest smoothing"
+    );
     let tight = fair(s, 1e-9, SurfaceMethod::Smoothing);
     assert!(tight.max_deviation <= 1e-9);
     assert!(deviation(s, &tight.surface, 51).0 <= 1e-9);
@@ -140,4 +146,3 @@ fn the_reference_smoother_at_the_ends_of_its_range_and_on_bad_input() {
     assert!("smoothing".parse::<SurfaceMethod>() == Ok(SurfaceMethod::Smoothing));
     assert!("thin".parse::<SurfaceMethod>().is_err());
 }
-

@@ -746,33 +746,33 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
     };
     // the searches' strongest band-holding strengths, ranked in parallel (the ranking is most of step 8's cost)
     let mut found = Vec::new();
-    for (pick, all) in [
-        (SurfacePick::Reference, reference),
-        (SurfacePick::Combined, combined),
-    ] {
+    for (pick, all) in [(SurfacePick::Reference, reference), (SurfacePick::Combined, combined)] {
         let keep = all.len().saturating_sub(SEARCH_CANDIDATES);
         for (pts, dev, st) in all.into_iter().skip(keep) {
             found.push((pick, s.with_points(pts)?, dev, st));
         }
     }
     let ranks = par_map(&found, threads, |c| ranker.rank(&c.1));
-    cands.extend(found.into_iter().zip(ranks).map(|((pick, f, dev, st), r)| (r, pick, f, dev, st)));
+    cands.extend(
+        found
+            .into_iter()
+            .zip(ranks)
+            .map(|((pick, f, dev, st), r)| (r, pick, f, dev, st)),
+    );
     // blends of the isocurve result with the lexicographically fairest smoother net: |S_blend − S| is at
     // most the larger of the two nets' changes at every point; each is checked on the fine grid again
-    // blends of pairs of anchors — the isocurve result, the reference's answer and the fairest net of each
-    // smoother family: |S_blend − S| is at most the larger of the two nets' changes at every point; each
+    // blends of pairs of anchors — the isocurve result, the reference's answer and the fairest net of the
+    // smoother run on the isocurve result: |S_blend − S| is at most the larger of the two nets' changes at every point; each
     // blend is checked on the fine grid again
     let mut anchors: Vec<usize> = vec![1];
     if let Some(i) = cands.iter().rposition(|c| c.1 == SurfacePick::Reference) {
         anchors.push(i);
     }
-    for fam in [SurfacePick::Combined] {
-        let best = (cands.iter().enumerate())
-            .filter(|(_, c)| c.1 == fam)
-            .min_by(|a, b| a.1.0.partial_cmp(&b.1.0).unwrap_or(std::cmp::Ordering::Equal))
-            .map(|(i, _)| i);
-        anchors.extend(best);
-    }
+    let best_combined = (cands.iter().enumerate())
+        .filter(|(_, c)| c.1 == SurfacePick::Combined)
+        .min_by(|a, b| a.1.0.partial_cmp(&b.1.0).unwrap_or(std::cmp::Ordering::Equal))
+        .map(|(i, _)| i);
+    anchors.extend(best_combined);
     let mut blends = Vec::new();
     for (k, &i) in anchors.iter().enumerate() {
         for &j in &anchors[k + 1..] {
@@ -789,7 +789,12 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
         }
     }
     let ranks = par_map(&blends, threads, |b| ranker.rank(&b.0));
-    cands.extend(blends.into_iter().zip(ranks).map(|((f, dev), r)| (r, SurfacePick::Blend, f, dev, 0.0)));
+    cands.extend(
+        blends
+            .into_iter()
+            .zip(ranks)
+            .map(|((f, dev), r)| (r, SurfacePick::Blend, f, dev, 0.0)),
+    );
     // the lexicographically fairest of the candidates that are no less fair than the reference and the
     // isocurve result on either measure and have no more extrema than the original; if none, of those no
     // less fair than the reference with no more extrema than the original; if none, of all
@@ -889,7 +894,9 @@ impl Bands<'_> {
         // on the fine grid the parametric change |S_f − S| itself (no projection sharpening): it bounds both
         // one-sided distances at every sample, and it varies little between samples this dense, where a
         // projected distance can exceed m between nodes at which it did not
-        let mut dev = self.fine.deviation(s, f, self.free_u, self.free_v, f64::INFINITY, false);
+        let mut dev = self
+            .fine
+            .deviation(s, f, self.free_u, self.free_v, f64::INFINITY, false);
         if dev > self.m {
             return None;
         }
@@ -926,7 +933,11 @@ fn local_max_change(a: &BSplineSurface, b: &BSplineSurface, uv: (f64, f64)) -> f
         let (d, du, dv) = (db.p - da.p, db.su - da.su, db.sv - da.sv);
         let (duu, duv, dvv) = (db.suu - da.suu, db.suv - da.suv, db.svv - da.svv);
         let mut g = [d.dot(du), d.dot(dv)];
-        let mut h = [du.dot(du) + d.dot(duu), du.dot(dv) + d.dot(duv), dv.dot(dv) + d.dot(dvv)];
+        let mut h = [
+            du.dot(du) + d.dot(duu),
+            du.dot(dv) + d.dot(duv),
+            dv.dot(dv) + d.dot(dvv),
+        ];
         // a coordinate at its bound whose gradient points outwards stays
         let held_u = (u <= u0 && g[0] < 0.0) || (u >= u1 && g[0] > 0.0);
         let held_v = (v <= v0 && g[1] < 0.0) || (v >= v1 && g[1] > 0.0);
@@ -1039,7 +1050,10 @@ impl Ranker {
     fn rank(&self, f: &BSplineSurface) -> Rank {
         let st = iso_stats_in(f, self.rect, RANK_ISO, self.delta);
         let e = mean_curvature_variation_rule(f, self.rect, &self.gl);
-        Rank(st.extrema_u + st.extrema_v, if e.is_finite() { e } else { f64::INFINITY })
+        Rank(
+            st.extrema_u + st.extrema_v,
+            if e.is_finite() { e } else { f64::INFINITY },
+        )
     }
 }
 

@@ -112,7 +112,11 @@ pub fn surface_cases(n: usize) -> Vec<SurfaceCase> {
     let bumps = |u: f64, v: f64| {
         let (x, y) = (2.0 * u, 1.6 * v);
         let b = |cx: f64, cy: f64, h: f64, w: f64| h * (-((x - cx).powi(2) + (y - cy).powi(2)) / (w * w)).exp();
-        DVec3::new(x, y, b(0.6, 0.5, 0.12, 0.3) + b(1.4, 1.0, 0.08, 0.25) + b(1.0, 0.3, -0.05, 0.2))
+        DVec3::new(
+            x,
+            y,
+            b(0.6, 0.5, 0.12, 0.3) + b(1.4, 1.0, 0.08, 0.25) + b(1.0, 0.3, -0.05, 0.2),
+        )
     };
     let sigma = 1e-3;
     out.push(SurfaceCase {
