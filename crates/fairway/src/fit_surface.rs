@@ -722,6 +722,69 @@ mod tests {
     }
 
     #[test]
+    fn plate_fit_reduces_to_least_squares_keeps_its_null_space_and_held_points() {
+        let s = surface(9, 8, |u, v| u * v);
+        let (us, vs) = (grid(30), grid(27));
+        let data_of = |f: &dyn Fn(f64, f64) -> f64| -> Vec<DVec3> {
+            us.iter()
+                .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
+                .map(|(u, v)| DVec3::new(u, v, f(u, v)))
+                .collect()
+        };
+        let (fu, fv) = (2..7, 1..6);
+        let g = GridFit::new(&s, &us, &vs, fu.clone(), fv.clone()).unwrap();
+        let wavy = data_of(&|u, v| (5.0 * u).cos() * (4.0 * v).sin());
+        let rhs = g.project(&wavy).unwrap();
+        let ls = g.solve(&rhs, SurfaceSmoothing::NONE).unwrap();
+        for order in [2, 3] {
+            let plate = PlateFit::new(&g, order, 1.0, 1.3).unwrap();
+            // strength 0: the plain least-squares fit
+            let p0 = plate.solve(&rhs, 0.0).unwrap();
+            for (a, b) in p0.iter().zip(&ls) {
+                assert!((*a - *b).length() < 1e-10, "order {order}: {a} vs {b}");
+            }
+            // held points bit for bit, and smoothing lowers the data fit's wiggle: the fitted z varies less
+            let p = plate.solve(&rhs, 10.0).unwrap();
+            for i in 0..9 {
+                for j in 0..8 {
+                    if !(fu.contains(&i) && fv.contains(&j)) {
+                        assert_eq!(p[i * 8 + j], s.points()[i * 8 + j]);
+                    }
+                }
+            }
+            let spread = |pts: &[DVec3]| {
+                let z: Vec<f64> = fu.clone().flat_map(|i| fv.clone().map(move |j| pts[i * 8 + j].z)).collect();
+                z.iter().fold(f64::MIN, |a, &b| a.max(b)) - z.iter().fold(f64::MAX, |a, &b| a.min(b))
+            };
+            assert!(spread(&p) < spread(&p0), "order {order}");
+        }
+        // data in the energy's null space (a plane for the thin plate, a quadric for order 3) on the whole net
+        // is reproduced at any strength
+        let whole = GridFit::new(&s, &us, &vs, 0..9, 0..8).unwrap();
+        for (order, f) in [
+            (2, &(|u: f64, v: f64| 0.3 * u - 0.2 * v + 0.1) as &dyn Fn(f64, f64) -> f64),
+            (3, &|u: f64, v: f64| 0.3 * u * u - 0.2 * u * v + 0.4 * v * v - u),
+        ] {
+            let data = data_of(f);
+            let plate = PlateFit::new(&whole, order, 1.0, 1.0).unwrap();
+            let pts = plate.solve(&whole.project(&data).unwrap(), 1e4).unwrap();
+            let fitted = s.with_points(pts).unwrap();
+            for (u, v) in [(0.1, 0.2), (0.5, 0.5), (0.9, 0.7)] {
+                let want = DVec3::new(u, v, f(u, v));
+                assert!((fitted.point(u, v) - want).length() < 1e-8, "order {order} at ({u}, {v})");
+            }
+        }
+        // bad input
+        assert!(PlateFit::new(&g, 1, 1.0, 1.0).is_err());
+        assert!(PlateFit::new(&g, 3, 0.0, 1.0).is_err());
+        assert!(PlateFit::new(&g, 3, f64::NAN, 1.0).is_err());
+        let plate = PlateFit::new(&g, 3, 1.0, 1.0).unwrap();
+        assert!(plate.solve(&rhs, -1.0).is_err());
+        assert!(plate.solve(&rhs, f64::INFINITY).is_err());
+        assert!(matches!(plate.solve(&rhs[1..], 1.0), Err(Error::LengthMismatch { .. })));
+    }
+
+    #[test]
     fn free_range_of_a_region() {
         let k = KnotVector::uniform(3, 10).unwrap(); // spans of 1/7
         let r = free_range(&k, 1.0 / 7.0, 6.0 / 7.0);
