@@ -753,7 +753,10 @@ mod tests {
                 }
             }
             let spread = |pts: &[DVec3]| {
-                let z: Vec<f64> = fu.clone().flat_map(|i| fv.clone().map(move |j| pts[i * 8 + j].z)).collect();
+                let z: Vec<f64> = fu
+                    .clone()
+                    .flat_map(|i| fv.clone().map(move |j| pts[i * 8 + j].z))
+                    .collect();
                 z.iter().fold(f64::MIN, |a, &b| a.max(b)) - z.iter().fold(f64::MAX, |a, &b| a.min(b))
             };
             assert!(spread(&p) < spread(&p0), "order {order}");
@@ -762,7 +765,10 @@ mod tests {
         // is reproduced at any strength
         let whole = GridFit::new(&s, &us, &vs, 0..9, 0..8).unwrap();
         for (order, f) in [
-            (2, &(|u: f64, v: f64| 0.3 * u - 0.2 * v + 0.1) as &dyn Fn(f64, f64) -> f64),
+            (
+                2,
+                &(|u: f64, v: f64| 0.3 * u - 0.2 * v + 0.1) as &dyn Fn(f64, f64) -> f64,
+            ),
             (3, &|u: f64, v: f64| 0.3 * u * u - 0.2 * u * v + 0.4 * v * v - u),
         ] {
             let data = data_of(f);
@@ -771,7 +777,10 @@ mod tests {
             let fitted = s.with_points(pts).unwrap();
             for (u, v) in [(0.1, 0.2), (0.5, 0.5), (0.9, 0.7)] {
                 let want = DVec3::new(u, v, f(u, v));
-                assert!((fitted.point(u, v) - want).length() < 1e-8, "order {order} at ({u}, {v})");
+                assert!(
+                    (fitted.point(u, v) - want).length() < 1e-8,
+                    "order {order} at ({u}, {v})"
+                );
             }
         }
         // bad input

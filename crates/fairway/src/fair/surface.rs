@@ -894,14 +894,11 @@ impl Bands<'_> {
         // on the fine grid the parametric change |S_f − S| itself (no projection sharpening): it bounds both
         // one-sided distances at every sample, and it varies little between samples this dense, where a
         // projected distance can exceed m between nodes at which it did not
-        let mut dev = self
-            .fine
-            .deviation(s, f, self.free_u, self.free_v, f64::INFINITY, false);
+        let (mut dev, mut peaks) = (self.fine).change_peaks(s, f, self.free_u, self.free_v, PEAK_FRACTION * self.m);
         if dev > self.m {
             return None;
         }
         // between the nodes: the change's local maxima, from the grid's peaks near m
-        let mut peaks = self.fine.peaks(s, f, PEAK_FRACTION * self.m);
         peaks.sort_by(|x, y| y.0.total_cmp(&x.0));
         for &(_, u, v) in peaks.iter().take(MAX_PEAKS) {
             dev = dev.max(local_max_change(s, f, (u, v)));
@@ -914,9 +911,9 @@ impl Bands<'_> {
 }
 
 /// Grid peaks of the change above this fraction of m are followed to their local maximum ([`Bands`]).
-pub const PEAK_FRACTION: f64 = 0.98;
+pub const PEAK_FRACTION: f64 = 0.99;
 /// At most this many grid peaks (the largest) are followed.
-pub const MAX_PEAKS: usize = 64;
+pub const MAX_PEAKS: usize = 16;
 
 /// The local maximum of the parametric change `|S_b − S_a|` near `uv`: Newton ascent on `|Δ|²/2` (gradient
 /// `Δ·Δ_u, Δ·Δ_v`, Hessian `Δ_u·Δ_u + Δ·Δ_uu, …`; a gradient step where that is not negative definite),
@@ -928,7 +925,7 @@ fn local_max_change(a: &BSplineSurface, b: &BSplineSurface, uv: (f64, f64)) -> f
     let (mut u, mut v) = uv;
     let mut best = change(u, v);
     let scale = ((u1 - u0).powi(2) + (v1 - v0).powi(2)).sqrt();
-    for _ in 0..30 {
+    for _ in 0..15 {
         let (da, db) = (a.derivs(u, v), b.derivs(u, v));
         let (d, du, dv) = (db.p - da.p, db.su - da.su, db.sv - da.sv);
         let (duu, duv, dvv) = (db.suu - da.suu, db.suv - da.suv, db.svv - da.svv);
@@ -1535,16 +1532,51 @@ fn grid_points(s: &BSplineSurface, us: &[f64], vs: &[f64]) -> Vec<DVec3> {
 }
 
 impl CheckGrid {
-    /// The grid nodes where the parametric change `|S_b − S_a|` exceeds `thresh` and is no smaller than at
-    /// its four grid neighbours (the grid's local maxima above `thresh`), as `(change, u, v)`.
-    fn peaks(&self, a: &BSplineSurface, b: &BSplineSurface, thresh: f64) -> Vec<(f64, f64, f64)> {
-        let (us, vs) = (&self.u.params, &self.v.params);
-        let (mu, mv) = (us.len(), vs.len());
-        let d: Vec<f64> = grid_points(b, us, vs)
-            .iter()
-            .zip(grid_points(a, us, vs))
-            .map(|(p, q)| p.distance(q))
-            .collect();
+    /// The parametric change `|S_b − S_a|` on the grid (`b` differing from `a` only in the control block
+    /// `fu × fv`, evaluated separably from the change of that block): its maximum and the nodes where it
+    /// exceeds `thresh` and is no smaller than at its four grid neighbours, as `(change, u, v)`.
+    fn change_peaks(
+        &self,
+        a: &BSplineSurface,
+        b: &BSplineSurface,
+        fu: &Range<usize>,
+        fv: &Range<usize>,
+        thresh: f64,
+    ) -> (f64, Vec<(f64, f64, f64)>) {
+        let nv = a.nv();
+        let nfv = fv.len();
+        let (mu, mv) = (self.u.params.len(), self.v.params.len());
+        let (pa, pb) = (a.points(), b.points());
+        let mut tmp = vec![DVec3::ZERO; mu * nfv];
+        for k in 0..mu {
+            let sp = self.u.spans[k];
+            for ia in 0..=self.pu {
+                let i = sp - self.pu + ia;
+                if !fu.contains(&i) {
+                    continue;
+                }
+                let w = self.u.vals[k][ia];
+                for (jj, t) in tmp[k * nfv..(k + 1) * nfv].iter_mut().enumerate() {
+                    let idx = i * nv + fv.start + jj;
+                    *t += (pb[idx] - pa[idx]) * w;
+                }
+            }
+        }
+        let mut d = vec![0.0f64; mu * mv];
+        for k in 0..mu {
+            for l in 0..mv {
+                let sp = self.v.spans[l];
+                let mut x = DVec3::ZERO;
+                for jb in 0..=self.pv {
+                    let j = sp - self.pv + jb;
+                    if fv.contains(&j) {
+                        x += tmp[k * nfv + j - fv.start] * self.v.vals[l][jb];
+                    }
+                }
+                d[k * mv + l] = x.length();
+            }
+        }
+        let max = d.iter().fold(0.0f64, |m, &x| m.max(x));
         let mut out = Vec::new();
         for k in 0..mu {
             for l in 0..mv {
@@ -1559,11 +1591,11 @@ impl CheckGrid {
                     (l + 1 < mv).then(|| d[k * mv + l + 1]),
                 ];
                 if nb.iter().flatten().all(|&y| y <= x) {
-                    out.push((x, us[k], vs[l]));
+                    out.push((x, self.u.params[k], self.v.params[l]));
                 }
             }
         }
-        out
+        (max, out)
     }
 
     fn new(s: &BSplineSurface, cu: &[f64], cv: &[f64], threads: usize) -> Self {
