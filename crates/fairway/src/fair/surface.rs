@@ -2,7 +2,8 @@
 //! the isocurves through the region are faired with the curve engine
 //! ([`super::curve`]), the two point clouds combined and a surface fitted
 //! with the original knots ([`crate::fit_surface`]), under a verified
-//! tolerance.
+//! tolerance; then the fairest of that result, the reference smoother's and
+//! their combinations is returned (step 8).
 //!
 //! # Algorithm
 //!
@@ -144,6 +145,38 @@
 //!    [`MAX_ROUNDS`]); if still above, the change of the control points is
 //!    scaled, `ΔD ← α ΔD`, α bisected in [0, 1] (α = 0 is the original, so a
 //!    positive tolerance is always met; the result reports α).
+//! 8. **The fairest candidate** (default [`SurfaceMethod::Fairway`]; [`SurfaceMethod::Isocurves`] stops
+//!    after step 7). The **reference smoother** ([`SurfaceMethod::Smoothing`], `fairway fair --method
+//!    smoothing`) is the surface counterpart of the curve engine's `FitMode::Smoothing`: on the same
+//!    free block and grid as step 5, with the original's samples as data, [`PlateFit`] minimises
+//!    `‖S − S₀‖² + λ ∫∫ S_xxx² + 3 S_xxy² + 3 S_xyy² + S_yyy²` (order [`REFERENCE_ORDER`] = 3, the
+//!    rotation-invariant curvature-variation energy, x, y the parameters scaled by the mean speeds), the
+//!    largest λ on a log bisection whose result holds the band. Candidates: the original, step 7's
+//!    result, the smoother's three strongest band-holding strengths on the original's samples and on step
+//!    7's result (data = the isocurve result's samples, band still against the original), and blends
+//!    `a + (b − a)(1 − w)` of pairs of the isocurve result, the smoother's answer and the fairest
+//!    smoother-on-isocurves net ([`BLENDS`]). A smoother or blend candidate holds the band when the
+//!    step-7 checks pass and, on a grid of [`FINE_CHECK_PER_SPAN`] samples per span, the parametric
+//!    change `|S_f − S|` stays ≤ m, its grid peaks followed to their local maxima by Newton ascent
+//!    (projected distances are never larger; without the peaks the smoother's nets exceeded m by up to
+//!    0.1 % between nodes, measured by dense projection). Each candidate is ranked by
+//!    (isocurve curvature extrema with the 1 % dead band, `∫∫|∇H|²`), the measures of
+//!    [`crate::measure_surface`] over the moving rectangle ([`RANK_ISO`] isocurves; for a whole-surface
+//!    fair exactly `measure`'s numbers). Returned: the lexicographically fairest candidate that is no
+//!    less fair on either measure than the reference and than step 7's result and has no more extrema
+//!    than the original; if none, the fairest no less fair than the reference with no more extrema than
+//!    the original; if none, the fairest of all. The result's `pick` says which.
+//!
+//!    **Why** (measured, `cargo run --release -p fairway --example surface_quality_table`, 5 noisy
+//!    surfaces × 3 tolerances, docs/QUALITY.md): step 7 alone was less fair than the reference in 13 of
+//!    15 rows (Σ extrema 1329 against the reference's 1040; on a nearly quadratic car roof at 1σ 232
+//!    against 35 extrema), the reference alone less fair than step 7 in others (the bumpy asset at 3σ:
+//!    41 against 37). Step 8 is at least as fair as both on both measures in 13 of 15 rows (Σ extrema
+//!    938); the two others are the apex dome, where the reference has more extrema than the original and
+//!    the original's count comes first. The thin-plate energy (order 2) was the weaker peer: Σ extrema
+//!    1987, and it *raised* ∫∫|∇H|² on the car roof (a thin plate flattens the crown, unevenly within the
+//!    band). **Cost**: the ranking (≈ 5 ms per candidate on a 20 × 16 net, about 19 candidates on 2
+//!    threads) makes the default 8–10 × step 7's time (≈ 100 ms instead of 10 on the bumpy asset).
 //!
 //! Rational surfaces with equal weights are converted; others are rejected.
 //! Degree 2 gives C1 (G1) joins only; any degree ≥ 1 and any clamped knot
@@ -910,7 +943,7 @@ impl Bands<'_> {
     }
 }
 
-/// Grid peaks of the change above this fraction of m are followed to their local maximum ([`Bands`]).
+/// Grid peaks of the change above this fraction of m are followed to their local maximum (the band check of step 8).
 pub const PEAK_FRACTION: f64 = 0.99;
 /// At most this many grid peaks (the largest) are followed.
 pub const MAX_PEAKS: usize = 16;
