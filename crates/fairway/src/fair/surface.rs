@@ -152,8 +152,9 @@
 //!    `‖S − S₀‖² + λ ∫∫ S_xxx² + 3 S_xxy² + 3 S_xyy² + S_yyy²` (order [`REFERENCE_ORDER`] = 3, the
 //!    rotation-invariant curvature-variation energy, x, y the parameters scaled by the mean speeds), the
 //!    largest λ on a log bisection whose result holds the band. Candidates: the original, step 7's
-//!    result, the smoother's three strongest band-holding strengths on the original's samples and on step
-//!    7's result (data = the isocurve result's samples, band still against the original), and blends
+//!    result, the smoother's answer on the original's samples and on step 7's result (data = the isocurve
+//!    result's samples, band still against the original; ranking the weaker strengths the searches visited
+//!    as well changed no row of the table), and blends
 //!    `a + (b − a)(1 − w)` of pairs of the isocurve result, the smoother's answer and the fairest
 //!    smoother-on-isocurves net ([`BLENDS`]). A smoother or blend candidate holds the band when the
 //!    step-7 checks pass and, on a grid of [`FINE_CHECK_PER_SPAN`] samples per span, the parametric
@@ -175,8 +176,9 @@
 //!    938); the two others are the apex dome, where the reference has more extrema than the original and
 //!    the original's count comes first. The thin-plate energy (order 2) was the weaker peer: Σ extrema
 //!    1987, and it *raised* ∫∫|∇H|² on the car roof (a thin plate flattens the crown, unevenly within the
-//!    band). **Cost**: the ranking (≈ 5 ms per candidate on a 20 × 16 net, about 19 candidates on 2
-//!    threads) makes the default 8–10 × step 7's time (≈ 100 ms instead of 10 on the bumpy asset).
+//!    band). **Cost**: the two searches and the ranking (≈ 5 ms per candidate on a 20 × 16 net, 13
+//!    candidates on 2 threads) make the default 8–15 × step 7's time (≈ 90 ms instead of 5–12 on the bumpy
+//!    asset; 0.8 s instead of 20–70 ms on 40 × 40 nets).
 //!
 //! Rational surfaces with equal weights are converted; others are rejected.
 //! Degree 2 gives C1 (G1) joins only; any degree ≥ 1 and any clamped knot
@@ -769,10 +771,13 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
     let today = cands[1].0;
     // the reference smoother: its answer is the largest strength; every band-holding strength of the
     // search is a candidate too (ranked, not trusted to be fairer)
-    let reference = plate_search(&s, &plate, &grid_fit.project(&orig)?, &bands)?;
+    // the two searches (on the original's samples and on the isocurve result's) are independent
     let iso_grid = grid_points(&result.surface, &us, &vs);
-    let iso_rhs = grid_fit.project(&iso_grid)?;
-    let combined = plate_search(&s, &plate, &iso_rhs, &bands)?;
+    let rhs = [grid_fit.project(&orig)?, grid_fit.project(&iso_grid)?];
+    let searches = par_map(&rhs, threads, |r| plate_search(&s, &plate, r, &bands));
+    let [reference, combined]: [_; 2] = (searches.into_iter().collect::<Result<Vec<_>>>()?)
+        .try_into()
+        .map_err(|_| Error::Solve("surface smoothing: one search per data set".into()))?;
     let ref_rank = match reference.last() {
         Some((pts, ..)) => ranker.rank(&s.with_points(pts.clone())?),
         None => cands[0].0,
@@ -863,8 +868,8 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
 
 /// Check samples per knot span and direction of the step-8 candidates (module docs, step 8).
 pub const FINE_CHECK_PER_SPAN: usize = 4 * CHECK_PER_SPAN;
-/// Band-holding strengths of each smoother search that step 8 ranks: the strongest ones.
-pub const SEARCH_CANDIDATES: usize = 3;
+/// Band-holding strengths of each smoother search that step 8 ranks, the strongest first (1: the search's answer).
+pub const SEARCH_CANDIDATES: usize = 1;
 /// Blend weights of the isocurve result tried against the smoother's (step 8).
 pub const BLENDS: [f64; 3] = [0.25, 0.5, 0.75];
 /// Gauss–Legendre nodes per cell and direction of the step-8 ranking's `∫∫|∇H|²`.
