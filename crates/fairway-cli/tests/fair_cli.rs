@@ -350,7 +350,7 @@ fn fair_surface_region_and_surface_measures() {
     fails_with(&bad, 1, "cannot measure a curve against a surface");
 }
 
-/// `--method smoothing` on a surface is the thin-plate reference smoother: it holds the band, moves the
+/// `--method smoothing` on a surface is the curvature-variation reference smoother: it holds the band, moves the
 /// surface, and the default fair is no less fair than it (curvature extrema and ∫∫|∇H|² of the reports);
 /// an unknown method is a clear error.
 #[test]

@@ -1,6 +1,6 @@
 //! The surface fairness quality table: every surface of the suite (`tests/common/surface_suite.rs`) at
 //! tolerances of 1, 3 and 10 × its noise σ — the original, the reference smoother (tensor-product
-//! penalized least squares with the thin-plate energy, its strength searched to hold the band,
+//! penalized least squares with the curvature-variation energy, its strength searched to hold the band,
 //! `SurfaceMethod::Smoothing`), the isocurve fairing alone (`SurfaceMethod::Isocurves`, the default
 //! before the step-8 choice) and Fairway's default, judged by the measures of `measure_surface`:
 //! isocurve curvature extrema (20 isocurves per direction, dead band 1 % of the original's max |κ_n|),

@@ -175,8 +175,9 @@
 //!    41 against 37). Step 8 is at least as fair as both on both measures in 13 of 15 rows (Σ extrema
 //!    938); the two others are the apex dome, where the reference has more extrema than the original and
 //!    the original's count comes first. The thin-plate energy (order 2) was the weaker peer: Σ extrema
-//!    1987, and it *raised* ∫∫|∇H|² on the car roof (a thin plate flattens the crown, unevenly within the
-//!    band). **Cost**: the two searches and the ranking (≈ 5 ms per candidate on a 20 × 16 net, 13
+//!    1987, and on the car roof at 1σ it leaves ∫∫|∇H|² at 0.60 where order 3 reaches 1.5·10⁻³ (on a
+//!    10 × 10 net it raised it above the original's: a thin plate penalizes the crown's curvature itself
+//!    and flattens it unevenly within the band). **Cost**: the two searches and the ranking (≈ 5 ms per candidate on a 20 × 16 net, 13
 //!    candidates on 2 threads) make the default 8–15 × step 7's time (≈ 90 ms instead of 5–12 on the bumpy
 //!    asset; 0.8 s instead of 20–70 ms on 40 × 40 nets).
 //!
@@ -237,7 +238,7 @@ pub enum SurfaceMethod {
     #[default]
     Fairway,
     /// The reference smoother alone: tensor-product penalized least squares on the original's grid
-    /// samples with the thin-plate energy ([`PlateFit`], order [`REFERENCE_ORDER`]), the largest strength
+    /// samples with the curvature-variation energy ([`PlateFit`], order [`REFERENCE_ORDER`]), the largest strength
     /// whose result holds the verified band (module docs, step 8).
     Smoothing,
     /// The isocurve fairing alone (steps 1-7, without the step-8 choice): for comparisons.
@@ -336,7 +337,8 @@ pub struct SurfaceFairingResult {
     pub surface: BSplineSurface,
     /// Verified upper bound of the deviation on the check grid (≤ tolerance).
     pub max_deviation: f64,
-    /// Isocurve tolerance of the picked level (m, m/3, m/9, … or a tightened one). With the default
+    /// Isocurve tolerance of the picked level (m, m/3, m/9, … or a tightened one; 0 for
+    /// [`SurfaceMethod::Smoothing`], which fairs no isocurve). With the default
     /// scaled levels (`refair_levels` off), level k's isocurve corrections are those of the pass at m
     /// scaled by 3⁻ᵏ, so this bounds their size the same way.
     pub iso_tolerance: f64,
@@ -769,19 +771,14 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
         ),
     ];
     let today = cands[1].0;
-    // the reference smoother: its answer is the largest strength; every band-holding strength of the
-    // search is a candidate too (ranked, not trusted to be fairer)
-    // the two searches (on the original's samples and on the isocurve result's) are independent
+    // the smoother on the original's samples (the reference; its answer is the largest band-holding
+    // strength) and on the isocurve result's: independent searches
     let iso_grid = grid_points(&result.surface, &us, &vs);
     let rhs = [grid_fit.project(&orig)?, grid_fit.project(&iso_grid)?];
     let searches = par_map(&rhs, threads, |r| plate_search(&s, &plate, r, &bands));
     let [reference, combined]: [_; 2] = (searches.into_iter().collect::<Result<Vec<_>>>()?)
         .try_into()
         .map_err(|_| Error::Solve("surface smoothing: one search per data set".into()))?;
-    let ref_rank = match reference.last() {
-        Some((pts, ..)) => ranker.rank(&s.with_points(pts.clone())?),
-        None => cands[0].0,
-    };
     // the searches' strongest band-holding strengths, ranked in parallel (the ranking is most of step 8's cost)
     let mut found = Vec::new();
     for (pick, all) in [(SurfacePick::Reference, reference), (SurfacePick::Combined, combined)] {
@@ -797,11 +794,13 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
             .zip(ranks)
             .map(|((pick, f, dev, st), r)| (r, pick, f, dev, st)),
     );
-    // blends of the isocurve result with the lexicographically fairest smoother net: |S_blend − S| is at
-    // most the larger of the two nets' changes at every point; each is checked on the fine grid again
+    // the reference's rank: that of its answer (the original's when no strength held the band)
+    let ref_rank = (cands.iter().rev())
+        .find(|c| c.1 == SurfacePick::Reference)
+        .map_or(cands[0].0, |c| c.0);
     // blends of pairs of anchors — the isocurve result, the reference's answer and the fairest net of the
-    // smoother run on the isocurve result: |S_blend − S| is at most the larger of the two nets' changes at every point; each
-    // blend is checked on the fine grid again
+    // smoother run on the isocurve result: |S_blend − S| is at most the larger of the two nets' changes at
+    // every point; each blend is checked on the fine grid again
     let mut anchors: Vec<usize> = vec![1];
     if let Some(i) = cands.iter().rposition(|c| c.1 == SurfacePick::Reference) {
         anchors.push(i);
@@ -875,7 +874,8 @@ pub const BLENDS: [f64; 3] = [0.25, 0.5, 0.75];
 /// Gauss–Legendre nodes per cell and direction of the step-8 ranking's `∫∫|∇H|²`.
 pub const RANK_GAUSS: usize = 10;
 
-/// Order of the reference smoother's energy: 2, the thin-plate energy (module docs, step 8).
+/// Order of the reference smoother's energy: 3, the curvature-variation energy (module docs, step 8; the
+/// thin plate, order 2, was measured as the weaker peer).
 pub const REFERENCE_ORDER: usize = 3;
 /// Smallest and largest strength (log10) of the reference smoother's search.
 pub const REFERENCE_LOG_STRENGTH: (f64, f64) = (-6.0, 8.0);
