@@ -53,8 +53,8 @@ pub struct Args {
     #[arg(long)]
     pub strength: Option<usize>,
     /// fast (default), smoothing (the reference: knot-keeping penalized least squares, its weight the largest
-    /// that holds the band; on a surface the tensor-product curvature-variation smoother, likewise), iterative (paper 2.2
-    /// baseline) or paper (fast method as published: soft band). Surfaces: fast or smoothing.
+    /// that holds the band; on a surface the tensor-product curvature-variation smoother, likewise), iterative
+    /// (paper 2.2 baseline) or paper (fast method as published: soft band). Surfaces: fast or smoothing.
     #[arg(long, default_value = "fast")]
     pub method: String,
     /// Curves: continuity kept at an end of an open curve (g0, g1 or g2; default: the weaker of --ends and

@@ -132,8 +132,8 @@ fn main() {
     println!();
     println!(
         "Fairway's default at least as fair as the reference (extrema and ∫∫|∇H|²) in {vs_ref} of {total} rows, as \
-         today's isocurve fairing in {vs_today}, as the original in {vs_orig} (today's as the reference in {today_vs_ref}); Σ extrema original {}, \
-         reference {}, today {}, fairway {}.",
+         today's isocurve fairing in {vs_today}, as the original in {vs_orig} (today's as the reference in \
+         {today_vs_ref}); Σ extrema original {}, reference {}, today {}, fairway {}.",
         sums[0], sums[1], sums[2], sums[3]
     );
 }

@@ -177,8 +177,8 @@
 //!    the original's count comes first. The thin-plate energy (order 2) was the weaker peer: Σ extrema
 //!    1987, and on the car roof at 1σ it leaves ∫∫|∇H|² at 0.60 where order 3 reaches 1.5·10⁻³ (on a
 //!    10 × 10 net it raised it above the original's: a thin plate penalizes the crown's curvature itself
-//!    and flattens it unevenly within the band). **Cost**: the two searches and the ranking (≈ 5 ms per candidate on a 20 × 16 net, 13
-//!    candidates on 2 threads) make the default 8–15 × step 7's time (≈ 90 ms instead of 5–12 on the bumpy
+//!    and flattens it unevenly within the band). **Cost**: the two searches and the ranking (≈ 5 ms per
+//!    candidate on a 20 × 16 net, 13 candidates on 2 threads) make the default 8–15 × step 7's time (≈ 90 ms instead of 5–12 on the bumpy
 //!    asset; 0.8 s instead of 20–70 ms on 40 × 40 nets).
 //!
 //! Rational surfaces with equal weights are converted; others are rejected.
