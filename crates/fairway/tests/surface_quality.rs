@@ -143,6 +143,42 @@ fn the_reference_smoother_at_the_ends_of_its_range_and_on_bad_input() {
         );
         assert!(e.is_err(), "tolerance {bad}");
     }
+    // a region: the smoother moves only the engine's free block (poles and borders held as the engine
+    // holds them) and holds the band; the default's choice keeps that too
+    let region = ((0.2, 0.8), (0.25, 0.75));
+    let big = &surface_suite::surface_cases(16)[0];
+    let s = &big.surface;
+    for method in [SurfaceMethod::Smoothing, SurfaceMethod::Fairway] {
+        let m = 3.0 * big.sigma;
+        let r = fair_surface(
+            s,
+            SurfaceFairingOptions {
+                tolerance: m,
+                region: Some(region),
+                method,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let nv = s.nv();
+        let mut moved = 0;
+        for (k, (a, b)) in s.points().iter().zip(r.surface.points()).enumerate() {
+            if r.free_u.contains(&(k / nv)) && r.free_v.contains(&(k % nv)) {
+                moved += usize::from(a != b);
+            } else {
+                assert_eq!(a, b, "{method:?}: held control point {k} moved");
+            }
+        }
+        assert!(
+            moved > 0 || r.pick == SurfacePick::Original,
+            "{method:?}: nothing moved"
+        );
+        let (there, back) = (deviation(s, &r.surface, 101).0, deviation(&r.surface, s, 101).0);
+        assert!(
+            there <= m * (1.0 + 1e-9) && back <= m * (1.0 + 1e-9),
+            "{method:?}: {there} / {back}"
+        );
+    }
     assert!("smoothing".parse::<SurfaceMethod>() == Ok(SurfaceMethod::Smoothing));
     assert!("thin".parse::<SurfaceMethod>().is_err());
 }
