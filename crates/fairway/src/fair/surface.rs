@@ -304,7 +304,9 @@ pub struct SurfaceFairingOptions {
     /// each level's tolerance m/3, m/9, … (one setup per isocurve, re-faired per level: about 2× the
     /// isocurve time). Measured in the module docs (step 6): the same fairness within a few per cent.
     pub refair_levels: bool,
-    /// The isocurve fairing with the step-8 choice (default) or the reference smoother alone.
+    /// The isocurve fairing with the step-8 choice (default), the reference smoother alone, or the isocurve
+    /// fairing alone. Step 8 runs with or without `auto_smoothing`: for exactly the given `smoothing`, use
+    /// [`SurfaceMethod::Isocurves`].
     pub method: SurfaceMethod,
 }
 
