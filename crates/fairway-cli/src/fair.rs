@@ -11,8 +11,8 @@ use anyhow::{Context, Result, anyhow, bail};
 use fairway::Geometry;
 use fairway::fair::{
     Combine, CornerFair, EndCondition, FairingOptions, FairingSetup, FitMode, Integrator, IterativeOptions,
-    PolishMethod, Seam, SurfaceFairingOptions, TargetMethod, closed, fair_between_corners, fair_iterative,
-    fair_surface,
+    PolishMethod, Seam, SurfaceFairingOptions, SurfaceMethod, TargetMethod, closed, fair_between_corners,
+    fair_iterative, fair_surface,
 };
 use fairway::io::Document;
 use fairway::measure::{Measures, measure};
@@ -53,7 +53,8 @@ pub struct Args {
     #[arg(long)]
     pub strength: Option<usize>,
     /// fast (default), smoothing (the reference: knot-keeping penalized least squares, its weight the largest
-    /// that holds the band), iterative (paper 2.2 baseline) or paper (fast method as published: soft band).
+    /// that holds the band; on a surface the tensor-product curvature-variation smoother, likewise), iterative
+    /// (paper 2.2 baseline) or paper (fast method as published: soft band). Surfaces: fast or smoothing.
     #[arg(long, default_value = "fast")]
     pub method: String,
     /// Curves: continuity kept at an end of an open curve (g0, g1 or g2; default: the weaker of --ends and
@@ -557,12 +558,11 @@ fn seam_text(seam: &Seam) -> String {
 }
 
 fn fair_surface_cmd(a: &Args, surface: &BSplineSurface, curve: FairingOptions, region: Option<&Region>) -> Result<()> {
-    if a.method != "fast" {
-        bail!(
-            "surfaces are faired by the fast method only (got --method {})",
-            a.method
-        );
-    }
+    let method = match a.method.as_str() {
+        "fast" => SurfaceMethod::Fairway,
+        "smoothing" => SurfaceMethod::Smoothing,
+        m => bail!("surfaces are faired by the fast or the smoothing method (got --method {m})"),
+    };
     let region = match region.map(|r| r.0.as_slice()) {
         None => None,
         Some(&[u1, u2, v1, v2]) => Some(((u1, u2), (v1, v2))),
@@ -578,6 +578,7 @@ fn fair_surface_cmd(a: &Args, surface: &BSplineSurface, curve: FairingOptions, r
         curve,
         combine: a.combine,
         refair_levels: a.refair_levels,
+        method,
         ..Default::default()
     };
     let t0 = Instant::now();

@@ -350,6 +350,65 @@ fn fair_surface_region_and_surface_measures() {
     fails_with(&bad, 1, "cannot measure a curve against a surface");
 }
 
+/// `--method smoothing` on a surface is the curvature-variation reference smoother: it holds the band, moves the
+/// surface, and the default fair is no less fair than it (curvature extrema and ∫∫|∇H|² of the reports);
+/// an unknown method is a clear error.
+#[test]
+fn fair_surface_with_the_reference_smoother() {
+    let dir = temp_dir("surface_smoothing");
+    let input = reference("saddle.json");
+    let mut reports = vec![];
+    for method in ["smoothing", "fast"] {
+        let (out, rep) = (
+            dir.join(format!("{method}.json")),
+            dir.join(format!("{method}.report.json")),
+        );
+        ok(&fairway(&[
+            "fair",
+            s(&input),
+            "--tolerance",
+            "0.01",
+            "--method",
+            method,
+            "-o",
+            s(&out),
+            "--report",
+            s(&rep),
+        ]));
+        let r = json_file(&rep);
+        assert_eq!(r["method"], method);
+        let moved = surface(&input)
+            .points()
+            .iter()
+            .zip(surface(&out).points())
+            .map(|(a, b)| a.distance(*b))
+            .fold(0.0, f64::max);
+        assert!(moved > 1e-6, "{method}: nothing moved");
+        assert!(r["measures"]["dev_max"].as_f64().unwrap() <= 0.01);
+        reports.push(r["measures"].clone());
+    }
+    let (sm, fw) = (&reports[0], &reports[1]);
+    assert!(
+        fw["n_curv_extrema"].as_u64() <= sm["n_curv_extrema"].as_u64(),
+        "{fw} vs {sm}"
+    );
+    assert!(
+        fw["mean_curv_var"].as_f64() <= sm["mean_curv_var"].as_f64(),
+        "{fw} vs {sm}"
+    );
+    let bad = fairway(&[
+        "fair",
+        s(&input),
+        "--tolerance",
+        "0.01",
+        "--method",
+        "iterative",
+        "-o",
+        s(&dir.join("x.json")),
+    ]);
+    fails_with(&bad, 1, "fast or the smoothing method");
+}
+
 #[test]
 fn measure_with_a_target() {
     let dir = temp_dir("target");

@@ -12,7 +12,7 @@ use std::time::Instant;
 
 use eframe::egui;
 use egui::{Color32, Pos2, Rect, RichText, Sense, Stroke};
-use fairway::fair::surface::{SurfaceFairingOptions, fair_surface};
+use fairway::fair::surface::{SurfaceFairingOptions, SurfaceMethod, fair_surface};
 use fairway::io::Document;
 use fairway::measure_surface::{SurfaceMeasures, surface_measures};
 use fairway::{BSplineSurface, DVec2, DVec3, Geometry};
@@ -375,6 +375,13 @@ impl SurfaceEditor {
                     1
                 } else {
                     SurfaceFairingOptions::default().iso_levels
+                },
+                // while dragging: the isocurve fairing alone (the step-8 choice among the reference smoother's
+                // candidates costs 8-15 × as much); on release the default
+                method: if draft {
+                    SurfaceMethod::Isocurves
+                } else {
+                    SurfaceMethod::default()
                 },
                 ..Default::default()
             };

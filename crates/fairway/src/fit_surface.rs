@@ -420,6 +420,186 @@ impl<'a> GridFit<'a> {
     }
 }
 
+/// `[X D_b Y]_ff`: the symmetric banded `X` (u) and `Y` (v) applied to the net `db` (row-major,
+/// `nu × nv`), restricted to the free block (row-major over it).
+fn kron_apply(
+    x: &BandedSpd,
+    y: &BandedSpd,
+    db: &[DVec3],
+    nv: usize,
+    free_u: &Range<usize>,
+    free_v: &Range<usize>,
+) -> Vec<DVec3> {
+    let nu = db.len() / nv.max(1);
+    let (pu, pv) = (x.bandwidth(), y.bandwidth());
+    let nfv = free_v.len();
+    let mut w = vec![DVec3::ZERO; nu * nfv];
+    for i in 0..nu {
+        for (jj, j) in free_v.clone().enumerate() {
+            let mut s = DVec3::ZERO;
+            for jb in j.saturating_sub(pv)..(j + pv + 1).min(nv) {
+                s += db[i * nv + jb] * y.get(jb, j);
+            }
+            w[i * nfv + jj] = s;
+        }
+    }
+    let mut out = vec![DVec3::ZERO; free_u.len() * nfv];
+    for (ii, i) in free_u.clone().enumerate() {
+        for ib in i.saturating_sub(pu)..(i + pu + 1).min(nu) {
+            let c = x.get(i, ib);
+            if c == 0.0 {
+                continue;
+            }
+            for jj in 0..nfv {
+                out[ii * nfv + jj] += w[ib * nfv + jj] * c;
+            }
+        }
+    }
+    out
+}
+
+/// Tensor-product penalized least squares with a rotation-invariant derivative energy: the surface
+/// counterpart of the curve reference smoother. On the data grid of a [`GridFit`] it minimises
+///
+/// ```text
+/// ‖A D Bᵀ − X‖² + λ Σ_{k=0..r} C(r, k) ∫∫ |∂ʳS/∂xʳ⁻ᵏ∂yᵏ|² dx dy
+/// ```
+///
+/// with `x = L_u u`, `y = L_v v` (`L_u`, `L_v` the mean speeds `|S_u|`, `|S_v|`, so that the energy is
+/// that of the surface's shape, not of its parameterization): for r = 2 the thin-plate energy
+/// `∫∫ S_xx² + 2 S_xy² + S_yy²`, for r = 3 the curvature-variation energy
+/// `∫∫ S_xxx² + 3 S_xxy² + 3 S_xyy² + S_yyy²`. Each term is a Kronecker product of 1D derivative
+/// Gram matrices (`G_{r−k} ⊗ G_k`), but their sum is not separable, so the free block is solved as one
+/// banded system (unknowns ordered along the shorter side of the block, bandwidth `p·(short side) + p`):
+/// O(n · bw²) per strength. λ = `strength · tr(AᵀA ⊗ BᵀB) / tr(energy)` (dimensionless, as
+/// [`SurfaceSmoothing`]).
+pub struct PlateFit<'g, 'a> {
+    grid: &'g GridFit<'a>,
+    /// Energy terms: weight and the u and v Gram matrices.
+    terms: Vec<(f64, BandedSpd, BandedSpd)>,
+    /// `tr(data) / tr(energy)`.
+    norm: f64,
+}
+
+impl<'g, 'a> PlateFit<'g, 'a> {
+    /// The energy of order `order` (2 or 3) with the length scales `lu`, `lv` (> 0, finite) of u and v.
+    pub fn new(grid: &'g GridFit<'a>, order: usize, lu: f64, lv: f64) -> Result<Self> {
+        if !(order == 2 || order == 3) {
+            return Err(Error::InvalidInput(format!(
+                "surface smoothing: energy order {order} (expected 2, thin plate, or 3, curvature variation)"
+            )));
+        }
+        if !(lu.is_finite() && lv.is_finite() && lu > 0.0 && lv > 0.0) {
+            return Err(Error::Degenerate(format!(
+                "surface smoothing: the surface has no extent along u or v (mean speeds {lu}, {lv})"
+            )));
+        }
+        let (ku, kv) = (grid.base.knots_u(), grid.base.knots_v());
+        let binom = |n: usize, k: usize| (0..k).fold(1.0, |c, i| c * (n - i) as f64 / (i + 1) as f64);
+        let trace = |g: &BandedSpd| (0..g.n()).map(|i| g.get(i, i)).sum::<f64>();
+        let mut terms = Vec::with_capacity(order + 1);
+        let mut tr_e = 0.0;
+        for k in 0..=order {
+            let w = binom(order, k) / (lu.powi(2 * (order - k) as i32) * lv.powi(2 * k as i32));
+            let (gu, gv) = (derivative_gram(ku, order - k), derivative_gram(kv, k));
+            tr_e += w * trace(&gu) * trace(&gv);
+            terms.push((w, gu, gv));
+        }
+        let tr_d = trace(&grid.ata_u) * trace(&grid.ata_v);
+        let norm = if tr_e > 0.0 { tr_d / tr_e } else { 0.0 };
+        Ok(Self { grid, terms, norm })
+    }
+
+    /// Solve for the free block with the dimensionless `strength` (≥ 0), given the data term `rhs` of
+    /// [`GridFit::project`]; returns the full row-major control net (held points bit-for-bit unchanged).
+    pub fn solve(&self, rhs: &[DVec3], strength: f64) -> Result<Vec<DVec3>> {
+        if !(strength.is_finite() && strength >= 0.0) {
+            return Err(Error::InvalidInput(format!(
+                "surface smoothing: strength {strength} (expected a finite value ≥ 0)"
+            )));
+        }
+        let g = self.grid;
+        let base = g.base;
+        let (nu, nv) = (base.nu(), base.nv());
+        let (free_u, free_v) = (&g.free_u, &g.free_v);
+        let mut out = base.points().to_vec();
+        if free_u.is_empty() || free_v.is_empty() {
+            return Ok(out);
+        }
+        let (nfu, nfv) = (free_u.len(), free_v.len());
+        if rhs.len() != nfu * nfv {
+            return Err(Error::LengthMismatch {
+                field: "surface smoothing data term".into(),
+                count: rhs.len(),
+                expected: nfu * nfv,
+            });
+        }
+        let (pu, pv) = (g.bu.p, g.bv.p);
+        let lambda = strength * self.norm;
+        let mut terms: Vec<(f64, &BandedSpd, &BandedSpd)> = vec![(1.0, &g.ata_u, &g.ata_v)];
+        if lambda > 0.0 {
+            terms.extend(self.terms.iter().map(|(w, a, b)| (lambda * w, a, b)));
+        }
+        // unknown index of free point (ii, jj): along the shorter side, for the smaller bandwidth
+        let u_major = nfv <= nfu;
+        let idx = |ii: usize, jj: usize| if u_major { ii * nfv + jj } else { jj * nfu + ii };
+        let bw = if u_major { pu * nfv + pv } else { pv * nfu + pu };
+        let n = nfu * nfv;
+        let mut k = BandedSpd::zeros(n, bw.min(n.saturating_sub(1)));
+        for ii in 0..nfu {
+            let i = free_u.start + ii;
+            for ii2 in ii.saturating_sub(pu)..(ii + pu + 1).min(nfu) {
+                let i2 = free_u.start + ii2;
+                for jj in 0..nfv {
+                    let j = free_v.start + jj;
+                    let (r, c0) = (idx(ii, jj), jj.saturating_sub(pv));
+                    for jj2 in c0..(jj + pv + 1).min(nfv) {
+                        let c = idx(ii2, jj2);
+                        if c > r {
+                            continue;
+                        }
+                        let j2 = free_v.start + jj2;
+                        let v: f64 = terms.iter().map(|(w, x, y)| w * x.get(i, i2) * y.get(j, j2)).sum();
+                        if v != 0.0 {
+                            k.add(r, c, v);
+                        }
+                    }
+                }
+            }
+        }
+        // right-hand side: the data term minus the held points' part, Σ w [X D_b Y]_ff
+        let mut db = base.points().to_vec();
+        for i in free_u.clone() {
+            for j in free_v.clone() {
+                db[i * nv + j] = DVec3::ZERO;
+            }
+        }
+        let mut b = vec![DVec3::ZERO; n];
+        for (ii, jj) in (0..nfu).flat_map(|ii| (0..nfv).map(move |jj| (ii, jj))) {
+            b[idx(ii, jj)] = rhs[ii * nfv + jj];
+        }
+        for (w, x, y) in &terms {
+            let held = kron_apply(x, y, &db, nv, free_u, free_v);
+            for (ii, jj) in (0..nfu).flat_map(|ii| (0..nfv).map(move |jj| (ii, jj))) {
+                b[idx(ii, jj)] -= held[ii * nfv + jj] * *w;
+            }
+        }
+        k.factor().map_err(|_| {
+            Error::Solve(
+                "surface smoothing: the system is singular (too few data points in the support of some free \
+                 control points and no smoothing)"
+                    .into(),
+            )
+        })?;
+        k.solve_in_place(&mut b);
+        debug_assert_eq!(out.len(), nu * nv);
+        for (ii, jj) in (0..nfu).flat_map(|ii| (0..nfv).map(move |jj| (ii, jj))) {
+            out[(free_u.start + ii) * nv + free_v.start + jj] = b[idx(ii, jj)];
+        }
+        Ok(out)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -539,6 +719,78 @@ mod tests {
         for (a, b) in out.iter().zip(s.points()) {
             assert!((*a - *b).length() < 1e-9);
         }
+    }
+
+    #[test]
+    fn plate_fit_reduces_to_least_squares_keeps_its_null_space_and_held_points() {
+        let s = surface(9, 8, |u, v| u * v);
+        let (us, vs) = (grid(30), grid(27));
+        let data_of = |f: &dyn Fn(f64, f64) -> f64| -> Vec<DVec3> {
+            us.iter()
+                .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
+                .map(|(u, v)| DVec3::new(u, v, f(u, v)))
+                .collect()
+        };
+        let (fu, fv) = (2..7, 1..6);
+        let g = GridFit::new(&s, &us, &vs, fu.clone(), fv.clone()).unwrap();
+        let wavy = data_of(&|u, v| (5.0 * u).cos() * (4.0 * v).sin());
+        let rhs = g.project(&wavy).unwrap();
+        let ls = g.solve(&rhs, SurfaceSmoothing::NONE).unwrap();
+        for order in [2, 3] {
+            let plate = PlateFit::new(&g, order, 1.0, 1.3).unwrap();
+            // strength 0: the plain least-squares fit
+            let p0 = plate.solve(&rhs, 0.0).unwrap();
+            for (a, b) in p0.iter().zip(&ls) {
+                assert!((*a - *b).length() < 1e-10, "order {order}: {a} vs {b}");
+            }
+            // held points bit for bit, and smoothing lowers the data fit's wiggle: the fitted z varies less
+            let p = plate.solve(&rhs, 10.0).unwrap();
+            for i in 0..9 {
+                for j in 0..8 {
+                    if !(fu.contains(&i) && fv.contains(&j)) {
+                        assert_eq!(p[i * 8 + j], s.points()[i * 8 + j]);
+                    }
+                }
+            }
+            let spread = |pts: &[DVec3]| {
+                let z: Vec<f64> = fu
+                    .clone()
+                    .flat_map(|i| fv.clone().map(move |j| pts[i * 8 + j].z))
+                    .collect();
+                z.iter().fold(f64::MIN, |a, &b| a.max(b)) - z.iter().fold(f64::MAX, |a, &b| a.min(b))
+            };
+            assert!(spread(&p) < spread(&p0), "order {order}");
+        }
+        // data in the energy's null space (a plane for the thin plate, a quadric for order 3) on the whole net
+        // is reproduced at any strength
+        let whole = GridFit::new(&s, &us, &vs, 0..9, 0..8).unwrap();
+        for (order, f) in [
+            (
+                2,
+                &(|u: f64, v: f64| 0.3 * u - 0.2 * v + 0.1) as &dyn Fn(f64, f64) -> f64,
+            ),
+            (3, &|u: f64, v: f64| 0.3 * u * u - 0.2 * u * v + 0.4 * v * v - u),
+        ] {
+            let data = data_of(f);
+            let plate = PlateFit::new(&whole, order, 1.0, 1.0).unwrap();
+            let pts = plate.solve(&whole.project(&data).unwrap(), 1e4).unwrap();
+            let fitted = s.with_points(pts).unwrap();
+            for (u, v) in [(0.1, 0.2), (0.5, 0.5), (0.9, 0.7)] {
+                let want = DVec3::new(u, v, f(u, v));
+                assert!(
+                    (fitted.point(u, v) - want).length() < 1e-8,
+                    "order {order} at ({u}, {v})"
+                );
+            }
+        }
+        // bad input
+        assert!(PlateFit::new(&g, 1, 1.0, 1.0).is_err());
+        assert!(PlateFit::new(&g, 3, 0.0, 1.0).is_err());
+        assert!(PlateFit::new(&g, 3, f64::NAN, 1.0).is_err());
+        let plate = PlateFit::new(&g, 3, 1.0, 1.0).unwrap();
+        assert!(plate.solve(&rhs, -1.0).is_err());
+        assert!(plate.solve(&rhs, f64::INFINITY).is_err());
+        assert!(matches!(plate.solve(&rhs[1..], 1.0), Err(Error::LengthMismatch { .. })));
     }
 
     #[test]

@@ -65,6 +65,17 @@ pub struct SurfaceCurvature {
 }
 
 impl SurfaceDerivs {
+    /// The mean curvature alone, by the same operations as [`Self::curvature`]'s `mean` (bit-identical),
+    /// without the principal directions. NaN where the surface is singular.
+    pub fn mean_curvature(&self) -> f64 {
+        let nn = self.su.cross(self.sv);
+        let n = nn / nn.length();
+        let (e, f, g) = (self.su.dot(self.su), self.su.dot(self.sv), self.sv.dot(self.sv));
+        let (l, m, nc) = (self.suu.dot(n), self.suv.dot(n), self.svv.dot(n));
+        let det = e * g - f * f;
+        (e * nc - 2.0 * f * m + g * l) / (2.0 * det)
+    }
+
     /// Normal and curvatures from the derivatives. NaN fields where the
     /// surface is singular (`Su × Sv = 0`).
     pub fn curvature(&self) -> SurfaceCurvature {

@@ -47,6 +47,8 @@ pub use curve::{EndCondition, FairingOptions, FairingResult, FairingSetup, FitMo
 pub use integrate::Integrator;
 pub use iterative::{IterativeOptions, fair_iterative};
 pub use split::{CornerFair, CornerSetups, Stretch, fair_between_corners};
-pub use surface::{Combine, SurfaceFairingOptions, SurfaceFairingResult, SurfaceTimings, fair_surface};
+pub use surface::{
+    Combine, SurfaceFairingOptions, SurfaceFairingResult, SurfaceMethod, SurfacePick, SurfaceTimings, fair_surface,
+};
 pub use target::{Target, TargetMethod};
 pub use verify::{BandBound, band_bound};
