@@ -70,3 +70,37 @@ fn the_band_holds_on_100000_control_points() {
     }
     check(100_000);
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: common::prop_cases(3), ..Default::default() })]
+
+    /// Long curves of random size (200 to 2500 control points), faired whole or over a random region at a
+    /// random tolerance with the defaults: the band holds by the independent dense check in both
+    /// directions, the reported bound covers it, and the result is fairer by `measure` (which samples
+    /// every span of such a curve): no more curvature extrema, ∫(dκ/ds)² not above the input's.
+    #[test]
+    fn random_long_curves_hold_the_band_and_come_out_fairer(
+        n in 200usize..2500,
+        seed in 1u64..1000,
+        region in proptest::option::of((0.0f64..0.6, 0.1f64..0.4)),
+        m in 0.006f64..0.03,
+    ) {
+        let c = long_curve(n, seed);
+        let opts = fairway::fair::FairingOptions {
+            region: region.map(|(a, w)| (a, (a + w).min(1.0))),
+            ..common::opts(m)
+        };
+        let r = fair_curve(&c, opts).unwrap();
+        let (fwd, at) = dense::dense_deviation(&c, &r.curve, 20, 2);
+        let (back, back_at) = dense::dense_deviation(&r.curve, &c, 20, 2);
+        proptest::prop_assert!(fwd <= m, "{} cp: original → faired {} > {} at u = {}", n, fwd, m, at);
+        proptest::prop_assert!(back <= m, "{} cp: faired → original {} > {} at u = {}", n, back, m, back_at);
+        proptest::prop_assert!(fwd <= r.max_deviation * (1.0 + 1e-9), "dense {} above the bound {}", fwd, r.max_deviation);
+        let (m0, m1) = (fairway::measure::measure(&c, &c), fairway::measure::measure(&c, &r.curve));
+        proptest::prop_assert_eq!(m1.params.dev_samples, 20 * c.knots().n_spans());
+        proptest::prop_assert!(m1.n_curv_extrema <= m0.n_curv_extrema, "extrema {} -> {}", m0.n_curv_extrema, m1.n_curv_extrema);
+        proptest::prop_assert!(m1.E_var <= m0.E_var * (1.0 + 1e-9), "E_var {} -> {}", m0.E_var, m1.E_var);
+        // the windowed projection of the long measure finds what a whole-curve search finds
+        proptest::prop_assert!((m1.dev_max - fwd).abs() <= 1e-3 * m, "measure {} vs dense {}", m1.dev_max, fwd);
+    }
+}
