@@ -93,6 +93,19 @@ fn benches(c: &mut Criterion) {
     c.bench_function("curve100/projector build (16 per span)", |b| {
         b.iter(|| CurveProjector::new(black_box(&cv), 16))
     });
+    // issue 26: the measures' cost per control point stays flat with the curve's size
+    let mut group = c.benchmark_group("measure (all measures of a curve against a shifted copy)");
+    group.sample_size(10);
+    for n in [100usize, 1000, 10_000] {
+        let a = curve(n);
+        let b = a
+            .with_points(a.points().iter().map(|p| *p + DVec3::new(0.0, 1e-3, 0.0)).collect())
+            .unwrap();
+        group.bench_function(format!("{n} control points"), |bn| {
+            bn.iter(|| fairway::measure::measure(black_box(&a), black_box(&b)))
+        });
+    }
+    group.finish();
 }
 
 criterion_group!(geometry, benches);

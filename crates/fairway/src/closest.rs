@@ -186,7 +186,10 @@ impl<'a> CurveProjector<'a> {
         const G: usize = NONSMOOTH_GRID;
         let mut best = self.at(a, q).closer(self.at(b, q));
         let kv = self.curve.knots().values();
-        let inner = kv.iter().copied().filter(|&k| k > a && k < b);
+        // the knots strictly inside (a, b) only (a scan of the whole vector made a projection cost
+        // time proportional to the curve)
+        let (i0, i1) = (kv.partition_point(|&k| k <= a), kv.partition_point(|&k| k < b));
+        let inner = kv[i0..i1.max(i0)].iter().copied();
         let mut x = a;
         for y in inner.chain(std::iter::once(b)) {
             if y <= x {

@@ -49,7 +49,7 @@ pub const CURV_SAMPLES_PER_SPAN: usize = 40;
 /// spans) instead of over the whole curve, so that the measures cost time linear in the curve.
 const LOCAL_SEARCH_SPANS: usize = 200;
 /// Knot spans either side of the previous foot (and of the sample's own parameter) searched.
-const LOCAL_WINDOW: usize = 8;
+const LOCAL_WINDOW: usize = 4;
 
 /// Deviation samples of a measure of `c`: [`DEV_SAMPLES`], or [`DEV_SAMPLES_PER_SPAN`] per knot span
 /// where that is more.
