@@ -1926,11 +1926,17 @@ impl FairingSetup {
             }
             tau = IP_SIGMA * zc / nc as f64;
             let better = if obj.var > 0.0 {
-                let ext = self.node_extrema(&x);
                 // the objective steers the descent; E_var (the curvature's own variation) picks among equals
-                let take = rough <= start_var && (ext < best_extrema || (ext == best_extrema && rough < best_var));
+                // (the extrema are probed only for an iterate whose E_var is not above the start's)
+                let take = rough <= start_var && {
+                    let ext = self.node_extrema(&x);
+                    let take = ext < best_extrema || (ext == best_extrema && rough < best_var);
+                    if take {
+                        best_extrema = ext;
+                    }
+                    take
+                };
                 if take {
-                    best_extrema = ext;
                     best_var = rough;
                 }
                 take
