@@ -208,8 +208,13 @@ pub struct SurfaceReport {
     pub tolerance: f64,
     /// Fairing time, ms (the surface engine has no separate setup).
     pub solve_ms: f64,
-    /// Upper bound of the deviation verified by the solver.
+    /// Upper bound of the deviation verified by the solver (on its check grid).
     pub max_deviation_bound: f64,
+    /// Sound bound of the deviation everywhere (the parametric difference's refined control net);
+    /// ≤ the tolerance: the band is certified between the grid's points too.
+    pub band_bound: Option<f64>,
+    /// Whether `band_bound` certifies the tolerance.
+    pub band_certified: bool,
     /// Update scale α.
     pub alpha: f64,
     /// Rounds of isocurve fairing.
@@ -590,6 +595,8 @@ fn fair_surface_cmd(a: &Args, surface: &BSplineSurface, curve: FairingOptions, r
         tolerance: a.tolerance,
         solve_ms,
         max_deviation_bound: result.max_deviation,
+        band_bound: result.band_bound,
+        band_certified: result.band_bound.is_some_and(|b| b <= a.tolerance),
         alpha: result.alpha,
         rounds: result.rounds,
         free_u: [result.free_u.start, result.free_u.end],

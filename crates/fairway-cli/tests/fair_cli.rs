@@ -330,6 +330,10 @@ fn fair_surface_region_and_surface_measures() {
         assert!(m.get(k).is_some(), "surface report lacks {k}");
     }
     assert!(m["dev_max"].as_f64().unwrap() <= 0.01);
+    // the sound bound covers the measured deviation, and says whether it certifies the band
+    let bound = r["band_bound"].as_f64().expect("a polynomial surface has a band bound");
+    assert!(m["dev_max"].as_f64().unwrap() <= bound * (1.0 + 1e-9));
+    assert_eq!(r["band_certified"].as_bool(), Some(bound <= 0.01));
     let o = fairway(&["measure", s(&input), s(&out), "--json"]);
     ok(&o);
     let v: Value = serde_json::from_slice(&o.stdout).unwrap();

@@ -58,6 +58,7 @@ fn main() {
         "fairway",
         "dev/m ref",
         "dev/m fw",
+        "bound/m fw",
         "ms ref",
         "ms today",
         "ms fw",
@@ -71,6 +72,7 @@ fn main() {
         row(md, &vec!["---".to_string(); head.len()]);
     }
     let (mut total, mut vs_ref, mut vs_today, mut vs_orig, mut today_vs_ref) = (0, 0, 0, 0, 0);
+    let mut certified = 0;
     let mut sums = [0usize; 4];
     let cases = surface_suite::surface_cases(n)
         .into_iter()
@@ -99,6 +101,7 @@ fn main() {
                 mean_curvature_variation(&w.surface),
             );
             total += 1;
+            certified += usize::from(w.band_bound.is_some_and(|b| b <= m));
             vs_ref += usize::from(ew <= er && hw <= hr);
             vs_today += usize::from(ew <= et && hw <= ht);
             vs_orig += usize::from(ew <= e0 && hw <= h0);
@@ -121,6 +124,7 @@ fn main() {
                     format!("{hw:.4e}"),
                     format!("{:.3}", dev(&r.surface) / m),
                     format!("{:.3}", dev(&w.surface) / m),
+                    w.band_bound.map_or("—".into(), |b| format!("{:.3}", b / m)),
                     format!("{rt:.0}"),
                     format!("{tt:.0}"),
                     format!("{wt:.0}"),
@@ -135,5 +139,9 @@ fn main() {
          today's isocurve fairing in {vs_today}, as the original in {vs_orig} (today's as the reference in \
          {today_vs_ref}); Σ extrema original {}, reference {}, today {}, fairway {}.",
         sums[0], sums[1], sums[2], sums[3]
+    );
+    println!(
+        "The band certified everywhere by the sound bound (fair::verify::surface_band_bound ≤ m) in {certified} of \
+         {total} rows."
     );
 }

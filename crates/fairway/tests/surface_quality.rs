@@ -73,6 +73,15 @@ fn the_default_surface_fair_is_at_least_as_fair_as_the_reference_smoother() {
                     case.name
                 );
             }
+            // the sound bound covers what the projection finds (it bounds the parametric deviation,
+            // which bounds the closest-point distance); where it is ≤ m the band is certified everywhere
+            let bound = w.band_bound.expect("a polynomial surface has a bound");
+            let there = deviation(s, &w.surface, 101).0;
+            assert!(
+                there <= bound * (1.0 + 1e-9),
+                "{} {f}σ: projected {there} > bound {bound}",
+                case.name
+            );
             // the reference is a real peer: it uses the band, or its strongest smoothing holds it (a nearly
             // quadratic shape is in the energy's null space)
             let ref_dev = deviation(s, &r.surface, 101).0;

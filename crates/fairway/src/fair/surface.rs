@@ -358,6 +358,12 @@ pub struct SurfaceFairingResult {
     pub timings: SurfaceTimings,
     /// Which candidate was returned (module docs, step 8).
     pub pick: SurfacePick,
+    /// A sound upper bound of the deviation everywhere (not only on the check grid):
+    /// [`super::verify::surface_band_bound`], the control net of the parametric difference refined
+    /// where it comes near m. `Some(b)` with b ≤ tolerance certifies the band; a larger `b` only says
+    /// the parametric deviation may exceed m (the fair slid the surface along itself, where the
+    /// closest-point check on the grid is what holds). `None` for a rational input.
+    pub band_bound: Option<f64>,
 }
 
 /// Wall-clock time of the phases of one [`fair_surface`] call (summed over
@@ -412,6 +418,13 @@ fn span_grid(knots: &KnotVector, a: f64, b: f64, per_span: usize) -> Vec<f64> {
 
 /// Fair `surface` (see the module docs).
 pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Result<SurfaceFairingResult> {
+    let m = opts.tolerance;
+    let mut r = fair_surface_unbounded(surface, opts)?;
+    r.band_bound = super::verify::surface_band_bound(surface, &r.surface, m);
+    Ok(r)
+}
+
+fn fair_surface_unbounded(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Result<SurfaceFairingResult> {
     let m = opts.tolerance;
     let size = surface
         .points()
@@ -531,6 +544,7 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
             free_v,
             timings: tm,
             pick: SurfacePick::Reference,
+            band_bound: None,
         });
     }
     // today's isocurve fairing (module docs, steps 3-7)
@@ -651,6 +665,7 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
                                 free_v: free_v.clone(),
                                 timings: tm,
                                 pick: SurfacePick::Isocurves,
+                                band_bound: None,
                             });
                         }
                         Some(e) => level_best = Some((pts.clone(), dev, m_iso, sm, rounds, e)),
@@ -700,6 +715,7 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
                 free_v: free_v.clone(),
                 timings: tm,
                 pick: SurfacePick::Isocurves,
+                band_bound: None,
             });
         }
         // α fallback: bisect the largest α ∈ [0, 1] whose blend holds the band
@@ -740,6 +756,7 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
             free_v: free_v.clone(),
             timings: tm,
             pick: SurfacePick::Isocurves,
+            band_bound: None,
         })
     })()?;
     if opts.method == SurfaceMethod::Isocurves {
