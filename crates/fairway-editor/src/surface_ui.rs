@@ -74,6 +74,8 @@ pub struct SurfacePreview {
     pub mesh: SurfaceMesh,
     /// Verified max deviation from the original.
     pub max_deviation: f64,
+    /// The sound bound of the deviation everywhere (`SurfaceFairingResult::band_bound`).
+    pub band_bound: Option<f64>,
     /// Tightening rounds used.
     pub rounds: usize,
     /// Partial step factor.
@@ -398,6 +400,7 @@ impl SurfaceEditor {
                         surface: r.surface,
                         mesh,
                         max_deviation: r.max_deviation,
+                        band_bound: r.band_bound,
                         rounds: r.rounds,
                         alpha: r.alpha,
                         fair_ms,
@@ -730,6 +733,7 @@ impl SurfaceEditor {
             p.max_deviation,
             self.tolerance()
         ));
+        ui.label(band_certificate(p.band_bound, self.tolerance()));
         let (Some(a), Some((_, b))) = (&p.measures, &self.measures_before) else {
             ui.weak("(measures follow when the pointer is released)");
             return;
@@ -1023,5 +1027,18 @@ impl crate::App {
             self.open_now(&p);
         }
         true
+    }
+}
+
+/// What the sound bound says of the band, in the user's terms: certified everywhere (not only at the
+/// check grid), or only at the grid where the bound is above the tolerance.
+pub fn band_certificate(bound: Option<f64>, tolerance: f64) -> String {
+    match bound {
+        Some(b) if b <= tolerance => format!("band certified everywhere: deviation ≤ {b:.3e}"),
+        Some(b) => format!(
+            "band verified on the check grid; the bound everywhere is {b:.3e}, above the tolerance (the surface slid \
+             along itself)"
+        ),
+        None => "band verified on the check grid (no bound everywhere for this surface)".into(),
     }
 }

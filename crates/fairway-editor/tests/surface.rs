@@ -65,6 +65,16 @@ fn region_in_uv_view_tolerance_accept_undo() {
     let p = s.preview.as_ref().expect("a live preview");
     assert!(p.max_deviation <= tol);
     assert!(!p.draft, "with the pointer up the preview is the full-quality one");
+    // the panel says what the sound bound certifies, and it is the preview's
+    let said = fairway_editor::surface_ui::band_certificate(p.band_bound, tol);
+    let bound = p.band_bound.expect("a polynomial surface has a bound");
+    assert!(
+        p.max_deviation <= bound * (1.0 + 1e-9),
+        "{} > bound {bound}",
+        p.max_deviation
+    );
+    assert_eq!(said.starts_with("band certified everywhere"), bound <= tol, "{said}");
+    assert!(h.query_by_label_contains(&said).is_some(), "the panel lacks “{said}”");
     // during a drag the preview is a one-level draft; the release recomputes it at full quality
     let final_points = p.surface.points().to_vec();
     let ws = h.state_mut().surface.as_mut().unwrap();
