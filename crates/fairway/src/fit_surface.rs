@@ -338,6 +338,23 @@ impl<'a> GridFit<'a> {
         }
     }
 
+    /// The free block's size (rows, columns), `None` if it is empty (nothing to solve); an error if the
+    /// data term `rhs` (named `what` in the message) does not have one entry per free point.
+    fn free_block(&self, rhs: &[DVec3], what: &str) -> Result<Option<(usize, usize)>> {
+        let (nfu, nfv) = (self.free_u.len(), self.free_v.len());
+        if nfu == 0 || nfv == 0 {
+            return Ok(None);
+        }
+        if rhs.len() != nfu * nfv {
+            return Err(Error::LengthMismatch {
+                field: what.into(),
+                count: rhs.len(),
+                expected: nfu * nfv,
+            });
+        }
+        Ok(Some((nfu, nfv)))
+    }
+
     /// Solve for the free block with `smoothing`, given the data term `rhs` of [`Self::project`];
     /// returns the full row-major control net (held points bit-for-bit unchanged).
     pub fn solve(&self, rhs: &[DVec3], smoothing: SurfaceSmoothing) -> Result<Vec<DVec3>> {
@@ -345,17 +362,9 @@ impl<'a> GridFit<'a> {
         let (nu, nv) = (base.nu(), base.nv());
         let (free_u, free_v) = (&self.free_u, &self.free_v);
         let mut out = base.points().to_vec();
-        if free_u.is_empty() || free_v.is_empty() {
+        let Some((nfu, nfv)) = self.free_block(rhs, "surface fit data term")? else {
             return Ok(out);
-        }
-        let (nfu, nfv) = (free_u.len(), free_v.len());
-        if rhs.len() != nfu * nfv {
-            return Err(Error::LengthMismatch {
-                field: "surface fit data term".into(),
-                count: rhs.len(),
-                expected: nfu * nfv,
-            });
-        }
+        };
         let (pu, pv) = (self.bu.p, self.bv.p);
         let full_u = normal_matrix(&self.ata_u, smoothing.strength_u, || self.gram(0, smoothing.order));
         let full_v = normal_matrix(&self.ata_v, smoothing.strength_v, || self.gram(1, smoothing.order));
@@ -523,17 +532,9 @@ impl<'g, 'a> PlateFit<'g, 'a> {
         let (nu, nv) = (base.nu(), base.nv());
         let (free_u, free_v) = (&g.free_u, &g.free_v);
         let mut out = base.points().to_vec();
-        if free_u.is_empty() || free_v.is_empty() {
+        let Some((nfu, nfv)) = g.free_block(rhs, "surface smoothing data term")? else {
             return Ok(out);
-        }
-        let (nfu, nfv) = (free_u.len(), free_v.len());
-        if rhs.len() != nfu * nfv {
-            return Err(Error::LengthMismatch {
-                field: "surface smoothing data term".into(),
-                count: rhs.len(),
-                expected: nfu * nfv,
-            });
-        }
+        };
         let (pu, pv) = (g.bu.p, g.bv.p);
         let lambda = strength * self.norm;
         let mut terms: Vec<(f64, &BandedSpd, &BandedSpd)> = vec![(1.0, &g.ata_u, &g.ata_v)];
