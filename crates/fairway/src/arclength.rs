@@ -396,10 +396,25 @@ impl ArcLengthTable {
     }
 }
 
+/// Knot spans per stretch of [`BSplineCurve::length`] on a long curve.
+pub const LENGTH_CHUNK_SPANS: usize = 4096;
+
 impl BSplineCurve {
-    /// Arc length of the whole curve to relative `accuracy`.
+    /// Arc length of the whole curve to relative `accuracy`. A long curve is measured in stretches of
+    /// [`LENGTH_CHUNK_SPANS`] knot spans, each table dropped once summed: memory stays bounded by a
+    /// stretch's table, not the curve's (each stretch to relative `accuracy`, so the sum is too).
     pub fn length(&self, accuracy: f64) -> f64 {
-        ArcLengthTable::new(self, accuracy).length()
+        let bp = self.knots().breakpoints();
+        if bp.len() <= LENGTH_CHUNK_SPANS + 1 {
+            return ArcLengthTable::new(self, accuracy).length();
+        }
+        (0..bp.len() - 1)
+            .step_by(LENGTH_CHUNK_SPANS)
+            .map(|k| {
+                let b = bp[(k + LENGTH_CHUNK_SPANS).min(bp.len() - 1)];
+                ArcLengthTable::new_range(self, bp[k], b, accuracy).length()
+            })
+            .sum()
     }
 
     /// Arc length of `[u0, u1]` to relative `accuracy`.
@@ -411,6 +426,23 @@ impl BSplineCurve {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A curve of more spans than a stretch is measured stretch by stretch: the same length as one table
+    /// over the whole curve (to the accuracy asked) and as the sum of the spans' lengths.
+    #[test]
+    fn a_long_curve_is_measured_in_stretches_to_the_same_length() {
+        let n = 2 * LENGTH_CHUNK_SPANS + 700;
+        let pts: Vec<glam::DVec2> = (0..n)
+            .map(|i| glam::DVec2::new(i as f64 * 0.1, (i as f64 * 0.37).sin() * 0.05))
+            .collect();
+        let c = BSplineCurve::new_2d(3, crate::KnotVector::uniform(3, n).unwrap().values().to_vec(), &pts).unwrap();
+        let whole = ArcLengthTable::new(&c, 1e-12).length();
+        let chunked = c.length(1e-12);
+        assert!((whole - chunked).abs() <= 1e-11 * whole, "{whole} vs {chunked}");
+        let bp = c.knots().breakpoints();
+        let by_span: f64 = bp.windows(2).map(|w| c.length_between(w[0], w[1], 1e-12)).sum();
+        assert!((by_span - chunked).abs() <= 1e-11 * whole, "{by_span} vs {chunked}");
+    }
 
     #[test]
     fn far_from_origin_the_table_stops_at_the_rounding_floor() {
