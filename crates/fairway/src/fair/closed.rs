@@ -296,7 +296,13 @@ impl AcrossSeam {
     /// vector (exact: the control points next to the re-seaming point do not move); with a G1 / G0
     /// region end, plus the knots it inserted at `u1` / `u2`, as [`FairingResult::curve`] says.
     pub fn back(&self, r: FairingResult) -> Result<FairingResult> {
-        let curve = unrotate(&r.curve, &self.form, self.tol)?;
+        // nothing moved (the bound is 0 only for identical curves): the original itself, not its rotation
+        // there and back, which would differ from it by rounding
+        let curve = if r.max_deviation == 0.0 {
+            self.form.clone()
+        } else {
+            unrotate(&r.curve, &self.form, self.tol)?
+        };
         Ok(FairingResult {
             curve,
             seam: Seam::Faired,
@@ -377,15 +383,22 @@ pub fn setup_across_seam_with_ends(
     // original, the form the result is rotated back onto
     let work = setup.working_curve();
     let mut form = input.clone();
-    // the setup inserts at an existing knot within its ε of the end (snap_to_knot): the same here
+    // the knots the setup inserted near each end (at the end itself, or at a knot it snapped the end
+    // onto: within its ε, or within SLIVER_SNAP of a span inward), found in its working curve
     let (eo, er) = (1e-12 * (b - a), 1e-12 * (rot.domain().1 - rot.domain().0));
-    for (u, ur) in [(u1, u1), (u2, u2 + (b - a))] {
-        let ur = snap_to_knot(rot.knots().values(), ur, er);
-        let extra = work
+    for ur in [u1, u2 + (b - a)] {
+        let s = rot.knots().find_span(ur.clamp(rot.domain().0, rot.domain().1));
+        let reach = (super::curve::SLIVER_SNAP * (rot.knots().values()[s + 1] - rot.knots().values()[s])).max(er);
+        let inserted = work
             .knots()
-            .multiplicity(ur)
-            .saturating_sub(rot.knots().multiplicity(ur));
-        if extra > 0 {
+            .breakpoints()
+            .into_iter()
+            .filter(|k| (k - ur).abs() <= reach * (1.0 + 1e-9) + er)
+            .filter(|&k| work.knots().multiplicity(k) > rot.knots().multiplicity(k))
+            .min_by(|x, y| (x - ur).abs().total_cmp(&(y - ur).abs()));
+        if let Some(k) = inserted {
+            let extra = work.knots().multiplicity(k) - rot.knots().multiplicity(k);
+            let u = if k > b { k - (b - a) } else { k };
             form = form.insert_knot(snap_to_knot(input.knots().values(), u, eo), extra)?;
         }
     }

@@ -451,13 +451,20 @@ impl CornerSetups {
             )));
         }
         let cur = merged(&self.work, &curves)?;
+        let max_deviation = faired.iter().map(|s| s.max_deviation).fold(0.0, f64::max);
         let cur = match &self.rotation {
             // back onto the input's domain and knots, plus the knots the stretches inserted (G1 / G0
-            // region ends), mapped back
+            // region ends), mapped back; where nothing moved (every bound 0), the input itself on those
+            // knots, not its rotation there and back (which differs from it by rounding)
             Some(rot) => {
                 let mut extra: Vec<f64> = extra_knots(&cur, &self.work).into_iter().map(back).collect();
                 extra.sort_by(f64::total_cmp);
-                unrotate(&cur, &self.input.refine(&extra)?, rot.tol)?
+                let form = self.input.refine(&extra)?;
+                if max_deviation == 0.0 {
+                    form
+                } else {
+                    unrotate(&cur, &form, rot.tol)?
+                }
             }
             None => cur,
         };
@@ -474,7 +481,7 @@ impl CornerSetups {
             .collect();
         let result = FairingResult {
             curve: cur,
-            max_deviation: faired.iter().map(|s| s.max_deviation).fold(0.0, f64::max),
+            max_deviation,
             mu: faired.iter().map(|s| s.mu).fold(f64::INFINITY, f64::min),
             alpha: faired.iter().map(|s| s.alpha).fold(f64::INFINITY, f64::min),
             solves: faired.iter().map(|s| s.solves).sum(),

@@ -292,7 +292,13 @@ pub const REPORT_SHARPNESS: f64 = 2e-3;
 /// Whether a reported `max_deviation` is what it must be for tolerance `m`: at least what `measure`
 /// found (`measured`), within the band, and no more than [`REPORT_SHARPNESS`]·m above `measured`.
 pub fn reported_bound_ok(reported: f64, measured: f64, m: f64) -> bool {
-    measured <= reported * (1.0 + 1e-9) + 1e-15
+    reported_bound_ok_within(reported, measured, m, 1e-15)
+}
+
+/// [`reported_bound_ok`] with `slack` for the rounding of the coordinates (a result that did not move
+/// reports 0 but may sit on a refined knot vector, a few ulps from the original).
+fn reported_bound_ok_within(reported: f64, measured: f64, m: f64, slack: f64) -> bool {
+    measured <= reported * (1.0 + 1e-9) + slack
         && reported <= m * (1.0 + 1e-9)
         && reported - measured <= REPORT_SHARPNESS * m
 }
@@ -308,5 +314,11 @@ pub fn reported_bound_ok_dense(
     m: f64,
 ) -> bool {
     let dense = dense::dense_deviation(original, faired, 20, 2).0;
-    reported_bound_ok(reported, measured.max(dense), m) && dense <= reported * (1.0 + 1e-9) + 1e-15
+    // resolution: a result that did not move reports 0 (it sits on a refined knot vector a few ulps
+    // from the original), and where the curves coincide the distance is V-shaped in the parameter, so
+    // the dense check's golden section (40 steps, 4e-9 of its bracket) resolves it only to ≈ 1e-11 of
+    // the size: 1e-10 of the coordinates' size
+    let size = original.points().iter().fold(0.0f64, |a, p| a.max(p.length()));
+    let slack = 1e-10 * size;
+    reported_bound_ok_within(reported, measured.max(dense), m, slack) && dense <= reported * (1.0 + 1e-9) + slack
 }
