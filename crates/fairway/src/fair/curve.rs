@@ -1225,6 +1225,12 @@ impl FairingSetup {
         self.opts.polish_iterations = n;
     }
 
+    /// Turn the E polish on or off ([`FairingOptions::polish`]; then call [`Self::fair`] again): a draft
+    /// while a drag is in progress skips it, the release polishes, with the same setup.
+    pub fn set_polish(&mut self, on: bool) {
+        self.opts.polish = on;
+    }
+
     /// Change how the E polish works ([`FairingOptions::polish_method`]; then call [`Self::fair`] again).
     pub fn set_polish_method(&mut self, method: PolishMethod) {
         self.opts.polish_method = method;
