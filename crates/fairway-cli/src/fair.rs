@@ -10,9 +10,8 @@ use std::time::Instant;
 use anyhow::{Context, Result, anyhow, bail};
 use fairway::Geometry;
 use fairway::fair::{
-    Combine, CornerFair, EndCondition, FairingOptions, FairingSetup, FitMode, Integrator, IterativeOptions,
-    PolishMethod, Seam, SurfaceFairingOptions, SurfaceMethod, TargetMethod, closed, fair_between_corners,
-    fair_iterative, fair_surface,
+    Combine, CurveFairing, EndCondition, FairingOptions, FitMode, Integrator, IterativeOptions, Pass, PolishMethod,
+    Seam, SurfaceFairingOptions, SurfaceMethod, TargetMethod, closed, fair_surface,
 };
 use fairway::io::Document;
 use fairway::measure::{Measures, measure};
@@ -131,7 +130,7 @@ pub struct Report {
     /// The requested tolerance.
     pub tolerance: f64,
     /// Setup time (sampling, matrices), ms; for a whole closed curve, of its first pass (the second pass
-    /// builds its setup inside the solve).
+    /// builds its setup inside the solve); with corners, of every stretch's setup.
     pub setup_ms: f64,
     /// Solve time (integration, fit, band control or simplex sweeps), ms.
     pub solve_ms: f64,
@@ -157,8 +156,7 @@ pub struct Report {
     /// Measures of the result against the input.
     pub measures: Measures,
     /// The corners kept inside the region (tangent breaks above 1°, or points where the curve stops),
-    /// whose stretches were faired one by one; absent if none. Then `setup_ms` is 0 (the stretches'
-    /// setups are in `solve_ms`), `energy_before`/`energy`/`solves` are the stretches' sums, `mu`/`alpha`
+    /// whose stretches were faired one by one; absent if none. Then `energy_before`/`energy`/`solves` are the stretches' sums, `mu`/`alpha`
     /// their smallest values, and `free_points` spans from the first stretch's first free point to the
     /// last one's end (the points at the corners between them are held).
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -417,46 +415,21 @@ fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions, regi
         ),
     };
     let t0 = Instant::now();
-    let iterative = a.method == "iterative";
-    let pass = |s: &mut FairingSetup| {
-        if iterative {
-            fair_iterative(s, IterativeOptions::default())
-        } else {
-            s.fair()
-        }
-    };
-    if let Some(split) = fair_between_corners(curve, opts, pass).context("fairing")? {
-        return write_corner_fair(a, curve, &opts, split, t0);
-    }
-    let across_seam = opts.region.is_some_and(|(u1, u2)| u1 > u2) && closed::is_closed_curve(curve);
-    // a whole closed curve: faired across the seam (two passes, see fairway::fair::closed)
-    let whole_closed = !across_seam && closed::applies(curve, &opts);
-    let (mut setup, across) = if across_seam {
-        // a region across the seam (u1 > u2): the setup is on the curve re-seamed inside the untouched
-        // rest, and the result is rotated back (see fairway::fair::closed::setup_across_seam)
-        let (s, back) = closed::setup_across_seam(curve, opts).context("fairing setup")?;
-        (s, Some(back))
-    } else if whole_closed {
-        // the first pass's setup (the loop has no ends: G2 all round, whatever --ends says): the result's
-        // E is measured on it, so the report's E before and after compare the same thing
-        (closed::first_pass_setup(curve, opts).context("fairing setup")?, None)
-    } else {
-        (FairingSetup::new(curve, opts).context("fairing setup")?, None)
-    };
+    let mut fairing = CurveFairing::new(curve, opts).context("fairing setup")?;
     let setup_ms = t0.elapsed().as_secs_f64() * 1e3;
-    let t1 = Instant::now();
-    let result = match (iterative, whole_closed) {
-        (true, true) => closed::fair_closed_iterative(curve, opts, IterativeOptions::default()),
-        (true, false) => fair_iterative(&setup, IterativeOptions::default()),
-        (false, true) => closed::fair_closed(curve, opts),
-        (false, false) => setup.fair(),
-    }
-    .context("fairing")?;
-    let result = match &across {
-        Some(back) => back.back(result).context("fairing across the seam")?,
-        None => result,
+    let pass = if a.method == "iterative" {
+        Pass::Iterative(IterativeOptions::default())
+    } else {
+        Pass::Full
     };
+    let t1 = Instant::now();
+    let fair = fairing.fair(pass).context("fairing")?;
     let solve_ms = t1.elapsed().as_secs_f64() * 1e3;
+    let result = &fair.result;
+    for n in &result.notes {
+        eprintln!("fairway: {}: {n}", a.input.display());
+    }
+    let free = fairing.free_points();
     let report = a.report.as_ref().map(|_| Report {
         kind: "curve",
         method: a.method.clone(),
@@ -468,14 +441,33 @@ fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions, regi
         mu: result.mu,
         alpha: result.alpha,
         solves: result.solves,
-        energy_before: setup.original_energy(),
+        energy_before: fair.energy_before,
         energy: result.energy,
-        free_points: [setup.free_points().start, setup.free_points().end],
+        free_points: [free.start, free.end],
         seam: seam_text(&result.seam),
         ends_kept: ends_kept(curve, a, &opts),
         measures: measure(curve, &result.curve),
-        corners: vec![],
-        stretches: vec![],
+        corners: fair
+            .corners
+            .iter()
+            .map(|c| CornerReport {
+                u: c.u,
+                angle_deg: c.angle_deg,
+                stops: c.stops,
+            })
+            .collect(),
+        stretches: fair
+            .stretches
+            .iter()
+            .map(|s| StretchReport {
+                region: [s.region.0, s.region.1],
+                free_points: [s.free_points.start, s.free_points.end],
+                energy_before: s.energy_before,
+                energy: s.energy,
+                max_deviation_bound: s.max_deviation,
+                left: s.left.clone(),
+            })
+            .collect(),
     });
     save_result(a, Geometry::Curve(result.curve.clone()), report.as_ref())
 }
@@ -491,66 +483,6 @@ fn save_result<T: Serialize>(a: &Args, result: Geometry, report: Option<&T>) -> 
         write_report(path, r, &a.output)?;
     }
     Ok(())
-}
-
-/// Write the result of a curve faired stretch by stretch between its corners, its notes (stretches
-/// left as they are) to stderr, and the report.
-fn write_corner_fair(
-    a: &Args,
-    curve: &BSplineCurve,
-    opts: &FairingOptions,
-    split: CornerFair,
-    t0: Instant,
-) -> Result<()> {
-    let solve_ms = t0.elapsed().as_secs_f64() * 1e3;
-    let result = &split.result;
-    for n in &result.notes {
-        eprintln!("fairway: {}: {n}", a.input.display());
-    }
-    let faired = || split.stretches.iter().filter(|s| s.left.is_none());
-    let report = a.report.as_ref().map(|_| Report {
-        kind: "curve",
-        method: a.method.clone(),
-        polish: polish_name(a),
-        tolerance: a.tolerance,
-        setup_ms: 0.0,
-        solve_ms,
-        max_deviation_bound: result.max_deviation,
-        mu: result.mu,
-        alpha: result.alpha,
-        solves: result.solves,
-        energy_before: faired().map(|s| s.energy_before).sum(),
-        energy: result.energy,
-        free_points: [
-            faired().map(|s| s.free_points.start).min().unwrap_or(0),
-            faired().map(|s| s.free_points.end).max().unwrap_or(0),
-        ],
-        seam: seam_text(&result.seam),
-        ends_kept: ends_kept(curve, a, opts),
-        measures: measure(curve, &result.curve),
-        corners: split
-            .corners
-            .iter()
-            .map(|c| CornerReport {
-                u: c.u,
-                angle_deg: c.angle_deg,
-                stops: c.stops,
-            })
-            .collect(),
-        stretches: split
-            .stretches
-            .iter()
-            .map(|s| StretchReport {
-                region: [s.region.0, s.region.1],
-                free_points: [s.free_points.start, s.free_points.end],
-                energy_before: s.energy_before,
-                energy: s.energy,
-                max_deviation_bound: s.max_deviation,
-                left: s.left.clone(),
-            })
-            .collect(),
-    });
-    save_result(a, Geometry::Curve(result.curve.clone()), report.as_ref())
 }
 
 fn seam_text(seam: &Seam) -> String {

@@ -1,32 +1,16 @@
-//! Live fairing preview: keeps a [`FairingSetup`] of the core for the
-//! current curve and region, and re-runs it when the tolerance, the target
-//! or the options change. No fairing maths here — it all lives in
-//! `fairway::fair`.
-//!
-//! A region across the seam of a closed curve (`u1 > u2`, [`crate::region`])
-//! is set up with the core's `setup_across_seam_with_ends` (the curve re-seamed
-//! in the middle of the untouched rest, where the region is an ordinary
-//! stretch) and every fair's result is mapped back onto the original knot
-//! vector with [`AcrossSeam::back`]; the setup is kept and re-faired cheaply
-//! like any other. Its sample parameters are the re-seamed curve's: past the
-//! old seam `b` they are the original's `u − L`, and [`Preview::params`] holds
-//! them so mapped.
-//!
-//! A region that holds corners of the curve (tangent breaks, stops: [`fairway::corners`]) is set up with
-//! the core's [`CornerSetups`], one setup per stretch between corners, faired together and merged
-//! exactly as `fairway fair` does (a closed curve re-seamed at a kink or, for a region across the
-//! seam, in the untouched rest; [`CornerSetups::to_original`] maps its sample parameters back); the
-//! preview's target, samples and pins are the stretches' ones end to end, and a hand-edited target is
-//! split back among them.
+//! Live fairing preview: keeps the core's [`CurveFairing`] for the current curve, region and end
+//! conditions, and re-runs it when the tolerance, the target or the options change (a drag makes a
+//! draft on the same setup, the release the full fair). No fairing maths and no routing here — the
+//! core picks the route (corners, a region across the seam, a whole loop) and maps results and sample
+//! parameters back onto the original curve.
 
 use std::time::Instant;
 
 use fairway::BSplineCurve;
 use fairway::corners::Corner;
-use fairway::fair::closed::{AcrossSeam, setup_across_seam_with_ends};
 use fairway::fair::{
-    CornerSetups, EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, Integrator, PolishMethod, Target,
-    TargetMethod, fair_closed,
+    CurveFairing, EndCondition, FairingOptions, FairingResult, FitMode, Integrator, Pass, PolishMethod, Target,
+    TargetMethod,
 };
 use fairway::io::DocumentSettings;
 use fairway::measure::{Measures, arc_params, deviations, measure, region_curvature};
@@ -83,8 +67,6 @@ struct SetupKey {
     ends: [EndCondition; 2],
     /// Eased G2 curve ends (they shape the automatic target, built with the setup).
     ease_ends: bool,
-    /// The core's E polish (off for a draft while a drag is in progress).
-    polish: bool,
     /// Fairway's fair or the reference smoother.
     mode: FitMode,
 }
@@ -92,6 +74,8 @@ struct SetupKey {
 #[derive(Debug, Clone, PartialEq)]
 struct RunKey {
     tolerance: f64,
+    /// A draft while a drag is in progress (no polish, seam held), else the full fair.
+    draft: bool,
     opts: FairOptions,
     target: Option<Vec<f64>>,
     pinned: Vec<usize>,
@@ -130,45 +114,10 @@ pub struct Preview {
     pub draft: bool,
 }
 
-/// What the preview re-fairs: one setup, or one per stretch between the corners in the region.
-#[derive(Debug, Clone)]
-enum Prepared {
-    One(Box<FairingSetup>),
-    Corners(Box<CornerSetups>),
-}
-
-impl Prepared {
-    /// The curve being faired (for a region across the seam: the re-seamed one).
-    fn original(&self) -> &BSplineCurve {
-        match self {
-            Self::One(s) => s.original(),
-            Self::Corners(c) => c.original(),
-        }
-    }
-
-    /// The setups, in order along the region.
-    fn setups(&self) -> Vec<&FairingSetup> {
-        match self {
-            Self::One(s) => vec![s],
-            Self::Corners(c) => c.setups().collect(),
-        }
-    }
-
-    /// The target of the whole region: the stretches' targets end to end.
-    fn target(&self) -> Target {
-        match self {
-            Self::One(s) => s.target().clone(),
-            Self::Corners(c) => Target::concat(&c.setups().map(FairingSetup::target).collect::<Vec<_>>()),
-        }
-    }
-}
-
 /// Live fairing state.
 #[derive(Debug, Default)]
 pub struct Fairing {
-    setup: Option<Prepared>,
-    /// For a region across the seam: the rotation that maps the setup's results back.
-    across: Option<AcrossSeam>,
+    setup: Option<CurveFairing>,
     setup_key: Option<SetupKey>,
     run_key: Option<RunKey>,
     /// The preview, or the core's error message.
@@ -192,7 +141,7 @@ pub struct Fairing {
     /// A panic caught in the engine since the app last looked (the app moves
     /// it to its error line).
     pub internal_error: Option<String>,
-    /// Wall time of the last `FairingSetup` build (a new curve, region or end
+    /// Wall time of the last `CurveFairing` build (a new curve, region or end
     /// conditions), milliseconds.
     pub setup_ms: f64,
     /// Test seam: the next engine call panics (inside the guard), to check
@@ -233,20 +182,20 @@ impl Fairing {
     /// setup's, or the stretches' between corners end to end. For a region across the seam it is the
     /// re-seamed curve's setup's ([`Fairing::across_seam`]).
     pub fn target(&self) -> Option<Target> {
-        self.setup.as_ref().map(Prepared::target).filter(|t| !t.is_empty())
+        self.setup.as_ref().map(CurveFairing::target).filter(|t| !t.is_empty())
     }
 
     /// The setup fairs a region across the seam of a closed curve (on the re-seamed curve; results
     /// are mapped back onto the original).
     pub fn across_seam(&self) -> bool {
-        self.across.is_some()
+        self.setup.as_ref().is_some_and(CurveFairing::across_seam)
     }
 
     /// Bring the preview up to date; does nothing when nothing changed.
     /// With `draft` (a drag in progress) the core's E polish is skipped, so
     /// a live drag stays inside the frame budget; when the drag ends
-    /// (`draft` false) the setup is rebuilt with the polish and the preview
-    /// re-faired at full quality. Returns whether the preview was recomputed.
+    /// (`draft` false) the same setup re-fairs at full quality. Returns
+    /// whether the preview was recomputed.
     pub fn update(
         &mut self,
         curve: &BSplineCurve,
@@ -263,56 +212,30 @@ impl Fairing {
             }
             return false;
         };
-        let polish = !draft && FairingOptions::default().polish;
         let sk = SetupKey {
             curve_rev,
             region,
             ends: opts.ends,
             ease_ends: opts.ease_ends,
-            polish,
             mode: opts.mode,
         };
+        let fo = fairing_options(region, tolerance, &opts);
         if self.setup_key.as_ref() != Some(&sk) {
             self.setup_key = Some(sk);
             self.run_key = None;
             self.trio_key = None;
             self.trio = None;
-            let fo = FairingOptions {
-                region: Some(region),
-                tolerance,
-                target: opts.method,
-                strength: opts.strength,
-                integrator: opts.integrator,
-                polish,
-                ease_curve_ends: opts.ease_ends,
-                // easing keeps the G2 curve end (by default a curve end keeps position and tangent only)
-                curve_ends: opts.ease_ends.then_some(EndCondition::G2),
-                mode: opts.mode,
-                ..FairingOptions::default()
-            };
             let t0 = Instant::now();
             // u1 > u2: the region runs across the seam (the core says so clearly if the curve is open
             // or its seam cannot be re-seamed)
             let res = self
-                .guarded("fairing setup", || match CornerSetups::new(curve, fo, opts.ends) {
-                    Ok(Some(c)) => Ok((Prepared::Corners(Box::new(c)), None)),
-                    Ok(None) if region.0 > region.1 => setup_across_seam_with_ends(curve, fo, opts.ends)
-                        .map(|(s, a)| (Prepared::One(Box::new(s)), Some(a))),
-                    Ok(None) => {
-                        FairingSetup::new_with_ends(curve, fo, opts.ends).map(|s| (Prepared::One(Box::new(s)), None))
-                    }
-                    Err(e) => Err(e),
-                })
+                .guarded("fairing setup", || CurveFairing::with_ends(curve, fo, opts.ends))
                 .and_then(|r| r.map_err(|e| e.to_string()));
             self.setup_ms = t0.elapsed().as_secs_f64() * 1e3;
             match res {
-                Ok((s, a)) => {
-                    self.setup = Some(s);
-                    self.across = a;
-                }
+                Ok(s) => self.setup = Some(s),
                 Err(e) => {
                     self.setup = None;
-                    self.across = None;
                     self.preview = Some(Err(e));
                     return true;
                 }
@@ -320,6 +243,7 @@ impl Fairing {
         }
         let rk = RunKey {
             tolerance,
+            draft,
             opts,
             target: settings.target.clone(),
             pinned: settings.pinned.clone(),
@@ -331,11 +255,10 @@ impl Fairing {
             let Some(mut setup) = self.setup.take() else {
                 return true;
             };
-            let across = self.across.clone();
             let res = self.guarded("fairing", || {
-                let mismatch = !prepare(&mut setup, &rk);
-                let seam = across.is_none() && across_the_seam(&setup, &rk, !polish);
-                run(&mut setup, tolerance, !polish, seam, across.as_ref()).map(|p| (p, mismatch))
+                setup.set_options(fo).map_err(|e| e.to_string())?;
+                let mismatch = !setup.set_target(rk.target.as_deref(), &rk.pinned);
+                run(&mut setup, tolerance, draft).map(|p| (p, mismatch))
             });
             match res {
                 Ok(Ok((p, mismatch))) => {
@@ -354,14 +277,8 @@ impl Fairing {
         }
         if want_trio && self.trio_key.as_ref() != Some(&rk) {
             if let Some(mut s) = self.setup.clone() {
-                let across = self.across.clone();
-                let trio = [tolerance / 3.0, tolerance, tolerance * 3.0].map(|m| {
-                    (
-                        m,
-                        self.guarded("fairing", || run(&mut s, m, !polish, false, across.as_ref()))
-                            .and_then(|r| r),
-                    )
-                });
+                let trio = [tolerance / 3.0, tolerance, tolerance * 3.0]
+                    .map(|m| (m, self.guarded("fairing", || run(&mut s, m, draft)).and_then(|r| r)));
                 self.trio = Some(trio);
                 self.trio_key = Some(rk);
                 changed = true;
@@ -391,10 +308,7 @@ impl Fairing {
         self.region_measures = None;
         self.dev_at = None;
         // the curve being faired: the original, also for a region across the seam (not the re-seamed one)
-        let orig = match &self.across {
-            Some(a) => Some(a.original()),
-            None => self.setup.as_ref().map(Prepared::original),
-        };
+        let orig = self.setup.as_ref().map(CurveFairing::original);
         let (Some(orig), Some(Ok(p))) = (orig, self.preview.as_ref()) else {
             return;
         };
@@ -405,7 +319,7 @@ impl Fairing {
         if let Some(k) = self.setup_key.clone() {
             self.before = Some((k, before.clone()));
         }
-        let n = 2000;
+        let n = fairway::measure::DEV_SAMPLES;
         let dev = deviations(orig, &p.result.curve, n);
         let at = arc_params(orig, n);
         if let Some((i, _)) = dev.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)) {
@@ -428,128 +342,49 @@ impl Fairing {
     }
 }
 
-/// Put the automatic or hand-edited target into the setup(s) (a hand-edited target of a region with
-/// corners is the stretches' targets end to end: split back among them); false if the hand-edited
-/// target does not fit the samples (then it is ignored).
-fn prepare(prepared: &mut Prepared, rk: &RunKey) -> bool {
-    let mut setups: Vec<&mut FairingSetup> = match prepared {
-        Prepared::One(s) => vec![s],
-        Prepared::Corners(c) => c.setups_mut().collect(),
-    };
-    let total: usize = setups.iter().map(|s| s.target().len()).sum();
-    let fits = rk.target.as_ref().is_none_or(|v| v.len() == total);
-    let mut offset = 0;
-    for setup in &mut setups {
-        setup.set_integrator(rk.opts.integrator);
-        setup.set_polish_iterations(rk.opts.polish_iterations);
-        setup.set_polish_method(rk.opts.polish_method);
-        let t: &mut Target = setup.target_mut();
-        t.reset();
-        let n = t.len();
-        let strength = rk.opts.strength.unwrap_or(default_strength(rk.opts.method, n));
-        for &k in &rk.pinned {
-            if (offset..offset + n).contains(&k) {
-                t.pin(k - offset);
-            }
-        }
-        match &rk.target {
-            Some(v) if fits => {
-                for (k, &g) in v[offset..offset + n].iter().enumerate() {
-                    t.set(k, g);
-                }
-            }
-            _ => t.smooth(rk.opts.method, strength),
-        }
-        offset += n;
+/// The core's options for `region` at `tolerance` with the editor's choices.
+fn fairing_options(region: (f64, f64), tolerance: f64, opts: &FairOptions) -> FairingOptions {
+    FairingOptions {
+        region: Some(region),
+        tolerance,
+        target: opts.method,
+        strength: opts.strength,
+        integrator: opts.integrator,
+        polish_iterations: opts.polish_iterations,
+        polish_method: opts.polish_method,
+        ease_curve_ends: opts.ease_ends,
+        // easing keeps the G2 curve end (by default a curve end keeps position and tangent only)
+        curve_ends: opts.ease_ends.then_some(EndCondition::G2),
+        mode: opts.mode,
+        ..FairingOptions::default()
     }
-    fits
 }
 
-/// Fair with the setup (or, with `seam`, the whole closed curve across its seam: [`across_the_seam`];
-/// a region with corners: every stretch between them, merged); with `across` (a region across the
-/// seam) the result is mapped back onto the original.
-fn run(
-    prepared: &mut Prepared,
-    tolerance: f64,
-    draft: bool,
-    seam: bool,
-    across: Option<&AcrossSeam>,
-) -> Result<Preview, String> {
+/// Fair at `tolerance` (a draft, or the full fair: for a whole closed curve with the automatic target
+/// that fairs its seam too, about 4× a single pass) and build the preview.
+fn run(fairing: &mut CurveFairing, tolerance: f64, draft: bool) -> Result<Preview, String> {
     let t0 = Instant::now();
-    let (result, corners, stretches) = match prepared {
-        Prepared::One(setup) => {
-            setup.set_tolerance(tolerance).map_err(|e| e.to_string())?;
-            let r = if seam {
-                fair_closed(setup.original(), *setup.options())
-            } else {
-                setup.fair()
-            }
-            .map_err(|e| e.to_string())?;
-            (r, vec![], vec![])
-        }
-        Prepared::Corners(c) => {
-            c.set_tolerance(tolerance).map_err(|e| e.to_string())?;
-            let f = c.fair().map_err(|e| e.to_string())?;
-            (f.result, f.corners, f.stretches.iter().map(|s| s.region).collect())
-        }
-    };
-    let result = match across {
-        Some(a) => a.back(result).map_err(|e| e.to_string())?,
-        None => result,
-    };
+    fairing.set_tolerance(tolerance).map_err(|e| e.to_string())?;
+    let pass = if draft { Pass::Draft } else { Pass::Full };
+    let fair = fairing.fair(pass).map_err(|e| e.to_string())?;
     let fair_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let result = fair.result;
     let spans = result.curve.knots().breakpoints().len().saturating_sub(1).max(1);
     let sampled = Sampled::new(&result.curve, (spans * 24).clamp(400, 4000));
-    // the setups' samples end to end (one setup unless the region has corners)
-    let setups = prepared.setups();
-    let breaks = setups
-        .iter()
-        .scan(0, |start, s| {
-            let k = *start;
-            *start += s.params().len();
-            Some(k)
-        })
-        .skip(1)
-        .collect();
-    // a re-seamed setup's parameters past the old seam b, back on the original (u − L)
-    let params = setups
-        .iter()
-        .flat_map(|s| s.params())
-        .map(|&u| match (&*prepared, across) {
-            (Prepared::Corners(c), _) => c.to_original(u),
-            (_, Some(a)) => a.to_original(u),
-            _ => u,
-        })
-        .collect();
-    let cat = |f: fn(&Target) -> &[f64]| setups.iter().flat_map(|s| f(s.target())).copied().collect();
+    let target = fairing.target();
     Ok(Preview {
         sampled,
-        params,
-        target: cat(Target::values),
-        original: cat(Target::original),
-        pinned: setups.iter().flat_map(|s| s.target().pinned()).copied().collect(),
-        corners,
-        stretches,
-        breaks,
+        params: fairing.sample_params(),
+        target: target.values().to_vec(),
+        original: target.original().to_vec(),
+        pinned: target.pinned().to_vec(),
+        corners: fair.corners,
+        stretches: fair.stretches.iter().map(|s| s.region).collect(),
+        breaks: fairing.stretch_starts(),
         result,
         fair_ms,
         draft,
     })
-}
-
-/// Whether the full preview fairs a whole closed curve across its seam with the core's
-/// [`fair_closed`] (two passes, about 4× a single fair) instead of the setup's single pass, which
-/// holds the seam: not for a draft, and not with a hand-edited target or pins (they belong to the
-/// setup's samples). The target plot keeps showing the setup's samples.
-fn across_the_seam(prepared: &Prepared, rk: &RunKey, draft: bool) -> bool {
-    let Prepared::One(setup) = prepared else {
-        // with corners the core's CornerSetups handles the seam (re-seamed at a kink, or kept as one)
-        return false;
-    };
-    !draft
-        && rk.target.is_none()
-        && rk.pinned.is_empty()
-        && fairway::fair::closed::applies(setup.original(), setup.options())
 }
 
 /// The indices of the pinned target samples (`pinned[k]` true), as [`crate::Command::SetTarget`] takes them.
@@ -558,12 +393,7 @@ pub fn pinned_indices(pinned: &[bool]) -> Vec<usize> {
 }
 
 /// The default smoothing strength for `n` samples: the core's own default
-/// (20 for `Fit`, else [`fairway::fair::curve::default_passes`]), so the
-/// editor's automatic target is the CLI's.
+/// ([`fairway::fair::curve_fairing::default_strength`]), so the editor's automatic target is the CLI's.
 pub fn default_strength(method: TargetMethod, n: usize) -> usize {
-    if method == TargetMethod::Fit {
-        20
-    } else {
-        fairway::fair::curve::default_passes(n)
-    }
+    fairway::fair::curve_fairing::default_strength(method, n)
 }

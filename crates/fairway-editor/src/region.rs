@@ -5,7 +5,7 @@
 //! `u1 < u2` it is the stretch `[u1, u2]`, as on any curve. On a closed curve
 //! the parameter is circular (`a ≡ b`) and `u1 > u2` means the stretch from
 //! `u1` forward through the seam to `u2`: `[u1, b] ∪ [a, u2]`, the core's
-//! convention (`fairway::fair::closed::setup_across_seam`).
+//! convention (`fairway::fair::CurveFairing`, route 2).
 //!
 //! Gestures track the moving end *unwrapped* ([`RegionDrag`]): on a closed
 //! curve a pointer that crosses the seam keeps going (`u > b` or `u < a`)

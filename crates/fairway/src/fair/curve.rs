@@ -2864,22 +2864,6 @@ pub fn default_passes(n: usize) -> usize {
     ((1.5 * sigma * sigma).round() as usize).clamp(1, 10000)
 }
 
-/// Fair `curve` with `opts` in one call: setup + [`FairingSetup::fair`]; a region with corners
-/// stretch by stretch between them ([`super::split::fair_between_corners`], the corners kept); for a whole closed curve
-/// (fast method, [`super::closed::applies`]) the two passes of [`super::closed::fair_closed`], which
-/// fair across the seam (the result's [`FairingResult::seam`] says whether they could); a region
-/// across the seam of a closed curve (`u1 > u2`) goes to [`super::closed::fair_closed`] as well.
-pub fn fair_curve(curve: &BSplineCurve, opts: FairingOptions) -> Result<FairingResult> {
-    if let Some(split) = super::split::fair_between_corners(curve, opts, |s| s.fair())? {
-        return Ok(split.result);
-    }
-    let across = opts.region.is_some_and(|(u1, u2)| u1 > u2) && super::closed::is_closed_curve(curve);
-    if across || super::closed::applies(curve, &opts) {
-        return super::closed::fair_closed(curve, opts);
-    }
-    FairingSetup::new(curve, opts)?.fair()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

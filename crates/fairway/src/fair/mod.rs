@@ -35,6 +35,7 @@
 
 pub mod closed;
 pub mod curve;
+pub mod curve_fairing;
 pub mod integrate;
 pub mod iterative;
 pub mod split;
@@ -43,7 +44,8 @@ pub mod target;
 pub mod verify;
 
 pub use closed::{Seam, fair_closed, fair_closed_iterative};
-pub use curve::{EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, PolishMethod, fair_curve};
+pub use curve::{EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, PolishMethod};
+pub use curve_fairing::{CurveFair, CurveFairing, Pass, fair_curve};
 pub use integrate::Integrator;
 pub use iterative::{IterativeOptions, fair_iterative};
 pub use split::{CornerFair, CornerSetups, Stretch, fair_between_corners};

@@ -1,0 +1,433 @@
+//! [`CurveFairing`]: the one entry point for fairing a curve. It picks the route itself and keeps what
+//! it prepared, so the tolerance, the target and the cheap options can change and the curve be faired
+//! again without a new setup (the editor's live preview, the CLI's single run, the tests).
+//!
+//! The routes, tried in this order:
+//!
+//! 1. **Corners** — the region holds corners of the curve (kinks, stops: [`crate::corners`]): the
+//!    stretches between them are faired one by one and merged ([`super::split::CornerSetups`]);
+//! 2. **Across the seam** — a region `(u1, u2)` with `u1 > u2` on a closed curve: one setup on the
+//!    curve re-seamed in the middle of the untouched rest, the result rotated back
+//!    ([`super::closed::setup_across_seam_with_ends`]);
+//! 3. **Whole loop** — a closed curve faired whole: a full fair makes the two passes of
+//!    [`super::closed::fair_closed`] that fair across the seam; a draft, or a hand-edited target (which
+//!    belongs to the first pass's samples), is that first pass alone, the seam held;
+//! 4. **One setup** — everything else: [`FairingSetup`] over the region.
+//!
+//! Every result is on the input curve's domain and knot vector (plus the knots a G1 / G0 region end
+//! inserts), and sample parameters are given on the input's parameter.
+
+use super::closed::{self, AcrossSeam};
+use super::curve::{EndCondition, FairingOptions, FairingResult, FairingSetup};
+use super::iterative::{IterativeOptions, fair_iterative};
+use super::split::{CornerSetups, Stretch};
+use super::target::{Target, TargetMethod};
+use crate::corners::Corner;
+use crate::curve::BSplineCurve;
+use crate::error::Result;
+
+/// How [`CurveFairing::fair`] fairs.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[non_exhaustive]
+pub enum Pass {
+    /// The full fair: the band-holding fit and the polish ([`FairingOptions::polish`]), and for a
+    /// whole closed curve the seam faired too.
+    #[default]
+    Full,
+    /// A draft while the user drags: the band-holding fit without the polish, a closed curve's seam
+    /// held. Cheap enough for a frame; the same setup then makes the full fair.
+    Draft,
+    /// The iterative baseline of the paper (§2.2) on the same setup(s), for comparison.
+    Iterative(IterativeOptions),
+}
+
+/// The outcome of [`CurveFairing::fair`].
+#[derive(Debug, Clone)]
+pub struct CurveFair {
+    /// The faired curve and its figures (on the input's domain and knots).
+    pub result: FairingResult,
+    /// The corners kept inside the region (empty if it has none).
+    pub corners: Vec<Corner>,
+    /// With corners, the stretches between them, each faired as a region of its own; empty otherwise.
+    pub stretches: Vec<Stretch>,
+    /// The paper's E of the original on the samples, against the target (summed over the stretches),
+    /// the figure to compare with `result.energy`.
+    pub energy_before: f64,
+}
+
+/// What the fair runs on.
+#[derive(Debug, Clone)]
+enum Route {
+    /// One setup: a region of an open curve, a region of a closed one (`across`: the setup is on the
+    /// curve re-seamed, results are rotated back), or a whole loop (`whole_loop`: its first pass).
+    One {
+        setup: Box<FairingSetup>,
+        across: Option<AcrossSeam>,
+        whole_loop: bool,
+    },
+    /// One setup per stretch between corners.
+    Corners(Box<CornerSetups>),
+}
+
+/// A curve prepared for fairing (module docs): build it once per curve, region and end conditions;
+/// change the tolerance, the target and the run options, and fair as often as wanted.
+///
+/// ```
+/// # use fairway::{BSplineCurve, DVec2};
+/// # use fairway::fair::{CurveFairing, FairingOptions, Pass};
+/// let pts: Vec<DVec2> = (0..12).map(|i| DVec2::new(i as f64, ((i * 7) % 3) as f64 * 0.01)).collect();
+/// let mut knots = vec![0.0; 4];
+/// knots.extend((1..9).map(|i| i as f64 / 9.0));
+/// knots.extend([1.0; 4]);
+/// let curve = BSplineCurve::new_2d(3, knots, &pts).unwrap();
+/// let mut fairing = CurveFairing::new(&curve, FairingOptions { tolerance: 0.01, ..Default::default() }).unwrap();
+/// let draft = fairing.fair(Pass::Draft).unwrap();
+/// let full = fairing.fair(Pass::Full).unwrap();
+/// assert!(draft.result.max_deviation <= 0.01 && full.result.max_deviation <= 0.01);
+/// // a tighter band, same setup
+/// fairing.set_tolerance(0.005).unwrap();
+/// assert!(fairing.fair(Pass::Full).unwrap().result.max_deviation <= 0.005);
+/// // a hand-shaped target: flatten the middle third of the samples
+/// let mut g = fairing.target().values().to_vec();
+/// let n = g.len();
+/// g[n / 3..2 * n / 3].fill(0.0);
+/// assert!(fairing.set_target(Some(&g), &[]));
+/// assert!(fairing.fair(Pass::Full).unwrap().result.max_deviation <= 0.005);
+/// ```
+#[derive(Debug, Clone)]
+pub struct CurveFairing {
+    /// The curve as given (polynomial form).
+    input: BSplineCurve,
+    opts: FairingOptions,
+    ends: [EndCondition; 2],
+    route: Route,
+    /// A hand-edited target or pins are in the setup(s) ([`Self::set_target`]).
+    edited: bool,
+}
+
+impl CurveFairing {
+    /// Prepare `curve` for fairing with `opts` (`opts.ends` at both ends of the region).
+    pub fn new(curve: &BSplineCurve, opts: FairingOptions) -> Result<Self> {
+        Self::with_ends(curve, opts, [opts.ends; 2])
+    }
+
+    /// [`Self::new`] with separate end conditions at the region's start and end (`opts.ends` is ignored).
+    pub fn with_ends(curve: &BSplineCurve, opts: FairingOptions, ends: [EndCondition; 2]) -> Result<Self> {
+        let input = curve.to_polynomial()?;
+        let route = Self::route(&input, opts, ends)?;
+        Ok(Self {
+            input,
+            opts,
+            ends,
+            route,
+            edited: false,
+        })
+    }
+
+    fn route(input: &BSplineCurve, opts: FairingOptions, ends: [EndCondition; 2]) -> Result<Route> {
+        if let Some(c) = CornerSetups::new(input, opts, ends)? {
+            return Ok(Route::Corners(Box::new(c)));
+        }
+        // (on an open curve u1 > u2 is an empty region: the setup says so)
+        if opts.region.is_some_and(|(u1, u2)| u1 > u2) && closed::is_closed_curve(input) {
+            let (setup, across) = closed::setup_across_seam_with_ends(input, opts, ends)?;
+            return Ok(Route::One {
+                setup: Box::new(setup),
+                across: Some(across),
+                whole_loop: false,
+            });
+        }
+        let whole_loop = closed::applies(input, &opts);
+        let setup = if whole_loop {
+            // the first pass's setup (a loop has no ends: G2 all round): E before and a hand-edited
+            // target belong to it
+            closed::first_pass_setup(input, opts)?
+        } else {
+            FairingSetup::new_with_ends(input, opts, ends)?
+        };
+        Ok(Route::One {
+            setup: Box::new(setup),
+            across: None,
+            whole_loop,
+        })
+    }
+
+    /// The curve being faired, as given (polynomial form): results and sample parameters are on it.
+    pub fn original(&self) -> &BSplineCurve {
+        &self.input
+    }
+
+    /// The options in force.
+    pub fn options(&self) -> &FairingOptions {
+        &self.opts
+    }
+
+    /// The end conditions at the region's start and end.
+    pub fn ends(&self) -> [EndCondition; 2] {
+        self.ends
+    }
+
+    /// The region runs across the seam of a closed curve (route 2 of the module docs).
+    pub fn across_seam(&self) -> bool {
+        matches!(&self.route, Route::One { across: Some(_), .. })
+    }
+
+    /// A closed curve faired whole (route 3): a full fair fairs its seam too.
+    pub fn whole_loop(&self) -> bool {
+        matches!(&self.route, Route::One { whole_loop: true, .. })
+    }
+
+    /// The corners kept inside the region (empty unless route 1).
+    pub fn corners(&self) -> &[Corner] {
+        match &self.route {
+            Route::Corners(c) => c.corners(),
+            Route::One { .. } => &[],
+        }
+    }
+
+    /// The stretches between corners, on the input's parameter, each with its setup or why it has none
+    /// (left as it is); empty unless route 1.
+    pub fn stretches(&self) -> Vec<((f64, f64), std::result::Result<(), String>)> {
+        match &self.route {
+            Route::Corners(c) => c
+                .stretches()
+                .map(|((a, b), s)| {
+                    (
+                        (c.to_original(a), c.to_original(b)),
+                        s.map(|_| ()).map_err(str::to_owned),
+                    )
+                })
+                .collect(),
+            Route::One { .. } => vec![],
+        }
+    }
+
+    /// The setups, in order along the region (one unless the region holds corners).
+    pub fn setups(&self) -> Vec<&FairingSetup> {
+        match &self.route {
+            Route::One { setup, .. } => vec![setup],
+            Route::Corners(c) => c.setups().collect(),
+        }
+    }
+
+    fn setups_mut(&mut self) -> Vec<&mut FairingSetup> {
+        match &mut self.route {
+            Route::One { setup, .. } => vec![setup],
+            Route::Corners(c) => c.setups_mut().collect(),
+        }
+    }
+
+    /// The free control points (of the single setup; with corners the span from the first stretch's
+    /// first to the last one's last, on the curve the stretches are set up on).
+    pub fn free_points(&self) -> std::ops::Range<usize> {
+        let setups = self.setups();
+        match (setups.first(), setups.last()) {
+            (Some(a), Some(b)) => a.free_points().start..b.free_points().end,
+            _ => 0..0,
+        }
+    }
+
+    /// The paper's E of the original against the current target, summed over the setups.
+    pub fn energy_before(&self) -> f64 {
+        self.setups().iter().map(|s| s.original_energy()).sum()
+    }
+
+    /// The target of the whole region: the setups' targets end to end.
+    pub fn target(&self) -> Target {
+        match &self.route {
+            Route::One { setup, .. } => setup.target().clone(),
+            Route::Corners(c) => Target::concat(&c.setups().map(FairingSetup::target).collect::<Vec<_>>()),
+        }
+    }
+
+    /// The target samples' parameters on the input curve, in the order of [`Self::target`] (for a region
+    /// across the seam: from `u1` up to the domain end, then from its start up to `u2`).
+    pub fn sample_params(&self) -> Vec<f64> {
+        let map = |u: f64| match &self.route {
+            Route::Corners(c) => c.to_original(u),
+            Route::One { across: Some(a), .. } => a.to_original(u),
+            Route::One { .. } => u,
+        };
+        self.setups().iter().flat_map(|s| s.params()).map(|&u| map(u)).collect()
+    }
+
+    /// The target samples that start a stretch after the first (with corners; the target jumps there).
+    pub fn stretch_starts(&self) -> Vec<usize> {
+        self.setups()
+            .iter()
+            .scan(0, |start, s| {
+                let k = *start;
+                *start += s.params().len();
+                Some(k)
+            })
+            .skip(1)
+            .collect()
+    }
+
+    /// Change the tolerance (then [`Self::fair`] again).
+    pub fn set_tolerance(&mut self, m: f64) -> Result<()> {
+        for s in self.setups_mut() {
+            s.set_tolerance(m)?;
+        }
+        self.opts.tolerance = m;
+        Ok(())
+    }
+
+    /// Change the options. Those a fair reads (tolerance, integrator, polish and its method and
+    /// iterations, the automatic target's method and strength) apply to what is prepared — a new
+    /// automatic target is smoothed if its method or strength changed, unless the target is hand-edited;
+    /// any other change (region, end conditions, mode, samples, …) prepares afresh, dropping a
+    /// hand-edited target. Returns whether it prepared afresh.
+    pub fn set_options(&mut self, opts: FairingOptions) -> Result<bool> {
+        let run_only = FairingOptions {
+            tolerance: self.opts.tolerance,
+            integrator: self.opts.integrator,
+            polish: self.opts.polish,
+            polish_iterations: self.opts.polish_iterations,
+            polish_method: self.opts.polish_method,
+            target: self.opts.target,
+            strength: self.opts.strength,
+            ..opts
+        } == self.opts;
+        if !run_only {
+            *self = Self::with_ends(&self.input, opts, self.ends)?;
+            return Ok(true);
+        }
+        let retarget = (opts.target, opts.strength) != (self.opts.target, self.opts.strength);
+        for n in self.setups().iter().map(|s| s.target().len()) {
+            check_strength(
+                opts.target,
+                opts.strength.unwrap_or_else(|| default_strength(opts.target, n)),
+                n,
+            )?;
+        }
+        self.set_tolerance(opts.tolerance)?;
+        for s in self.setups_mut() {
+            s.set_integrator(opts.integrator);
+            s.set_polish(opts.polish);
+            s.set_polish_iterations(opts.polish_iterations);
+            s.set_polish_method(opts.polish_method);
+        }
+        self.opts = opts;
+        if retarget && !self.edited {
+            self.set_target(None, &[]);
+        }
+        Ok(false)
+    }
+
+    /// Set the target: `values` the whole region's target (as [`Self::target`] lists it; `None`: the
+    /// automatic target, smoothed from the original's curvature with the options' method and strength),
+    /// and `pinned` the indices of the samples to pin. Returns false, and sets the automatic target,
+    /// if `values` does not have one value per sample.
+    pub fn set_target(&mut self, values: Option<&[f64]>, pinned: &[usize]) -> bool {
+        let (method, strength) = (self.opts.target, self.opts.strength);
+        let mut setups = self.setups_mut();
+        let total: usize = setups.iter().map(|s| s.target().len()).sum();
+        let fits = values.is_none_or(|v| v.len() == total);
+        let mut offset = 0;
+        for setup in &mut setups {
+            let t = setup.target_mut();
+            t.reset();
+            let n = t.len();
+            for &k in pinned {
+                if (offset..offset + n).contains(&k) {
+                    t.pin(k - offset);
+                }
+            }
+            match values {
+                Some(v) if fits => {
+                    for (k, &g) in v[offset..offset + n].iter().enumerate() {
+                        t.set(k, g);
+                    }
+                }
+                _ => t.smooth(method, strength.unwrap_or_else(|| default_strength(method, n))),
+            }
+            offset += n;
+        }
+        self.edited = (values.is_some() && fits) || !pinned.is_empty();
+        fits
+    }
+
+    /// Fair (module docs for what each route does; [`Pass`] for how).
+    pub fn fair(&mut self, pass: Pass) -> Result<CurveFair> {
+        let polish = self.opts.polish && pass != Pass::Draft;
+        for s in self.setups_mut() {
+            s.set_polish(polish);
+        }
+        let (input, opts, edited) = (&self.input, self.opts, self.edited);
+        let run = |s: &mut FairingSetup| match pass {
+            Pass::Iterative(o) => fair_iterative(s, o),
+            Pass::Full | Pass::Draft => s.fair(),
+        };
+        match &mut self.route {
+            Route::One {
+                setup,
+                across,
+                whole_loop,
+            } => {
+                let energy_before = setup.original_energy();
+                let result = match pass {
+                    Pass::Full if *whole_loop && !edited => closed::fair_closed(input, opts)?,
+                    Pass::Iterative(o) if *whole_loop && !edited => closed::fair_closed_iterative(input, opts, o)?,
+                    _ => run(setup)?,
+                };
+                let result = match across {
+                    Some(a) => a.back(result)?,
+                    None => result,
+                };
+                Ok(CurveFair {
+                    result,
+                    corners: vec![],
+                    stretches: vec![],
+                    energy_before,
+                })
+            }
+            Route::Corners(c) => {
+                let f = match pass {
+                    Pass::Iterative(_) => c.fair_with(run)?,
+                    Pass::Full | Pass::Draft => c.fair()?,
+                };
+                let energy_before = f.stretches.iter().map(|s| s.energy_before).sum();
+                Ok(CurveFair {
+                    result: f.result,
+                    corners: f.corners,
+                    stretches: f.stretches,
+                    energy_before,
+                })
+            }
+        }
+    }
+}
+
+/// The default smoothing strength of the automatic target over `n` samples, as a setup uses it: 20 for
+/// [`TargetMethod::Fit`], else [`super::curve::default_passes`].
+pub fn default_strength(method: TargetMethod, n: usize) -> usize {
+    match method {
+        TargetMethod::Fit => 20,
+        _ => super::curve::default_passes(n),
+    }
+}
+
+/// Refuse a smoothing `strength` whose passes over `n` samples would cost more than
+/// [`super::curve::MAX_PASS_WORK`] (the heat and fit targets cost the same at any strength).
+pub(crate) fn check_strength(method: TargetMethod, strength: usize, n: usize) -> Result<()> {
+    let name = match method {
+        TargetMethod::Average => "average",
+        TargetMethod::Binomial => "binomial",
+        TargetMethod::Heat | TargetMethod::Fit => return Ok(()),
+    };
+    if strength.saturating_mul(n) > super::curve::MAX_PASS_WORK {
+        return Err(crate::error::Error::InvalidInput(format!(
+            "target strength {strength} is too much work for the {name} target: its passes cost strength × samples, \
+             and {n} samples allow at most {} passes; use the heat target (the implicit heat flow of the \
+             averaging), whose cost stays bounded at any strength",
+            super::curve::MAX_PASS_WORK / n.max(1)
+        )));
+    }
+    Ok(())
+}
+
+/// Fair `curve` with `opts` in one call: [`CurveFairing::new`], then a full [`CurveFairing::fair`].
+pub fn fair_curve(curve: &BSplineCurve, opts: FairingOptions) -> Result<FairingResult> {
+    Ok(CurveFairing::new(curve, opts)?.fair(Pass::Full)?.result)
+}

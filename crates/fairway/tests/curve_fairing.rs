@@ -1,0 +1,237 @@
+//! `fair::CurveFairing`, the one curve-fairing entry point: each route gives what the route's own
+//! functions give (bit for bit on a fresh fair), the band holds, a draft and the full fair share one
+//! setup, and run options change without a new setup while setup options prepare afresh.
+
+mod common;
+
+use common::{KNOWN_SHAPES, Rng, dev_max, noisy_curve, opts};
+use fairway::fair::closed::{fair_closed, periodic_cubic, setup_across_seam};
+use fairway::fair::{
+    CurveFairing, EndCondition, FairingOptions, FairingSetup, Pass, PolishMethod, Seam, TargetMethod,
+    fair_between_corners,
+};
+use fairway::{BSplineCurve, DVec3};
+
+/// A noisy closed circle (periodic cubic through 40 noisy points, C2 seam).
+fn noisy_loop(seed: u64) -> BSplineCurve {
+    let mut rng = Rng::new(seed);
+    let q: Vec<DVec3> = (0..40)
+        .map(|i| {
+            let t = std::f64::consts::TAU * i as f64 / 40.0;
+            let r = 1.0 + 2e-3 * rng.gauss();
+            DVec3::new(r * t.cos(), r * t.sin(), 0.0)
+        })
+        .collect();
+    periodic_cubic(&q, 2).unwrap()
+}
+
+/// `c` with a kink at u = 0.5: the knot tripled (exact) and the control point on the curve there moved.
+fn kinked(c: &BSplineCurve) -> BSplineCurve {
+    let r = c.insert_knot(0.5, 3).unwrap();
+    let k = (0..r.n_points())
+        .min_by(|&i, &j| {
+            let d = |i: usize| r.points()[i].distance(r.point(0.5));
+            d(i).total_cmp(&d(j))
+        })
+        .unwrap();
+    let mut pts = r.points().to_vec();
+    pts[k] += DVec3::new(0.0, 0.1, 0.0);
+    r.with_points(pts).unwrap()
+}
+
+fn same(a: &BSplineCurve, b: &BSplineCurve) -> bool {
+    a.knots() == b.knots() && a.points() == b.points()
+}
+
+#[test]
+fn every_route_gives_what_its_own_functions_give() {
+    let m = 3e-3;
+    // one setup: an open curve, whole and a region with G1 ends
+    let open = noisy_curve(KNOWN_SHAPES[0], 30, 2e-3, 3);
+    for (region, ends) in [(None, EndCondition::G2), (Some((0.2, 0.7)), EndCondition::G1)] {
+        let o = FairingOptions {
+            region,
+            ends,
+            ..opts(m)
+        };
+        let mut f = CurveFairing::new(&open, o).unwrap();
+        assert!(!f.whole_loop() && !f.across_seam() && f.corners().is_empty());
+        let got = f.fair(Pass::Full).unwrap();
+        let mut s = FairingSetup::new(&open, o).unwrap();
+        let want = s.fair().unwrap();
+        assert!(same(&got.result.curve, &want.curve), "{region:?}");
+        assert_eq!(got.energy_before.to_bits(), s.original_energy().to_bits());
+        assert_eq!(f.free_points(), s.free_points());
+        assert_eq!(f.sample_params(), s.params());
+        assert!(got.result.max_deviation <= m && dev_max(&open, &got.result.curve) <= m);
+    }
+    // a whole loop: the two passes across the seam
+    let lp = noisy_loop(7);
+    let mut f = CurveFairing::new(&lp, opts(m)).unwrap();
+    assert!(f.whole_loop());
+    let got = f.fair(Pass::Full).unwrap();
+    let want = fair_closed(&lp, opts(m)).unwrap();
+    assert!(same(&got.result.curve, &want.curve));
+    assert_eq!(got.result.seam, Seam::Faired);
+    assert!(dev_max(&lp, &got.result.curve) <= m);
+    // a draft of the loop holds the seam (its first pass alone)
+    let draft = f.fair(Pass::Draft).unwrap();
+    assert!(matches!(draft.result.seam, Seam::Held(_)), "{:?}", draft.result.seam);
+    assert!(dev_max(&lp, &draft.result.curve) <= m);
+    // a region across the seam: on the re-seamed curve, rotated back
+    let o = FairingOptions {
+        region: Some((0.8, 0.3)),
+        ..opts(m)
+    };
+    let mut f = CurveFairing::new(&lp, o).unwrap();
+    assert!(f.across_seam());
+    let got = f.fair(Pass::Full).unwrap();
+    let (mut s, back) = setup_across_seam(&lp, o).unwrap();
+    let want = back.back(s.fair().unwrap()).unwrap();
+    assert!(same(&got.result.curve, &want.curve));
+    assert_eq!(got.result.curve.domain(), lp.domain());
+    // its samples run from u1 to the end, then from the start to u2, all on the original's domain
+    let u = f.sample_params();
+    assert_eq!(u[0], 0.8);
+    assert!((u.last().unwrap() - 0.3).abs() < 1e-12, "{}", u.last().unwrap());
+    assert!(u.iter().all(|&x| (0.0..=1.0).contains(&x)));
+    let wrap = u.windows(2).filter(|w| w[1] < w[0]).count();
+    assert_eq!(wrap, 1, "one step back across the seam");
+    // corners: the stretches between them
+    let kc = kinked(&open);
+    let mut f = CurveFairing::new(&kc, opts(m)).unwrap();
+    assert_eq!(f.corners().len(), 1);
+    assert_eq!(f.stretches().len(), 2);
+    let got = f.fair(Pass::Full).unwrap();
+    let want = fair_between_corners(&kc, opts(m), |s| s.fair()).unwrap().unwrap();
+    assert!(same(&got.result.curve, &want.result.curve));
+    assert_eq!(got.stretches.len(), 2);
+    assert_eq!(f.stretch_starts().len(), 1);
+    assert_eq!(f.target().len(), f.sample_params().len());
+    assert!(dev_max(&kc, &got.result.curve) <= m);
+}
+
+/// A draft is the fit without the polish on the same setup, and the full fair after it is the polished
+/// one: the draft is what a fresh setup without the polish gives, bit for bit; the full fair after it
+/// holds the band, differs from the draft (the polish ran) and has no more curvature extrema (the
+/// variation polish starts from the draft's fit among its candidates and ranks by extrema first).
+#[test]
+fn a_draft_and_the_full_fair_share_one_setup() {
+    let m = 2e-3;
+    let c = noisy_curve(KNOWN_SHAPES[2], 40, 1e-3, 11);
+    let mut f = CurveFairing::new(&c, opts(m)).unwrap();
+    let draft = f.fair(Pass::Draft).unwrap();
+    let fresh = FairingSetup::new(
+        &c,
+        FairingOptions {
+            polish: false,
+            ..opts(m)
+        },
+    )
+    .unwrap()
+    .fair()
+    .unwrap();
+    assert!(same(&draft.result.curve, &fresh.curve));
+    let full = f.fair(Pass::Full).unwrap();
+    assert!(full.result.max_deviation <= m && dev_max(&c, &full.result.curve) <= m);
+    assert!(!same(&full.result.curve, &draft.result.curve), "the polish ran");
+    let ext = |x: &BSplineCurve| fairway::measure::measure(&c, x).n_curv_extrema;
+    assert!(
+        ext(&full.result.curve) <= ext(&draft.result.curve),
+        "{} vs {}",
+        ext(&full.result.curve),
+        ext(&draft.result.curve)
+    );
+    // and a second draft is again the unpolished fit
+    let again = f.fair(Pass::Draft).unwrap();
+    assert!(again.result.max_deviation <= m);
+}
+
+#[test]
+fn run_options_change_in_place_and_setup_options_prepare_afresh() {
+    let m = 3e-3;
+    let c = noisy_curve(KNOWN_SHAPES[1], 30, 2e-3, 5);
+    let base = FairingOptions {
+        region: Some((0.1, 0.9)),
+        ..opts(m)
+    };
+    let mut f = CurveFairing::new(&c, base).unwrap();
+    let n = f.target().len();
+    // a hand-edited target and a pin stay through run-option changes
+    let mut g = f.target().values().to_vec();
+    g[n / 2] += 0.5;
+    assert!(f.set_target(Some(&g), &[n / 3]));
+    let run = FairingOptions {
+        tolerance: 2e-3,
+        polish_method: PolishMethod::LineSearch,
+        polish_iterations: 3,
+        ..base
+    };
+    assert!(!f.set_options(run).unwrap(), "run options: no new setup");
+    assert_eq!(f.target().values(), g.as_slice());
+    assert!(f.target().pinned()[n / 3]);
+    assert_eq!(f.options().tolerance, 2e-3);
+    let r = f.fair(Pass::Full).unwrap();
+    let mut s = FairingSetup::new(&c, run).unwrap();
+    for (k, &v) in g.iter().enumerate() {
+        s.target_mut().set(k, v);
+    }
+    s.target_mut().pin(n / 3);
+    assert!(same(&r.result.curve, &s.fair().unwrap().curve), "same as a fresh setup with that target");
+    // back to the automatic target, then a new automatic target method re-smooths it in place
+    assert!(f.set_target(None, &[]));
+    let auto = f.target().values().to_vec();
+    let fresh = |o: FairingOptions| FairingSetup::new(&c, o).unwrap().target().values().to_vec();
+    assert_eq!(auto, fresh(run));
+    let binomial = FairingOptions {
+        target: TargetMethod::Binomial,
+        ..run
+    };
+    assert!(!f.set_options(binomial).unwrap());
+    assert_eq!(f.target().values(), fresh(binomial).as_slice());
+    // a region, end or mode change prepares afresh
+    for o in [
+        FairingOptions {
+            region: Some((0.2, 0.8)),
+            ..binomial
+        },
+        FairingOptions {
+            ends: EndCondition::G1,
+            ..binomial
+        },
+    ] {
+        let mut f2 = f.clone();
+        assert!(f2.set_options(o).unwrap(), "{o:?}");
+        assert_eq!(f2.sample_params(), FairingSetup::new(&c, o).unwrap().params());
+    }
+    // a hand-edited target that does not fit the samples is refused: the automatic one is used
+    assert!(!f.set_target(Some(&g[1..]), &[]));
+    assert_eq!(f.target().values(), fresh(binomial).as_slice());
+    // too much smoothing work is refused with the target's name, nothing changed
+    let heavy = FairingOptions {
+        target: TargetMethod::Average,
+        strength: Some(usize::MAX / 4),
+        ..binomial
+    };
+    let e = f.set_options(heavy).unwrap_err().to_string();
+    assert!(e.contains("average target"), "{e}");
+    assert_eq!(f.options().target, TargetMethod::Binomial);
+}
+
+#[test]
+fn the_iterative_baseline_runs_on_every_route() {
+    let m = 3e-3;
+    let it = Pass::Iterative(fairway::fair::IterativeOptions {
+        max_sweeps: 2,
+        max_evals: 20,
+    });
+    for c in [
+        noisy_curve(KNOWN_SHAPES[0], 20, 2e-3, 2),
+        noisy_loop(3),
+        kinked(&noisy_curve(KNOWN_SHAPES[0], 20, 2e-3, 2)),
+    ] {
+        let r = CurveFairing::new(&c, opts(m)).unwrap().fair(it).unwrap();
+        assert!(dev_max(&c, &r.result.curve) <= m * (1.0 + 1e-9));
+        assert!(r.energy_before > 0.0);
+    }
+}
