@@ -288,6 +288,8 @@ impl App {
         }
         ui.add_space(4.0);
         ui.strong("End conditions");
+        // the document's (an undo step; a hand-edited target is resampled onto the new samples)
+        let mut ends = self.ends();
         for (side, label) in [(0, "Start"), (1, "End")] {
             ui.horizontal(|ui| {
                 ui.label(label);
@@ -296,15 +298,17 @@ impl App {
                     (EndCondition::G1, "G1", "position and tangent"),
                     (EndCondition::G2, "G2", "position, tangent and curvature"),
                 ] {
-                    ui.selectable_value(&mut self.prefs.fair.ends[side], e, name)
+                    ui.selectable_value(&mut ends[side], e, name)
                         .on_hover_text(format!("{label} of the region joins its neighbour with {name}: {tip}"));
                 }
             });
         }
+        if ends != self.ends() {
+            self.push(Command::SetEnds(ends));
+        }
         // only a G2 region end at an end of an open curve is eased (the core ignores the rest)
         let (d0, d1) = self.view.domain;
         let eps = 1e-12 * (d1 - d0);
-        let ends = self.prefs.fair.ends;
         let easable = !self.view.closed
             && self.region().is_some_and(|(u1, u2)| {
                 (u1 <= d0 + eps && ends[0] == EndCondition::G2) || (u2 >= d1 - eps && ends[1] == EndCondition::G2)

@@ -78,6 +78,8 @@ struct RunKey {
     draft: bool,
     opts: FairOptions,
     target: Option<Vec<f64>>,
+    /// The curve parameters of the target values (the target is resampled onto the samples).
+    target_params: Option<Vec<f64>>,
     pinned: Vec<usize>,
 }
 
@@ -246,6 +248,7 @@ impl Fairing {
             draft,
             opts,
             target: settings.target.clone(),
+            target_params: settings.target_params.clone(),
             pinned: settings.pinned.clone(),
         };
         let mut changed = false;
@@ -257,7 +260,11 @@ impl Fairing {
             };
             let res = self.guarded("fairing", || {
                 setup.set_options(fo).map_err(|e| e.to_string())?;
-                let mismatch = !setup.set_target(rk.target.as_deref(), &rk.pinned);
+                let fits = match (&rk.target, &rk.target_params) {
+                    (Some(v), Some(at)) => setup.set_target_at(at, v, &rk.pinned),
+                    (v, _) => setup.set_target(v.as_deref(), &rk.pinned),
+                };
+                let mismatch = !fits;
                 run(&mut setup, tolerance, draft).map(|p| (p, mismatch))
             });
             match res {

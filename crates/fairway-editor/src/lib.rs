@@ -104,6 +104,8 @@ pub enum Command {
         /// Pinned sample indices.
         pinned: Vec<usize>,
     },
+    /// Set the end conditions of the curve region (start, end) in the document; one undo step.
+    SetEnds([fairway::fair::EndCondition; 2]),
     /// Write what the canvas shows as SVG.
     ExportSvg(PathBuf),
     /// Write the current view (canvas or 3D view) as PNG (a screenshot, taken a frame later).
@@ -536,6 +538,7 @@ impl App {
                     // a hand-edited target belongs to the old region's samples
                     self.doc.settings.target = None;
                     self.doc.settings.pinned.clear();
+                    self.doc.settings.target_params = None;
                 }
             }
             Command::SetTolerance(t) => {
@@ -564,6 +567,7 @@ impl App {
                 self.doc.settings.region = None;
                 self.doc.settings.target = None;
                 self.doc.settings.pinned.clear();
+                self.doc.settings.target_params = None;
                 self.view = CurveView::new(self.curve());
                 self.curve_rev += 1;
                 self.status = "Accepted the faired region (Ctrl+Z to undo)".into();
@@ -572,8 +576,21 @@ impl App {
                 let s = &self.doc.settings;
                 if s.target != values || s.pinned != pinned {
                     self.history.record(&self.doc, Gesture::Target);
+                    // the edit was made on the preview's samples: their curve parameters go with it, so
+                    // that it survives other samples (other end conditions, a reopened file)
+                    let params = match (&values, &self.fairing.preview) {
+                        (Some(v), Some(Ok(p))) if p.params.len() == v.len() => Some(p.params.clone()),
+                        _ => None,
+                    };
                     self.doc.settings.target = values;
                     self.doc.settings.pinned = pinned;
+                    self.doc.settings.target_params = params;
+                }
+            }
+            Command::SetEnds(ends) => {
+                if ends != self.ends() {
+                    self.history.record(&self.doc, Gesture::Options);
+                    self.doc.settings.ends = Some(ends);
                 }
             }
             Command::ExportSvg(p) => self.export_svg(&p),
@@ -663,15 +680,17 @@ impl App {
         let tol = self.tolerance();
         let draft = self.drag_in_progress;
         let curve = doc_curve(&self.doc).expect("curve document");
-        self.fairing.update(
-            curve,
-            self.curve_rev,
-            &self.doc.settings,
-            tol,
-            self.prefs.fair,
-            self.compare.trio,
-            draft,
-        )
+        let opts = FairOptions {
+            ends: self.ends(),
+            ..self.prefs.fair
+        };
+        self.fairing
+            .update(curve, self.curve_rev, &self.doc.settings, tol, opts, self.compare.trio, draft)
+    }
+
+    /// The end conditions of the curve region: the document's, else the default of the preferences.
+    pub fn ends(&self) -> [fairway::fair::EndCondition; 2] {
+        self.doc.settings.ends.unwrap_or(self.prefs.fair.ends)
     }
 
     /// Window title: file name and an unsaved marker.

@@ -1,4 +1,4 @@
-//! `fairway-editor [FILE]`: opens FILE, or the bundled sample
+//! `fairway-editor [FILE] [options]` (`--help` lists them, parsed by clap): opens FILE, or the bundled sample
 //! `assets/car_roof.ron` (looked up in the working directory, then next to
 //! the workspace this binary was built from).
 
@@ -6,19 +6,58 @@ use std::path::PathBuf;
 
 use eframe::egui;
 
-const USAGE: &str = "usage: fairway-editor [FILE.ron|FILE.json] [--region U1 U2] [--tolerance M]
-       fairway-editor --bench-frames N [--demo-points P] [--region U1 U2]
-  --region U1 U2     preselect the region [U1, U2] (curve parameter; U1 > U2 on a closed curve: across the seam)
-  --tolerance M      preselect the tolerance (model units)
-  --bench-frames N   N frames: sweep the tolerance, drag a target point, drag the region end; print CPU times, quit
-  --demo-points P    use the built-in noisy demo curve with P control points
-  --region-uv U1 U2 V1 V2   preselect a surface region
-  --shade MODE       3D shading: shaded, isophotes, zebra, mean, gauss, kmax, kmin
-  --side-by-side     surfaces: before and after side by side
-  --view3d           curves: open the 3D view (--extrusion: extrusion isophotes)
-  --stripe DEG       isophote / zebra stripe width in degrees
-  --export-png PATH  write the view as PNG once laid out, then quit (for reports and scripts)
-  --window-size W H  initial window size in points (default 1500 950)";
+/// The Fairway editor: fair B-spline curves and surfaces inside a tolerance band.
+#[derive(clap::Parser, Debug)]
+#[command(name = "fairway-editor", version, about)]
+struct Args {
+    /// The file to open (.ron, .json, .igs, ...; default: the bundled sample assets/car_roof.ron).
+    file: Option<PathBuf>,
+    /// Preselect the region [U1, U2] (curve parameter; U1 > U2 on a closed curve: across the seam).
+    #[arg(long, num_args = 2, value_names = ["U1", "U2"], allow_hyphen_values = true)]
+    region: Option<Vec<f64>>,
+    /// Preselect the tolerance (model units).
+    #[arg(long, allow_hyphen_values = true)]
+    tolerance: Option<f64>,
+    /// Run N frames (sweep the tolerance, drag a target point, drag the region end), print CPU times, quit.
+    #[arg(long, value_name = "N")]
+    bench_frames: Option<usize>,
+    /// Use the built-in noisy demo curve with P control points.
+    #[arg(long, value_name = "P")]
+    demo_points: Option<usize>,
+    /// Preselect a surface region.
+    #[arg(long, num_args = 4, value_names = ["U1", "U2", "V1", "V2"], allow_hyphen_values = true)]
+    region_uv: Option<Vec<f64>>,
+    /// 3D shading: shaded, isophotes, zebra, mean, gauss, kmax, kmin.
+    #[arg(long, value_name = "MODE")]
+    shade: Option<fairway_editor::view3d::ShadeMode>,
+    /// Surfaces: before and after side by side.
+    #[arg(long)]
+    side_by_side: bool,
+    /// Curves: open the 3D view.
+    #[arg(long)]
+    view3d: bool,
+    /// Curves: open the 3D view with extrusion isophotes.
+    #[arg(long)]
+    extrusion: bool,
+    /// Isophote / zebra stripe width in degrees.
+    #[arg(long, value_name = "DEG")]
+    stripe: Option<f64>,
+    /// Write the view as PNG once laid out, then quit (for reports and scripts).
+    #[arg(long, value_name = "PATH")]
+    export_png: Option<PathBuf>,
+    /// Initial window size in points (default 1500 950; each in [200, 10000]).
+    #[arg(long, num_args = 2, value_names = ["W", "H"], value_parser = window_side)]
+    window_size: Option<Vec<f32>>,
+}
+
+fn window_side(s: &str) -> Result<f32, String> {
+    let x: f32 = s.parse().map_err(|e| format!("{s:?}: {e}"))?;
+    if (200.0..=10000.0).contains(&x) {
+        Ok(x)
+    } else {
+        Err(format!("{x} is outside [200, 10000]"))
+    }
+}
 
 fn default_sample() -> Option<PathBuf> {
     let rel = PathBuf::from("assets/car_roof.ron");
@@ -29,61 +68,28 @@ fn default_sample() -> Option<PathBuf> {
     built.exists().then_some(built)
 }
 
-/// Remove `name` and its `count` values from `args`; the parsed values.
-fn take<T: std::str::FromStr>(args: &mut Vec<String>, name: &str, count: usize) -> Result<Option<Vec<T>>, String> {
-    let Some(i) = args.iter().position(|a| a == name) else {
-        return Ok(None);
-    };
-    if i + count >= args.len() {
-        return Err(format!("{name} needs {count} value(s)"));
-    }
-    let vals: Result<Vec<T>, _> = args.drain(i..=i + count).skip(1).map(|v| v.parse::<T>()).collect();
-    vals.map(Some).map_err(|_| format!("{name}: bad value"))
-}
-
 fn main() -> eframe::Result {
-    let mut args: Vec<String> = std::env::args().skip(1).collect();
-    if args.iter().any(|a| a == "--help" || a == "-h") {
-        println!("{USAGE}");
-        return Ok(());
-    }
-    let parsed = (|| -> Result<_, String> {
-        let region = take::<f64>(&mut args, "--region", 2)?;
-        let tolerance = take::<f64>(&mut args, "--tolerance", 1)?;
-        let bench = take::<usize>(&mut args, "--bench-frames", 1)?;
-        let demo = take::<usize>(&mut args, "--demo-points", 1)?;
-        let export_png = take::<PathBuf>(&mut args, "--export-png", 1)?.map(|mut v| v.remove(0));
-        let size = take::<f32>(&mut args, "--window-size", 2)?;
-        if size
-            .as_ref()
-            .is_some_and(|s| s.iter().any(|x| !(200.0..=10000.0).contains(x)))
-        {
-            return Err("--window-size: W and H must be in [200, 10000]".into());
-        }
-        let v3 = View3dArgs {
-            region_uv: take::<f64>(&mut args, "--region-uv", 4)?,
-            shade: take::<fairway_editor::view3d::ShadeMode>(&mut args, "--shade", 1)?.map(|v| v[0]),
-            side_by_side: take::<String>(&mut args, "--side-by-side", 0)?.is_some(),
-            view3d: take::<String>(&mut args, "--view3d", 0)?.is_some(),
-            extrusion: take::<String>(&mut args, "--extrusion", 0)?.is_some(),
-            stripe: take::<f64>(&mut args, "--stripe", 1)?.map(|v| v[0]),
-        };
-        if let Some(a) = args.iter().find(|a| a.starts_with("--")) {
-            return Err(format!("unknown option {a}"));
-        }
-        Ok((region, tolerance, bench, demo, v3, export_png, size))
-    })();
-    let (region, tolerance, bench, demo, v3, export_png, size) = match parsed {
-        Ok(v) => v,
-        Err(e) => {
-            eprintln!("fairway-editor: {e}\n{USAGE}");
-            std::process::exit(2);
-        }
+    let args = <Args as clap::Parser>::parse();
+    let (region, tolerance, bench, demo, export_png, size) = (
+        args.region.clone(),
+        args.tolerance,
+        args.bench_frames,
+        args.demo_points,
+        args.export_png.clone(),
+        args.window_size.clone(),
+    );
+    let v3 = View3dArgs {
+        region_uv: args.region_uv.clone(),
+        shade: args.shade,
+        side_by_side: args.side_by_side,
+        view3d: args.view3d,
+        extrusion: args.extrusion,
+        stripe: args.stripe,
     };
     let path = if demo.is_some() {
         None
     } else {
-        args.first().map(PathBuf::from).or_else(default_sample)
+        args.file.clone().or_else(default_sample)
     };
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
@@ -101,7 +107,7 @@ fn main() -> eframe::Result {
             if let Some(n) = demo {
                 let prefs = app.prefs.clone();
                 app = fairway_editor::App::with_document(
-                    fairway::io::Document::new(fairway::Geometry::Curve(fairway_editor::demo_curve_n(n[0]))),
+                    fairway::io::Document::new(fairway::Geometry::Curve(fairway_editor::demo_curve_n(n))),
                     None,
                 )
                 .with_default_autosave();
@@ -111,11 +117,11 @@ fn main() -> eframe::Result {
                 let v = &app.view;
                 app.doc.settings.region = Some(fairway_editor::region::canonical((r[0], r[1]), v.domain, v.closed));
             }
-            if let Some(t) = &tolerance {
-                app.doc.settings.tolerance = Some(t[0]);
+            if let Some(t) = tolerance {
+                app.doc.settings.tolerance = Some(t);
             }
-            v3.apply(&mut app, tolerance.as_ref().map(|t| t[0]));
-            app.bench = bench.map(|f| fairway_editor::Bench::new(f[0]));
+            v3.apply(&mut app, tolerance);
+            app.bench = bench.map(fairway_editor::Bench::new);
             if app.bench.is_some() {
                 // measure the defaults, not whatever fairing options this user's stored settings hold
                 // (an old stored target method, e.g. Average, changes the cost)

@@ -4,15 +4,15 @@
 //!
 //! ```sh
 //! cargo run --release -p fairway --example surface_timing [-- REPEATS]
-//! FAIRWAY_THREADS=1 cargo run --release -p fairway --example surface_timing [-- REPEATS]
+//! RAYON_NUM_THREADS=1 cargo run --release -p fairway --example surface_timing [-- REPEATS]
 //! ISO_LEVELS=1 cargo run --release -p fairway --example surface_timing   # one isocurve tolerance only
 //! COMBINE=weighted cargo run --release -p fairway --example surface_timing   # the default combination
 //! REFAIR_LEVELS=1 cargo run --release -p fairway --example surface_timing   # isocurves re-faired per level
 //! ```
 //!
-//! The isocurves are faired on all cores unless `FAIRWAY_THREADS` says
+//! The isocurves are faired on all cores unless `RAYON_NUM_THREADS` says
 //! otherwise; `cpu_ms` is the CPU time of the calling thread, so it is the
-//! whole work only with `FAIRWAY_THREADS=1`.
+//! whole work only with `RAYON_NUM_THREADS=1`.
 
 use std::time::{Duration, Instant};
 

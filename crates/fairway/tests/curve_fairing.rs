@@ -235,3 +235,77 @@ fn the_iterative_baseline_runs_on_every_route() {
         assert!(r.energy_before > 0.0);
     }
 }
+
+/// A hand-edited target saved at curve parameters survives other samples: linear in u on each stretch
+/// (a jump at the corner), saved on one set of samples, resampled onto the samples of other end
+/// conditions it is the same function there (linear interpolation is exact for it), each stretch its
+/// own; beyond the saved samples (the G0 end frees more) the automatic target; pins go to the nearest
+/// sample; a target of a region covering less than half of the samples is refused.
+#[test]
+fn a_target_saved_at_parameters_is_resampled_onto_other_samples() {
+    let m = 3e-3;
+    let kc = kinked(&noisy_curve(KNOWN_SHAPES[0], 30, 2e-3, 4));
+    let g2 = FairingOptions {
+        region: Some((0.15, 0.85)),
+        ..opts(m)
+    };
+    let saved = CurveFairing::new(&kc, g2).unwrap();
+    assert_eq!(saved.corners().len(), 1);
+    let at = saved.sample_params();
+    let starts = saved.stretch_starts();
+    let stretch_of = |k: usize, starts: &[usize]| starts.iter().filter(|&&s| s <= k).count();
+    let g = |u: f64, j: usize| 2.0 * u + 1.0 + 10.0 * j as f64;
+    let values: Vec<f64> = at.iter().enumerate().map(|(k, &u)| g(u, stretch_of(k, &starts))).collect();
+    let pin = at.len() / 3;
+    let mut other = CurveFairing::with_ends(&kc, g2, [EndCondition::G1, EndCondition::G0]).unwrap();
+    let new = other.sample_params();
+    assert_ne!(new, at, "other end conditions, other samples");
+    let auto = {
+        let mut a = other.clone();
+        a.set_target(None, &[]);
+        a.target().values().to_vec()
+    };
+    assert!(other.set_target_at(&at, &values, &[pin]));
+    let t = other.target();
+    let new_starts = other.stretch_starts();
+    let (lo, hi) = (at[0], *at.last().unwrap());
+    let mut checked = 0;
+    for (k, &u) in new.iter().enumerate() {
+        let want = if u < lo || u > hi {
+            auto[k]
+        } else {
+            g(u, stretch_of(k, &new_starts))
+        };
+        if t.pinned()[k] && k != 0 && k + 1 != new.len() && u != at[pin] {
+            continue;
+        }
+        assert!((t.values()[k] - want).abs() < 1e-9, "sample {k} at u = {u}: {} vs {want}", t.values()[k]);
+        checked += 1;
+    }
+    assert!(checked > new.len() / 2);
+    let near = (0..new.len())
+        .min_by(|&x, &y| (new[x] - at[pin]).abs().total_cmp(&(new[y] - at[pin]).abs()))
+        .unwrap();
+    assert!(t.pinned()[near], "the pin moved to the nearest sample");
+    assert!(other.fair(Pass::Full).unwrap().result.max_deviation <= m);
+    // the same samples: exactly the values
+    let mut same_fair = CurveFairing::new(&kc, g2).unwrap();
+    assert!(same_fair.set_target_at(&at, &values, &[]));
+    assert_eq!(same_fair.target().values(), values.as_slice());
+    // a target of a much shorter region does not cover this one: refused, the automatic target used
+    let short = CurveFairing::new(
+        &kc,
+        FairingOptions {
+            region: Some((0.45, 0.6)),
+            ..opts(m)
+        },
+    )
+    .unwrap();
+    let sat = short.sample_params();
+    let sv = vec![1.0; sat.len()];
+    let auto = other.clone();
+    assert!(!other.set_target_at(&sat, &sv, &[]));
+    let mut a2 = auto;
+    a2.set_target(None, &[]);
+    assert_eq!(other.target().values(), a2.target().values());
+}

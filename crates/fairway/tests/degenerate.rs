@@ -218,7 +218,7 @@ fn error_table() -> Vec<(&'static str, String, &'static str)> {
         (
             "region reversed",
             fair_err(&w, opts(0.01, Some((0.6, 0.4)))),
-            "region [0.6, 0.4] is empty (u1 must be < u2)",
+            "region [0.6, 0.4] runs across the seam (u1 > u2), but the curve is not closed: give u1 < u2",
         ),
         (
             "region outside the domain",

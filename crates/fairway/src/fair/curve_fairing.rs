@@ -128,8 +128,8 @@ impl CurveFairing {
         if let Some(c) = CornerSetups::new(input, opts, ends)? {
             return Ok(Route::Corners(Box::new(c)));
         }
-        // (on an open curve u1 > u2 is an empty region: the setup says so)
-        if opts.region.is_some_and(|(u1, u2)| u1 > u2) && closed::is_closed_curve(input) {
+        // (on an open curve the setup says that u1 > u2 asks for a seam the curve does not have)
+        if opts.region.is_some_and(|(u1, u2)| u1 > u2) {
             let (setup, across) = closed::setup_across_seam_with_ends(input, opts, ends)?;
             return Ok(Route::One {
                 setup: Box::new(setup),
@@ -290,7 +290,9 @@ impl CurveFairing {
             ..opts
         } == self.opts;
         if !run_only {
-            *self = Self::with_ends(&self.input, opts, self.ends)?;
+            // `opts.ends` changed: both ends take it; else the ends given to `with_ends` stay
+            let ends = if opts.ends == self.opts.ends { self.ends } else { [opts.ends; 2] };
+            *self = Self::with_ends(&self.input, opts, ends)?;
             return Ok(true);
         }
         let retarget = (opts.target, opts.strength) != (self.opts.target, self.opts.strength);
@@ -348,6 +350,60 @@ impl CurveFairing {
         fits
     }
 
+    /// Set a hand-edited target saved at curve parameters: `at[i]` (on the input's parameter, in order
+    /// along the region, as [`Self::sample_params`] lists them) carries `values[i]`; `pinned` indexes
+    /// into `at`. Where `at` is this fairing's own samples it is [`Self::set_target`]; otherwise (the
+    /// samples changed with the end conditions, the corners or the sampling) the values are resampled
+    /// piecewise linearly in the parameter along the region (a corner's two sides apart), and each pin
+    /// goes to the nearest sample; samples beyond the saved ones (a longer moving stretch) take the
+    /// automatic target. Returns false, and sets the automatic target, if `at` and `values` differ in
+    /// length, or `at` covers less than half of the samples' range (a target of another region).
+    pub fn set_target_at(&mut self, at: &[f64], values: &[f64], pinned: &[usize]) -> bool {
+        let mine = self.sample_params();
+        if at == mine.as_slice() {
+            return self.set_target(Some(values), pinned);
+        }
+        let (a, b) = self.input.domain();
+        let len = b - a;
+        let (saved, new) = (unwrapped(at, len), unwrapped(&mine, len));
+        let tol = 1e-9 * len;
+        let ordered = at.len() == values.len() && at.len() >= 2 && saved.windows(2).all(|w| w[1] >= w[0]);
+        let (lo, hi) = (saved[0] - tol, saved[saved.len() - 1] + tol);
+        let (first, last) = (new[0], new[new.len() - 1]);
+        // the saved samples must cover at least half of this fairing's (other end conditions move the
+        // ends of the moving stretch, not the region)
+        let overlap = (hi.min(last) - lo.max(first)).max(0.0);
+        if !ordered || overlap < 0.5 * (last - first) {
+            self.set_target(None, &[]);
+            return false;
+        }
+        // outside the saved samples (a longer moving stretch) the automatic target
+        self.set_target(None, &[]);
+        let auto = self.target().values().to_vec();
+        let starts = self.stretch_starts();
+        let resampled: Vec<f64> = new
+            .iter()
+            .enumerate()
+            .map(|(k, &t)| {
+                if t < lo || t > hi {
+                    return auto[k];
+                }
+                // the first sample of a stretch after a corner takes the value right of it, the others
+                // the value left of (or at) their parameter
+                let right = starts.contains(&k) || k == 0;
+                interpolate(&saved, values, t, right)
+            })
+            .collect();
+        let pins: Vec<usize> = pinned
+            .iter()
+            .filter_map(|&i| saved.get(i))
+            .filter_map(|&t| {
+                (0..new.len()).min_by(|&x, &y| (new[x] - t).abs().total_cmp(&(new[y] - t).abs()))
+            })
+            .collect();
+        self.set_target(Some(&resampled), &pins)
+    }
+
     /// Fair (module docs for what each route does; [`Pass`] for how).
     pub fn fair(&mut self, pass: Pass) -> Result<CurveFair> {
         let polish = self.opts.polish && pass != Pass::Draft;
@@ -397,6 +453,41 @@ impl CurveFairing {
             }
         }
     }
+}
+
+/// Parameters in order along a region, unwrapped across the seam of a closed curve of domain length
+/// `len` (a step back by more than half the domain is the wrap: `len` is added from there on).
+fn unwrapped(at: &[f64], len: f64) -> Vec<f64> {
+    let mut shift = 0.0;
+    let mut prev = f64::NEG_INFINITY;
+    at.iter()
+        .map(|&u| {
+            if u + shift < prev - 0.5 * len {
+                shift += len;
+            }
+            prev = u + shift;
+            prev
+        })
+        .collect()
+}
+
+/// The piecewise linear function through `(t[i], v[i])` (`t` non-decreasing, a repeated `t` a jump) at
+/// `x`, clamped to the end values; at a jump the value right of it if `right`, else the one left of it.
+fn interpolate(t: &[f64], v: &[f64], x: f64, right: bool) -> f64 {
+    // the segment [t[i], t[i + 1]] holding x: the last one starting at or before x (right), or the first
+    // one ending at or after it (left)
+    let n = t.len();
+    let i = if right {
+        t.partition_point(|&s| s <= x).clamp(1, n - 1) - 1
+    } else {
+        t.partition_point(|&s| s < x).clamp(1, n - 1) - 1
+    };
+    let (t0, t1) = (t[i], t[i + 1]);
+    if t1 <= t0 {
+        return if right { v[i + 1] } else { v[i] };
+    }
+    let f = ((x - t0) / (t1 - t0)).clamp(0.0, 1.0);
+    v[i] + f * (v[i + 1] - v[i])
 }
 
 /// The default smoothing strength of the automatic target over `n` samples, as a setup uses it: 20 for

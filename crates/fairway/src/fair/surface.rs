@@ -294,7 +294,8 @@ pub struct SurfaceFairingOptions {
     /// step 6). Without it: `smoothing` as given, the isocurve tolerance m (tightened only when the
     /// band is broken).
     pub auto_smoothing: bool,
-    /// Threads fairing the isocurves (`None`: [`iso_threads`]). The result does not depend on it.
+    /// Threads fairing the isocurves (`None`: rayon's global pool, `RAYON_NUM_THREADS` if set; `Some(1)`: this
+    /// thread only). The result does not depend on it.
     pub threads: Option<usize>,
     /// With `auto_smoothing`: at most this many isocurve tolerances `m, m/3, m/9, …` ([`ISO_LEVEL_FACTOR`]) are tried
     /// (greedy: stop at the first level that does not lower the fairness energy), ≥ 1 (module docs, step 6).
@@ -489,7 +490,7 @@ fn fair_surface_unbounded(surface: &BSplineSurface, opts: SurfaceFairingOptions)
     let vs = span_grid(&kv, av, bv, opts.samples_per_span);
     let t_orig = Instant::now();
     let orig = grid_points(&s, &us, &vs);
-    let threads = opts.threads.unwrap_or_else(iso_threads);
+    let threads = opts.threads;
     let full_check = CheckGrid::new(
         &s,
         &span_grid(&ku, au, bu, CHECK_PER_SPAN),
@@ -1203,51 +1204,20 @@ pub fn isocurve_setup(
     FairingSetup::with_check_samples(c, fo, 0)
 }
 
-/// Worker threads for the isocurves: the environment variable `FAIRWAY_THREADS` if set (e.g. 1 to
-/// measure the single-core cost), else the available parallelism, at most 16.
-pub fn iso_threads() -> usize {
-    std::env::var("FAIRWAY_THREADS")
-        .ok()
-        .and_then(|v| v.parse::<usize>().ok())
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
-        .clamp(1, 16)
-}
-
-/// `f` over `items` on up to `threads` scoped threads (a shared work counter hands out the items), results in
-/// the order of `items`. The result of each item does not depend on the thread count. A panic in a worker
-/// is re-raised here (the editor's frame guard reports it).
-fn par_map<T: Sync, R: Send>(items: &[T], threads: usize, f: impl Fn(&T) -> R + Sync) -> Vec<R> {
-    let threads = threads.clamp(1, 64).min(items.len()).max(1);
-    if threads == 1 {
-        return items.iter().map(f).collect();
+/// `f` over `items`, results in the order of `items`, on rayon's global pool (`threads` `None`; its size
+/// is rayon's choice, `RAYON_NUM_THREADS` if set), on a pool of `threads` workers, or here in this thread
+/// (`Some(1)`). The result of each item does not depend on the thread count. A panic in a worker is
+/// re-raised here (the editor's frame guard reports it).
+fn par_map<T: Sync, R: Send>(items: &[T], threads: Option<usize>, f: impl Fn(&T) -> R + Sync + Send) -> Vec<R> {
+    use rayon::prelude::*;
+    match threads {
+        Some(0 | 1) => items.iter().map(f).collect(),
+        None => items.par_iter().map(f).collect(),
+        Some(n) => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
+            Ok(pool) => pool.install(|| items.par_iter().map(&f).collect()),
+            Err(_) => items.iter().map(f).collect(),
+        },
     }
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let mut results: Vec<Option<R>> = (0..items.len()).map(|_| None).collect();
-    std::thread::scope(|sc| {
-        let workers: Vec<_> = (0..threads)
-            .map(|_| {
-                sc.spawn(|| {
-                    let mut done = Vec::new();
-                    loop {
-                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        if i >= items.len() {
-                            break done;
-                        }
-                        done.push((i, f(&items[i])));
-                    }
-                })
-            })
-            .collect();
-        for w in workers {
-            for (i, r) in w.join().unwrap_or_else(|e| std::panic::resume_unwind(e)) {
-                results[i] = Some(r);
-            }
-        }
-    });
-    results
-        .into_iter()
-        .map(|r| r.expect("every item is mapped once"))
-        .collect()
 }
 
 /// Isocurves per block of neighbours (warm-started band search, one unit of parallel work).
@@ -1340,7 +1310,7 @@ fn combined_cloud(
             })
             .collect()
     };
-    let results = par_map(&blocks, opts.threads.unwrap_or_else(iso_threads), |b| fair_block(b));
+    let results = par_map(&blocks, opts.threads, |b| fair_block(b));
     for (block, res) in blocks.iter().zip(results) {
         let pts = res?;
         for (&(is_u, i), per_level) in block.iter().zip(pts) {
@@ -1555,7 +1525,7 @@ struct CheckGrid {
     v: GridBasis,
     pu: usize,
     pv: usize,
-    threads: usize,
+    threads: Option<usize>,
 }
 
 /// Rows of a check grid per unit of parallel work (fixed, so the result does not depend on the threads).
@@ -1655,7 +1625,7 @@ impl CheckGrid {
         (max, out)
     }
 
-    fn new(s: &BSplineSurface, cu: &[f64], cv: &[f64], threads: usize) -> Self {
+    fn new(s: &BSplineSurface, cu: &[f64], cv: &[f64], threads: Option<usize>) -> Self {
         Self {
             u: GridBasis::new(s.knots_u(), cu),
             v: GridBasis::new(s.knots_v(), cv),

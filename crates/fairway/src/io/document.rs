@@ -32,6 +32,15 @@ pub struct DocumentSettings {
     pub target: Option<Vec<f64>>,
     /// Pinned target samples (indices into `target`).
     pub pinned: Vec<usize>,
+    /// The curve parameter of each `target` value, in order along the region: with it the target (and its
+    /// pins, at these parameters) is resampled onto whatever samples the region has when it is reopened
+    /// ([`crate::fair::CurveFairing::set_target_at`]); without it (older files) the values fit only the
+    /// samples they were made on.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub target_params: Option<Vec<f64>>,
+    /// Continuity at the start and the end of the curve region (`None`: the editor's default, G2).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ends: Option<[crate::fair::EndCondition; 2]>,
 }
 
 /// A Fairway document.
@@ -119,7 +128,8 @@ impl Document {
     ///   open one;
     /// - a surface region likewise per direction (ends reordered when given backwards);
     /// - a region of the other kind (a curve region on a surface, or the reverse) is dropped;
-    /// - a target with a non-finite value is dropped, with its pins.
+    /// - a target with a non-finite value is dropped, with its pins;
+    /// - target parameters that do not match the target (count, finite) are dropped.
     pub fn sanitize_settings(&mut self) -> Vec<String> {
         let mut notes = Vec::new();
         let st = &mut self.settings;
@@ -202,6 +212,21 @@ impl Document {
             ));
             st.target = None;
             st.pinned.clear();
+        }
+        if let Some(at) = &st.target_params {
+            let why = if st.target.as_ref().is_none_or(|t| t.len() != at.len()) {
+                Some("does not have one parameter per target value")
+            } else if at.iter().any(|u| !u.is_finite()) {
+                Some("has a non-finite value")
+            } else {
+                None
+            };
+            if let Some(why) = why {
+                notes.push(format!(
+                    "the saved target's parameter list {why}: the target applies only to the samples it was made on"
+                ));
+                st.target_params = None;
+            }
         }
         notes
     }
