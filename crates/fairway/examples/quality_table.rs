@@ -8,7 +8,7 @@
 //! `--dump DIR` writes κ(s) of each row for `scripts/plot_kappa.py`. Environment knobs for comparisons:
 //! `QT_CASE` (rows whose name contains it), `QT_NOISE` (noise scale; 0 = the noise-free best fits),
 //! `QT_POLISH` (variation | line-search | interior-point), `QT_CURVE_ENDS` (g0 | g1 | g2), `QT_BETA`
-//! (target weight), `QT_ITERS` (polish iterations).
+//! (target weight), `QT_ITERS` (polish iterations), `QT_TORSION` (torsion weight).
 
 #[path = "../tests/common/suite.rs"]
 mod suite;
@@ -113,6 +113,9 @@ fn main() {
             }
             if let Ok(v) = std::env::var("QT_ITERS") {
                 opts.polish_iterations = v.parse().expect("iterations");
+            }
+            if let Ok(v) = std::env::var("QT_TORSION") {
+                opts.torsion_weight = v.parse().expect("torsion weight");
             }
             let (rc, rt) = fair(
                 &case.curve,

@@ -177,7 +177,10 @@ fn run_options_change_in_place_and_setup_options_prepare_afresh() {
         s.target_mut().set(k, v);
     }
     s.target_mut().pin(n / 3);
-    assert!(same(&r.result.curve, &s.fair().unwrap().curve), "same as a fresh setup with that target");
+    assert!(
+        same(&r.result.curve, &s.fair().unwrap().curve),
+        "same as a fresh setup with that target"
+    );
     // back to the automatic target, then a new automatic target method re-smooths it in place
     assert!(f.set_target(None, &[]));
     let auto = f.target().values().to_vec();
@@ -255,7 +258,11 @@ fn a_target_saved_at_parameters_is_resampled_onto_other_samples() {
     let starts = saved.stretch_starts();
     let stretch_of = |k: usize, starts: &[usize]| starts.iter().filter(|&&s| s <= k).count();
     let g = |u: f64, j: usize| 2.0 * u + 1.0 + 10.0 * j as f64;
-    let values: Vec<f64> = at.iter().enumerate().map(|(k, &u)| g(u, stretch_of(k, &starts))).collect();
+    let values: Vec<f64> = at
+        .iter()
+        .enumerate()
+        .map(|(k, &u)| g(u, stretch_of(k, &starts)))
+        .collect();
     let pin = at.len() / 3;
     let mut other = CurveFairing::with_ends(&kc, g2, [EndCondition::G1, EndCondition::G0]).unwrap();
     let new = other.sample_params();
@@ -279,7 +286,11 @@ fn a_target_saved_at_parameters_is_resampled_onto_other_samples() {
         if t.pinned()[k] && k != 0 && k + 1 != new.len() && u != at[pin] {
             continue;
         }
-        assert!((t.values()[k] - want).abs() < 1e-9, "sample {k} at u = {u}: {} vs {want}", t.values()[k]);
+        assert!(
+            (t.values()[k] - want).abs() < 1e-9,
+            "sample {k} at u = {u}: {} vs {want}",
+            t.values()[k]
+        );
         checked += 1;
     }
     assert!(checked > new.len() / 2);

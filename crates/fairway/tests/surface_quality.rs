@@ -82,6 +82,8 @@ fn the_default_surface_fair_is_at_least_as_fair_as_the_reference_smoother() {
                 "{} {f}σ: projected {there} > bound {bound}",
                 case.name
             );
+            // and the default always certifies it (a bound above m is answered by a step back)
+            assert!(bound <= m, "{} {f}σ: bound {bound} above m = {m}", case.name);
             // the reference is a real peer: it uses the band, or its strongest smoothing holds it (a nearly
             // quadratic shape is in the energy's null space)
             let ref_dev = deviation(s, &r.surface, 101).0;

@@ -106,6 +106,7 @@ use crate::curve::{BSplineCurve, CurveDerivs};
 use crate::error::{Error, Result};
 use crate::linalg::BandedSpd;
 
+mod torsion;
 mod variation;
 use variation::VarRows;
 
@@ -242,13 +243,13 @@ pub struct FairingOptions {
     /// has to bend towards it and adds curvature extrema there. `Some(G2)` keeps it (a curve that joins
     /// another one with G2 there). Region ends inside the curve and closed curves always take `ends`.
     pub curve_ends: Option<EndCondition>,
-    /// Non-planar 3D curves, [`PolishMethod::Variation`]: weight of `∫ |c'''|² du / v̄⁵ ≈ ∫ (κ'² + κ⁴ + κ²τ²) ds`
-    /// in the objective (default 0: off), which E_var alone does not see — the torsion, left to the noise.
-    /// Measured on the quality suite's five 3D curves (Σ torsion extrema over their 15 rows; the
-    /// reference smoother 451): 0 gives 712–716, 1 gives 391, 5 gives 336, with the curvature extrema no more
-    /// than the smoother's in every row (Σ 422 → 377 over all rows). Not the default because at loose
-    /// tolerances it trades E_var for it: a noisy helix at m = 25σ ends with ∫(dκ/ds)² 0.161 against
-    /// 0.109 at 10σ, and its curvature 1.2× closer to the true one instead of 2×.
+    /// Non-planar 3D curves, [`PolishMethod::Variation`]: weight of the torsion variation
+    /// `∫ (d(κ²τ)/ds)² ds / κ_max⁴` in the objective, next to E_var, which does not see the torsion and
+    /// leaves it to the noise (`curve/torsion.rs`; 0 turns it off). Default [`TORSION_WEIGHT`] (1). On the
+    /// quality suite's five 3D curves (Σ over their 15 rows, `examples/quality_table.rs` with
+    /// `QT_TORSION`): torsion extrema 712 without it, 419 with it, the reference smoother 451; curvature
+    /// extrema no more than the smoother's in every row. Where the result has more curvature extrema than
+    /// the polish started from, the polish runs again without it and keeps the fairer curvature.
     pub torsion_weight: f64,
     /// β of [`PolishMethod::Variation`]: how strongly the curvature follows the target against the
     /// curvature variation.
@@ -299,7 +300,7 @@ impl Default for FairingOptions {
             polish_method: PolishMethod::Variation,
             target_weight: 0.1,
             curve_ends: None,
-            torsion_weight: 0.0,
+            torsion_weight: TORSION_WEIGHT,
         }
     }
 }
@@ -1006,8 +1007,8 @@ impl FairingSetup {
         }
         s.var = VarRows::new(&s.work, range, i0, nf);
         if dim == 3 && s.plane.is_none() {
-            let vbar = length / (range.1 - range.0);
-            s.var.third = opts.torsion_weight.max(0.0) / vbar.powi(5);
+            s.var.twist =
+                torsion::TwistRows::new(&s.work, range, i0, nf, opts.torsion_weight.max(0.0), s.var.eps * 1e3);
         }
         s.probes = VarRows::probes(&s.work, range, i0, nf);
         (s.a3, s.rhs3) = s.var.penalty_gram(p, nf);
@@ -2051,7 +2052,7 @@ impl FairingSetup {
             self.best.fill(DVec3::ZERO);
             (0.0, self.original_energy())
         };
-        let (dev, e) = self.interior_point(accept, dev, e, solves, obj);
+        let (dev, e) = self.polish_variation_torsion(accept, dev, e, solves, obj);
         // never less fair than the input: a result without fewer curvature extrema or a lower E_var than the
         // original's (a straight line, which the smoother would only re-parametrize) leaves it as it is
         let rank = rank_of(self, &self.best);
@@ -2060,6 +2061,42 @@ impl FairingSetup {
             return Ok((0.0, self.original_energy()));
         }
         Ok((dev, e))
+    }
+
+    /// The interior point of the variation polish. On a non-planar 3D curve it carries the torsion term
+    /// ([`FairingOptions::torsion_weight`]), which fairs τ as well as κ; where that result has more
+    /// curvature extrema than the polish started from, the polish runs again from the same start without
+    /// the term and keeps whichever has fewer curvature extrema (then the lower E_var): the torsion is
+    /// faired only where the curvature does not pay for it.
+    fn polish_variation_torsion(
+        &mut self,
+        accept: f64,
+        dev: f64,
+        e: f64,
+        solves: &mut usize,
+        obj: Objective,
+    ) -> (f64, f64) {
+        if self.var.twist.is_empty() {
+            return self.interior_point(accept, dev, e, solves, obj);
+        }
+        let start = self.best.clone();
+        let start_extrema = self.node_extrema(&start);
+        let twisted = self.interior_point(accept, dev, e, solves, obj);
+        let rank = (self.node_extrema(&self.best), self.variation_parts(&self.best).0);
+        if rank.0 <= start_extrema {
+            return twisted;
+        }
+        let twisted_best = std::mem::replace(&mut self.best, start);
+        let twist = std::mem::take(&mut self.var.twist);
+        let plain = self.interior_point(accept, dev, e, solves, obj);
+        self.var.twist = twist;
+        let plain_rank = (self.node_extrema(&self.best), self.variation_parts(&self.best).0);
+        if rank < plain_rank {
+            self.best = twisted_best;
+            twisted
+        } else {
+            plain
+        }
     }
 
     /// `m += ρ P_i` on each free point's diagonal block, `P_i` the projector onto the directions its
@@ -2854,6 +2891,9 @@ fn crossed_corners(curve: &BSplineCurve, u1: f64, u2: f64, found: &[Corner]) -> 
         pieces.join(", ")
     ))
 }
+
+/// The default [`FairingOptions::torsion_weight`].
+pub const TORSION_WEIGHT: f64 = 1.0;
 
 /// Default number of smoothing passes for `n` samples: a three-point average
 /// repeated P times is close to a Gaussian of variance 2P/3 samples²; the

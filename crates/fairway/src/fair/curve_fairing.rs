@@ -291,7 +291,11 @@ impl CurveFairing {
         } == self.opts;
         if !run_only {
             // `opts.ends` changed: both ends take it; else the ends given to `with_ends` stay
-            let ends = if opts.ends == self.opts.ends { self.ends } else { [opts.ends; 2] };
+            let ends = if opts.ends == self.opts.ends {
+                self.ends
+            } else {
+                [opts.ends; 2]
+            };
             *self = Self::with_ends(&self.input, opts, ends)?;
             return Ok(true);
         }
@@ -397,9 +401,7 @@ impl CurveFairing {
         let pins: Vec<usize> = pinned
             .iter()
             .filter_map(|&i| saved.get(i))
-            .filter_map(|&t| {
-                (0..new.len()).min_by(|&x, &y| (new[x] - t).abs().total_cmp(&(new[y] - t).abs()))
-            })
+            .filter_map(|&t| (0..new.len()).min_by(|&x, &y| (new[x] - t).abs().total_cmp(&(new[y] - t).abs())))
             .collect();
         self.set_target(Some(&resampled), &pins)
     }

@@ -361,9 +361,10 @@ pub struct SurfaceFairingResult {
     pub pick: SurfacePick,
     /// A sound upper bound of the deviation everywhere (not only on the check grid):
     /// [`super::verify::surface_band_bound`], the control net of the parametric difference refined
-    /// where it comes near m. `Some(b)` with b ≤ tolerance certifies the band; a larger `b` only says
-    /// the parametric deviation may exceed m (the fair slid the surface along itself, where the
-    /// closest-point check on the grid is what holds). `None` for a rational input.
+    /// where it comes near m. `Some(b)` with b ≤ tolerance certifies the band: where the first bound came
+    /// out above m (the grid held the band, but the fair slid the surface along itself between its
+    /// points), the change is scaled back until it certifies m (`alpha` says by how much). `None` for a
+    /// rational input, where only the check grid holds.
     pub band_bound: Option<f64>,
 }
 
@@ -422,6 +423,24 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
     let m = opts.tolerance;
     let mut r = fair_surface_unbounded(surface, opts)?;
     r.band_bound = super::verify::surface_band_bound(surface, &r.surface, m);
+    if let Some(b) = r.band_bound
+        && b > m
+    {
+        // The grid held the band but nothing sound says so between its points: step back towards the
+        // original until the bound certifies m. The difference is linear in the step, so is its bound.
+        let t = m / b * (1.0 - 1e-9);
+        let pts: Vec<_> = surface
+            .points()
+            .iter()
+            .zip(r.surface.points())
+            .map(|(&a, &f)| a + t * (f - a))
+            .collect();
+        r.surface = r.surface.with_points(pts)?;
+        r.alpha *= t;
+        r.band_bound = super::verify::surface_band_bound(surface, &r.surface, m);
+        // the grid's figure was the old surface's; the bound is this one's (and sound)
+        r.max_deviation = r.band_bound.unwrap_or(m);
+    }
     Ok(r)
 }
 

@@ -10,6 +10,7 @@
 use glam::DVec3;
 
 use super::FairingSetup;
+use super::torsion::TwistRows;
 use crate::basis::{MAX_ORDER, ders_basis_funs};
 use crate::curve::BSplineCurve;
 use crate::linalg::BandedSpd;
@@ -48,10 +49,9 @@ pub(crate) struct VarRows {
     /// The hysteresis of the curvature-extrema count ([`FairingSetup::node_extrema`]): 1 % of the largest
     /// |g| of the original's moving-average target, as `measure`'s δ.
     pub(crate) delta: f64,
-    /// Weight of `∫ |c'''|² du` in the variation energy (non-planar 3D curves, whose torsion E_var does not
-    /// see; 0 otherwise): the torsion weight / v̄⁵ with v̄ the mean speed, so that it reads about
-    /// `∫ (κ'² + κ⁴ + κ²τ²) ds` ([`super::FairingOptions::torsion_weight`]).
-    pub(crate) third: f64,
+    /// The torsion-variation rows of a non-planar 3D curve, whose torsion E_var does not see (empty
+    /// otherwise; [`super::FairingOptions::torsion_weight`]).
+    pub(crate) twist: TwistRows,
 }
 
 /// One knot of [`VarRows::jumps`]: the two one-sided rows (first free-local index, 1st and 2nd basis
@@ -300,6 +300,7 @@ impl VarRows {
             .map(|j| (j.first[1] - j.first[0]).unsigned_abs())
             .max()
             .unwrap_or(0)
+            .max(self.twist.reach())
     }
 }
 
@@ -348,7 +349,7 @@ impl FairingSetup {
     }
 
     /// `E_var` of `c₀ + Σ N_i d_i` over the moving stretch (module docs) with the curvature steps, and the
-    /// third-derivative term of a non-planar 3D curve.
+    /// torsion-variation energy of a non-planar 3D curve ([`TwistRows`]).
     pub(crate) fn variation_parts(&self, d: &[DVec3]) -> (f64, f64) {
         let np1 = self.work.degree() + 1;
         let plane = self.signed_plane();
@@ -371,13 +372,7 @@ impl FairingSetup {
                 j.w * (b - a) * (b - a)
             })
             .sum();
-        let third: f64 = if v.third > 0.0 {
-            (0..v.w.len())
-                .map(|q| v.third * v.w[q] * v.derivs(q, np1, d)[2].length_squared())
-                .sum()
-        } else {
-            0.0
-        };
+        let third = v.twist.energy(np1, d);
         (inner + steps, third)
     }
 
@@ -418,23 +413,6 @@ impl FairingSetup {
                 rhs[base * dim + a].x -= jrow[a] * sw * r;
             }
             h.add_outer(base * dim, &jrow[..width]);
-            if v.third > 0.0 {
-                // √(w third) c''' per coordinate: rows b3 ⊗ e_c
-                let st = (weight * v.w[q] * v.third).sqrt();
-                for cc in 0..dim {
-                    jrow.fill(0.0);
-                    for i in 0..np1 {
-                        let li = f + i as isize;
-                        if li >= 0 && (li as usize) < nf {
-                            jrow[(li as usize - base) * dim + cc] = st * b[2 * np1 + i];
-                        }
-                    }
-                    for a in 0..width {
-                        rhs[base * dim + a].x -= jrow[a] * st * c[2][cc];
-                    }
-                    h.add_outer(base * dim, &jrow[..width]);
-                }
-            }
         }
         // the curvature steps at knots below C2: r = √w (κ⁺ − κ⁻), rows over both sides' points
         for j in &v.jumps {
@@ -468,6 +446,9 @@ impl FairingSetup {
                 rhs[base * dim + a].x -= row[a] * sw * r;
             }
             h.add_outer(base * dim, &row);
+        }
+        if !v.twist.is_empty() {
+            v.twist.system(np1, nf, d, weight, h, rhs);
         }
     }
 }
