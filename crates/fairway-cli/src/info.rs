@@ -217,8 +217,7 @@ pub fn run(args: &Args) -> Result<()> {
                 _ => println!("  curvature       undefined (the curve is a point)"),
             }
             if i.dimension == 2 {
-                let list: Vec<String> = i.inflections.iter().map(|u| format!("{u:.6}")).collect();
-                println!("  inflections     {} [{}]", i.n_inflections, list.join(", "));
+                println!("  inflections     {}", inflection_list(&i.inflections));
             }
         }
         Geometry::Surface(s) => {
@@ -249,3 +248,24 @@ pub fn run(args: &Args) -> Result<()> {
     }
     Ok(())
 }
+
+/// Inflections to print: all of them up to [`LISTED_INFLECTIONS`], else the count with the first and last
+/// few (`--json` has them all).
+fn inflection_list(us: &[f64]) -> String {
+    let fmt = |s: &[f64]| s.iter().map(|u| format!("{u:.6}")).collect::<Vec<_>>().join(", ");
+    if us.len() <= LISTED_INFLECTIONS {
+        format!("{} [{}]", us.len(), fmt(us))
+    } else {
+        let k = LISTED_INFLECTIONS / 2;
+        format!(
+            "{} [{}, … {} more …, {}] (--json lists them all)",
+            us.len(),
+            fmt(&us[..k]),
+            us.len() - 2 * k,
+            fmt(&us[us.len() - k..])
+        )
+    }
+}
+
+/// Inflections listed one by one in the text summary.
+const LISTED_INFLECTIONS: usize = 20;

@@ -294,3 +294,34 @@ fn eval_reads_ron_documents() {
     );
     assert!(Path::new(&ron_path).exists());
 }
+
+/// A curve with many inflections: the text summary gives the count with the first and last few, `--json`
+/// lists every one (a 1.25 M-point curve printed 903,167 parameters on one line).
+#[test]
+fn info_summarizes_many_inflections() {
+    let n = 60;
+    let knots: Vec<f64> = (0..n + 4)
+        .map(|i| (i as f64 - 3.0).clamp(0.0, (n - 3) as f64) / (n - 3) as f64)
+        .collect();
+    let points: Vec<[f64; 2]> = (0..n)
+        .map(|i| [i as f64, if i % 2 == 0 { 1.0 } else { -1.0 }])
+        .collect();
+    let dir = std::env::temp_dir().join(format!("fairway-cli-infl-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("zigzag.json");
+    let json = serde_json::json!({"degree": 3, "knots": knots, "points": points});
+    std::fs::write(&file, json.to_string()).unwrap();
+    let got = stdout_json(&fairway(&["info", file.to_str().unwrap(), "--json"]));
+    let n_infl = got["n_inflections"].as_u64().unwrap() as usize;
+    assert!(n_infl > 40, "{n_infl}");
+    assert_eq!(got["inflections"].as_array().unwrap().len(), n_infl);
+    let out = fairway(&["info", file.to_str().unwrap()]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    let line = text.lines().find(|l| l.contains("inflections")).unwrap();
+    assert!(line.contains(&format!("{n_infl} [")), "{line}");
+    assert!(line.contains(&format!("{} more", n_infl - 20)), "{line}");
+    // 20 parameters listed, not all of them
+    assert_eq!(line.matches('.').count(), 20, "{line}");
+    std::fs::remove_dir_all(&dir).ok();
+}

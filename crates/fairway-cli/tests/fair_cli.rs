@@ -458,7 +458,11 @@ fn fair_bad_input_gives_clear_errors() {
         fails_with(&run(&["--tolerance", t]), 1, "tolerance must be a positive");
     }
     fails_with(&run(&["--tolerance", "0.01", "--region", "1.5,2"]), 1, "region");
-    fails_with(&run(&["--tolerance", "0.01", "--region", "0.6,0.4"]), 1, "empty");
+    fails_with(
+        &run(&["--tolerance", "0.01", "--region", "0.6,0.4"]),
+        1,
+        "the curve is not closed: give u1 < u2",
+    );
     fails_with(&run(&["--tolerance", "0.01", "--region", "0.5,0.51"]), 1, "too small");
     fails_with(&run(&["--tolerance", "0.01", "--region", "a,b"]), 2, "region");
     fails_with(&run(&["--tolerance", "0.01", "--ends", "g5"]), 2, "g0, g1 or g2");

@@ -15,7 +15,7 @@ use fairway::Geometry;
 use fairway::io::Document;
 use fairway::io::autosave::{self, Autosave};
 use fairway::io::iges::{self, EntityInfo, IgesFile};
-use fairway::io::svg::{SvgOptions, curve_svg};
+use fairway::io::svg::{SvgOptions, try_curve_svg};
 
 use crate::{App, Command};
 
@@ -378,8 +378,9 @@ impl App {
     /// The SVG drawing of what the canvas shows: the curve, and as the
     /// canvas draws them the control polygon, the comb, the tolerance band
     /// (when a region is selected) and the faired preview (when shown).
-    /// The comb is the original's, scaled automatically.
-    pub fn svg_text(&self) -> String {
+    /// The comb is the original's, scaled automatically. Refused (nothing to write) if a coordinate of
+    /// the drawing is not a finite number.
+    pub fn svg_text(&self) -> Result<String, String> {
         let opts = SvgOptions {
             control_polygon: self.prefs.show_polygon,
             comb: self.prefs.show_comb,
@@ -390,7 +391,7 @@ impl App {
             .preview()
             .filter(|_| self.compare.show_after)
             .map(|p| &p.result.curve);
-        curve_svg(self.curve(), faired, &opts)
+        try_curve_svg(self.curve(), faired, &opts).map_err(|e| e.to_string())
     }
 
     /// Write [`App::svg_text`] to `path` (which must end in `.svg`).
@@ -400,7 +401,8 @@ impl App {
         } else if !has_ext(path, "svg") {
             Err("the file name must end in .svg".to_string())
         } else {
-            fairway::io::write_atomic(path, self.svg_text().as_bytes()).map_err(|e| e.to_string())
+            self.svg_text()
+                .and_then(|text| fairway::io::write_atomic(path, text.as_bytes()).map_err(|e| e.to_string()))
         };
         match res {
             Ok(()) => self.report_status(format!("Exported {}", path.display())),

@@ -684,8 +684,15 @@ impl App {
             ends: self.ends(),
             ..self.prefs.fair
         };
-        self.fairing
-            .update(curve, self.curve_rev, &self.doc.settings, tol, opts, self.compare.trio, draft)
+        self.fairing.update(
+            curve,
+            self.curve_rev,
+            &self.doc.settings,
+            tol,
+            opts,
+            self.compare.trio,
+            draft,
+        )
     }
 
     /// The end conditions of the curve region: the document's, else the default of the preferences.

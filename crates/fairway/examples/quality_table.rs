@@ -80,6 +80,9 @@ fn main() {
         "dev/m fw",
         "ms ref",
         "ms fw",
+        "τ extrema",
+        "ref",
+        "fairway",
     ]
     .iter()
     .map(|s| s.to_string())
