@@ -13,7 +13,7 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
 use fairway::io::Document;
 use fairway::io::autosave::Autosave;
-use fairway::{BSplineCurve, BSplineSurface, DVec3, Geometry};
+use fairway::{BSplineCurve, BSplineSurface, DVec2, DVec3, Geometry};
 use fairway_editor::{App, Command};
 
 mod common;
@@ -527,5 +527,30 @@ fn the_iges_picker_also_opens_from_the_surface_workspace() {
     h.run();
     assert!(h.state().surface.is_none(), "a curve returns to the curve editor");
     assert_eq!(h.state().doc.geometry, objects[0]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A curve whose drawing would overflow (it spans more than f64 holds) is not exported: the error says
+/// why, nothing is written, and an existing file at the path is kept.
+#[test]
+fn svg_export_of_a_curve_too_large_to_draw_writes_nothing() {
+    let dir = temp_dir("svg-huge");
+    let pts = [
+        DVec2::new(-1e308, 0.0),
+        DVec2::new(0.0, 1e308),
+        DVec2::new(1e308, 0.0),
+        DVec2::new(1.5e308, -1e308),
+    ];
+    let c = BSplineCurve::new_2d(3, vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0], &pts).unwrap();
+    let mut app = App::with_document(Document::new(Geometry::Curve(c)), None);
+    let out = dir.join("huge.svg");
+    std::fs::write(&out, "kept").unwrap();
+    app.export_svg(&out);
+    let err = app.error.clone().unwrap_or_default();
+    assert!(
+        err.contains("overflow") && err.contains("nothing was written"),
+        "{err:?}"
+    );
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "kept");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -173,7 +173,7 @@ fn end_conditions_and_integrator_re_fair_the_preview() {
     let m = h.state().tolerance();
     let c0 = h.state().curve().clone();
     // the default ends are G2: the faired curvature meets the original's at u1 and u2
-    assert_eq!(h.state().prefs.fair.ends, [EndCondition::G2; 2]);
+    assert_eq!(h.state().ends(), [EndCondition::G2; 2]);
     let g2 = h.state().preview().unwrap().result.curve.clone();
     let kmax = h.state().view.sampled.kappa_range.1.abs().max(1e-9);
     for u in [0.3, 0.6] {
@@ -188,7 +188,15 @@ fn end_conditions_and_integrator_re_fair_the_preview() {
         buttons[side].click();
         h.run();
     }
-    assert_eq!(h.state().prefs.fair.ends, [EndCondition::G0; 2]);
+    // the ends are the document's (saved with it), each click an undo step
+    assert_eq!(h.state().ends(), [EndCondition::G0; 2]);
+    assert_eq!(h.state().doc.settings.ends, Some([EndCondition::G0; 2]));
+    h.state_mut().apply(fairway_editor::Command::Undo);
+    h.run();
+    assert_eq!(h.state().ends(), [EndCondition::G0, EndCondition::G2]);
+    h.state_mut().apply(fairway_editor::Command::Redo);
+    h.run();
+    assert_eq!(h.state().ends(), [EndCondition::G0; 2]);
     let p = h.state().preview().unwrap().clone();
     assert_ne!(p.result.curve.points(), g2.points(), "G0 ends did not re-fair");
     assert!(p.result.max_deviation <= m * (1.0 + 1e-9));
