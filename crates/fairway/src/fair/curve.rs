@@ -247,9 +247,9 @@ pub struct FairingOptions {
     /// `∫ (d(κ²τ)/ds)² ds / κ_max⁴` in the objective, next to E_var, which does not see the torsion and
     /// leaves it to the noise (`curve/torsion.rs`; 0 turns it off). Default [`TORSION_WEIGHT`] (1). On the
     /// quality suite's five 3D curves (Σ over their 15 rows, `examples/quality_table.rs` with
-    /// `QT_TORSION`): torsion extrema 712 without it, 419 with it, the reference smoother 451; curvature
-    /// extrema no more than the smoother's in every row. Where the result has more curvature extrema than
-    /// the polish started from, the polish runs again without it and keeps the fairer curvature.
+    /// `QT_TORSION`): torsion extrema 712 without it, 417 with it, the reference smoother 451; curvature
+    /// extrema no more than the smoother's in every row. Where the result is not fairer in curvature than
+    /// the polish's start, the polish runs again without it and keeps the fairer curvature.
     pub torsion_weight: f64,
     /// β of [`PolishMethod::Variation`]: how strongly the curvature follows the target against the
     /// curvature variation.
@@ -1009,6 +1009,10 @@ impl FairingSetup {
         if dim == 3 && s.plane.is_none() {
             s.var.twist =
                 torsion::TwistRows::new(&s.work, range, i0, nf, opts.torsion_weight.max(0.0), s.var.eps * 1e3);
+            let e_var = s.variation_parts(&[]).0;
+            s.var
+                .twist
+                .cap_to(p + 1, torsion::TWIST_CAP * opts.torsion_weight.max(0.0) * e_var);
         }
         s.probes = VarRows::probes(&s.work, range, i0, nf);
         (s.a3, s.rhs3) = s.var.penalty_gram(p, nf);
@@ -2065,9 +2069,9 @@ impl FairingSetup {
 
     /// The interior point of the variation polish. On a non-planar 3D curve it carries the torsion term
     /// ([`FairingOptions::torsion_weight`]), which fairs τ as well as κ; where that result has more
-    /// curvature extrema than the polish started from, the polish runs again from the same start without
-    /// the term and keeps whichever has fewer curvature extrema (then the lower E_var): the torsion is
-    /// faired only where the curvature does not pay for it.
+    /// curvature extrema or no lower E_var than the polish started from, the polish runs again from the
+    /// same start without the term and keeps whichever has fewer curvature extrema (then the lower E_var):
+    /// the torsion is faired only where the curvature does not pay for it.
     fn polish_variation_torsion(
         &mut self,
         accept: f64,
@@ -2080,10 +2084,10 @@ impl FairingSetup {
             return self.interior_point(accept, dev, e, solves, obj);
         }
         let start = self.best.clone();
-        let start_extrema = self.node_extrema(&start);
+        let start_rank = (self.node_extrema(&start), self.variation_parts(&start).0);
         let twisted = self.interior_point(accept, dev, e, solves, obj);
         let rank = (self.node_extrema(&self.best), self.variation_parts(&self.best).0);
-        if rank.0 <= start_extrema {
+        if rank.0 <= start_rank.0 && rank.1 < start_rank.1 * (1.0 - 1e-9) {
             return twisted;
         }
         let twisted_best = std::mem::replace(&mut self.best, start);
