@@ -163,11 +163,11 @@ impl Fairing {
         };
     }
 
-    /// Run an engine call `f` under [`fairway::guard::catch_panic`]: a panic
+    /// Run an engine call `f` under [`crate::guard::catch_panic`]: a panic
     /// becomes `Err(message)`, also recorded in `internal_error`.
     fn guarded<T>(&mut self, what: &str, f: impl FnOnce() -> T) -> Result<T, String> {
         let inject = std::mem::take(&mut self.inject_panic);
-        fairway::guard::catch_panic(what, || {
+        crate::guard::catch_panic(what, || {
             if inject {
                 panic!("injected panic (test seam)");
             }

@@ -9,11 +9,11 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant, SystemTime};
 
+use crate::autosave::{self, Autosave};
 use eframe::egui;
 use egui::ColorImage;
 use fairway::Geometry;
 use fairway::io::Document;
-use fairway::io::autosave::{self, Autosave};
 use fairway::io::iges::{self, EntityInfo, IgesFile};
 use fairway::io::svg::{SvgOptions, try_curve_svg};
 

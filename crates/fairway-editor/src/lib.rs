@@ -6,11 +6,13 @@
 //! applied after the panels, so one drag is one undo step. No fairing maths
 //! lives here: the editor calls the core.
 
+pub mod autosave;
 pub mod bench;
 pub mod canvas;
 pub mod curve3d;
 pub mod fair_ui;
 pub mod fairing;
+pub mod guard;
 pub mod history;
 pub mod interchange;
 pub mod plot;
@@ -221,11 +223,11 @@ pub struct App {
     /// The curve's 3D view (3D comb, extrusion isophotes).
     pub curve3d: curve3d::Curve3dState,
     /// Periodic autosave (`None`: off, as in tests that do not ask for it).
-    pub autosave: Option<fairway::io::autosave::Autosave>,
+    pub autosave: Option<crate::autosave::Autosave>,
     /// This session wrote the autosave that is on disk.
     autosaved: bool,
     /// An autosave found at start-up, waiting for Restore / Discard.
-    pub recovery: Option<fairway::io::autosave::Recovery>,
+    pub recovery: Option<crate::autosave::Recovery>,
     /// An IGES file with several objects, waiting for the user's choice.
     pub iges_pick: Option<interchange::IgesPick>,
     /// A PNG export in progress (waiting for the screenshot).

@@ -389,7 +389,7 @@ impl SurfaceEditor {
             };
             let t0 = Instant::now();
             // a panic in the engine becomes an error message; the document is untouched
-            let res = fairway::guard::catch_panic("surface fairing", || fair_surface(self.surface(), opts));
+            let res = crate::guard::catch_panic("surface fairing", || fair_surface(self.surface(), opts));
             let fair_ms = t0.elapsed().as_secs_f64() * 1e3;
             match res.and_then(|r| {
                 let n = self.shading.density;

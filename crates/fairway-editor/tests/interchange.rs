@@ -12,8 +12,8 @@ use egui::Role;
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
 use fairway::io::Document;
-use fairway::io::autosave::Autosave;
 use fairway::{BSplineCurve, BSplineSurface, DVec2, DVec3, Geometry};
+use fairway_editor::autosave::Autosave;
 use fairway_editor::{App, Command};
 
 mod common;
@@ -471,7 +471,7 @@ fn opened_files_are_remembered_by_absolute_path_for_the_autosave() {
     assert!(p.is_absolute() && p.ends_with("assets/car_roof.ron"), "{p:?}");
     app.apply(Command::SetTolerance(0.01));
     app.autosave_tick(Instant::now());
-    let r = fairway::io::autosave::pending(&dir).unwrap().unwrap();
+    let r = fairway_editor::autosave::pending(&dir).unwrap().unwrap();
     assert_eq!(r.source.as_deref(), Some(p.as_path()));
     assert_eq!(fairway::io::load(&p).unwrap(), fairway::io::load(rel).unwrap());
     let _ = std::fs::remove_dir_all(&dir);

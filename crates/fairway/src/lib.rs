@@ -20,7 +20,6 @@ pub mod fair;
 pub mod fit;
 pub mod fit_surface;
 pub mod geometry;
-pub mod guard;
 pub mod io;
 pub mod knots;
 pub mod linalg;

@@ -9,7 +9,6 @@
 //! [`points::FitOptions::default`]; call it directly to choose the number of
 //! control points, the degree and the parametrisation.
 
-pub mod autosave;
 pub mod document;
 pub mod iges;
 pub mod json;

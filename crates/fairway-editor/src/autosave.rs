@@ -2,7 +2,7 @@
 //! here, free of any UI, so it can be tested without a window).
 //!
 //! While a document is dirty, [`Autosave::tick`] writes it every
-//! `interval` to `<dir>/autosave.ron` (atomically, with [`super::write_atomic`])
+//! `interval` to `<dir>/autosave.ron` (atomically, with [`fairway::io::write_atomic`])
 //! next to `<dir>/autosave.meta` (one line per field: the process id, the
 //! document's own path if it has one, the time in seconds since 1970). A
 //! successful save, a deliberate discard, or a clean exit calls
@@ -18,8 +18,8 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant, SystemTime};
 
-use super::document::Document;
-use crate::error::{Error, Result};
+use fairway::io::Document;
+use fairway::{Error, Result};
 
 const DOC: &str = "autosave.ron";
 const META: &str = "autosave.meta";
@@ -97,7 +97,7 @@ impl Autosave {
             path: self.dir.display().to_string(),
             message: e.to_string(),
         })?;
-        super::write_atomic(&self.dir.join(DOC), doc.to_ron()?.as_bytes())?;
+        fairway::io::write_atomic(&self.dir.join(DOC), doc.to_ron()?.as_bytes())?;
         let secs = SystemTime::now()
             .duration_since(SystemTime::UNIX_EPOCH)
             .map_or(0, |d| d.as_secs());
@@ -106,7 +106,7 @@ impl Autosave {
             std::process::id(),
             source.map_or(String::new(), |p| p.display().to_string())
         );
-        super::write_atomic(&self.dir.join(META), meta.as_bytes())
+        fairway::io::write_atomic(&self.dir.join(META), meta.as_bytes())
     }
 
     /// Remove the autosave (after a save, a discard, or on a clean exit).
@@ -153,7 +153,7 @@ pub fn pending(dir: &Path) -> Result<Option<Recovery>> {
     {
         return Ok(None);
     }
-    let document = Document::from_ron(&super::read_text(&doc_path)?)?;
+    let document = Document::from_ron(&fairway::io::read_text(&doc_path)?)?;
     let source = field("source").filter(|s| !s.is_empty()).map(PathBuf::from);
     let saved_at = field("time")
         .and_then(|t| t.parse::<u64>().ok())

@@ -1,14 +1,13 @@
-//! Autosave and recovery (io::autosave): the timing rule, a simulated restart,
+//! Autosave and recovery (the editor's `autosave`): the timing rule, a simulated restart,
 //! and a real `kill -9` of a process that autosaved, after which the next
 //! start is offered the document.
-
-mod shapes;
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use fairway::io::autosave::{Autosave, pending};
+use fairway::BSplineCurve;
 use fairway::io::{Document, DocumentSettings};
+use fairway_editor::autosave::{Autosave, pending};
 
 fn scratch(tag: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("fairway-autosave-{}-{tag}", std::process::id()));
@@ -16,8 +15,24 @@ fn scratch(tag: &str) -> PathBuf {
     d
 }
 
+/// A cubic with a double knot.
+fn wiggly_2d() -> BSplineCurve {
+    let pts = [
+        (0., 0.),
+        (1., 2.),
+        (2.5, 1.5),
+        (3., -1.),
+        (4.5, 0.),
+        (5., 2.),
+        (6.5, 1.),
+        (8., 0.),
+    ];
+    let pts: Vec<_> = pts.iter().map(|&(x, y)| fairway::DVec2::new(x, y)).collect();
+    BSplineCurve::new_2d(3, vec![0., 0., 0., 0., 0.15, 0.4, 0.4, 0.7, 1., 1., 1., 1.], &pts).unwrap()
+}
+
 fn document() -> Document {
-    let mut d = Document::new(shapes::wiggly_2d().into());
+    let mut d = Document::new(wiggly_2d().into());
     d.settings = DocumentSettings {
         tolerance: Some(0.0125),
         region: Some((0.25, 0.75)),

@@ -10,7 +10,7 @@
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
-use crate::error::{Error, Result};
+use fairway::{Error, Result};
 
 /// Run `f`, turning a panic into [`Error::InvalidInput`] with the panic's
 /// message: `internal error in <what>: <message> (nothing was changed)`.
