@@ -114,10 +114,9 @@ mod torsion;
 mod variation;
 use check::ChkDeriv;
 pub(crate) use check::{band_accept, project_near};
-pub use fit::{MU_MAX, MU_MIN, MU_RESOLUTION, MU_WARM_STEP};
 pub use options::{EndCondition, FairingOptions, FitMode, POLISH_ITERS, PolishMethod, TORSION_WEIGHT, default_passes};
-pub use polish::{IP_SIGMA, IP_START, POLISH_ROUGHNESS_CAP};
-pub use setup::{CHECK_SAMPLES, CHECK_SAMPLES_PER_SPAN, MAX_PASS_WORK, MAX_SAMPLES};
+pub use setup::MAX_SAMPLES;
+pub(crate) use setup::{CHECK_SAMPLES, CHECK_SAMPLES_PER_SPAN, MAX_PASS_WORK};
 pub(crate) use setup::{SLIVER_SNAP, snap_to_knot};
 use variation::VarRows;
 
@@ -150,7 +149,7 @@ pub struct FairingResult {
 }
 
 /// Fairs run again with a narrowed band when the result left the band between the check samples.
-pub const BAND_RETRIES: usize = 3;
+pub(crate) const BAND_RETRIES: usize = 3;
 
 /// Prepared state of a curve fairing (see the module docs).
 #[derive(Debug, Clone)]
@@ -341,7 +340,7 @@ impl FairingSetup {
 
     /// Start the next [`Self::fair`]'s band search at fairness weight `mu` (e.g. the μ of a
     /// neighbouring isocurve) instead of the previous fair's; `None` searches from scratch. The
-    /// result is the same band-holding μ to [`MU_RESOLUTION`], found in fewer solves when the hint is close.
+    /// result is the same band-holding μ to `MU_RESOLUTION`, found in fewer solves when the hint is close.
     pub fn set_mu_hint(&mut self, mu: Option<f64>) {
         self.last_mu = mu.filter(|m| m.is_finite() && *m > 0.0);
     }
@@ -367,7 +366,7 @@ impl FairingSetup {
     /// The result's `max_deviation` is a sound upper bound of the distance from every point of the
     /// original stretch to the result ([`super::verify::band_bound`]), not only at the check samples.
     /// Where the result left the band between the samples, the fair is run again with the band
-    /// narrowed by the excess (at most [`BAND_RETRIES`] times); if that does not hold it either, the
+    /// narrowed by the excess (at most `BAND_RETRIES` (3) times); if that does not hold it either, the
     /// original is returned, with a note.
     pub fn fair(&mut self) -> Result<FairingResult> {
         let m = self.opts.tolerance;

@@ -458,7 +458,7 @@ impl Target {
 /// frequency ω is damped by `(1 + τ_tot ω²/k)^−k` instead of the exact flow's
 /// `exp(−τ_tot ω²)`; four steps damp a wiggle the flow reduces to e⁻¹⁰ to
 /// 0.7 %, enough for a target that is followed only within the tolerance band.
-pub const HEAT_STEPS: usize = 4;
+pub(crate) const HEAT_STEPS: usize = 4;
 
 /// The paper's quintic blending weight λ(t) = 6t⁵ − 15t⁴ + 10t³ (paper §3.1).
 #[inline]

@@ -36,7 +36,7 @@ pub(crate) const PIECES: usize = 4;
 pub(crate) const SHARPNESS: f64 = 1e-3;
 /// Points of the original [`certify`] may evaluate per knot span (beyond it the bound stays coarser,
 /// still sound).
-pub const EVALUATIONS_PER_SPAN: usize = 64;
+pub(crate) const EVALUATIONS_PER_SPAN: usize = 64;
 /// Whole-curve searches for a foot at most (for the few samples that make the bound).
 const GLOBAL_SEARCHES: usize = 32;
 /// Bisections of a knot span at most (an interval is not split below 2⁻²⁰ of its span).

@@ -8,16 +8,16 @@ use crate::error::{Error, Result};
 use crate::linalg::BandedSpd;
 
 /// Smallest fairness weight μ tried (see the module docs, step 6).
-pub const MU_MIN: f64 = 1e-6;
+pub(crate) const MU_MIN: f64 = 1e-6;
 
 /// Largest fairness weight μ tried.
-pub const MU_MAX: f64 = 1e10;
+pub(crate) const MU_MAX: f64 = 1e10;
 
 /// The band search stops when the largest good μ is known to within this factor.
-pub const MU_RESOLUTION: f64 = 1.05;
+pub(crate) const MU_RESOLUTION: f64 = 1.05;
 
 /// Step factor of the warm-started search around the previous μ.
-pub const MU_WARM_STEP: f64 = 16.0;
+pub(crate) const MU_WARM_STEP: f64 = 16.0;
 
 impl FairingSetup {
     /// The μ search of the reference smoother: `(A0 + λ A3) ΔP = λ rhs3` (data term the original), the

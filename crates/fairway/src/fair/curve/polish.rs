@@ -25,14 +25,14 @@ pub(crate) const VAR_BAND_MARGIN: f64 = 1e-3;
 
 /// A polish step is accepted only if the roughness of the curvature at the samples (Σ (Δκ)² / h) stays
 /// within this factor of the larger of the polish's start and the target's (`FairingSetup::polish`).
-pub const POLISH_ROUGHNESS_CAP: f64 = 1.0;
+pub(crate) const POLISH_ROUGHNESS_CAP: f64 = 1.0;
 
 /// The interior-point polish starts at most this fraction of the band from the original (the fit is
 /// scaled back if its parametric displacement reaches further).
-pub const IP_START: f64 = 0.95;
+pub(crate) const IP_START: f64 = 0.95;
 
 /// Centring parameter of the interior-point polish: τ ← σ · mean(z_j c_j) after each step.
-pub const IP_SIGMA: f64 = 0.2;
+pub(crate) const IP_SIGMA: f64 = 0.2;
 
 impl FairingSetup {
     /// Gauss–Newton polish of the paper's E = Σ (κ(p_k) − g_k)² from the band-holding fit in

@@ -26,14 +26,14 @@ pub const MAX_SAMPLES: usize = 2_000_000;
 /// --strength 1000000` on the 611 samples of assets/car_roof.ron: 1.1 s). A larger strength is refused,
 /// with a pointer to the heat target (its cost stays bounded at any strength), instead of running for
 /// minutes (`--strength 99999999`: more than a minute).
-pub const MAX_PASS_WORK: usize = 1_000_000_000;
+pub(crate) const MAX_PASS_WORK: usize = 1_000_000_000;
 
 /// Number of arc-length samples used to check the band (as `measure`), at least
 /// [`CHECK_SAMPLES_PER_SPAN`] per knot span of the curve.
-pub const CHECK_SAMPLES: usize = 2000;
+pub(crate) const CHECK_SAMPLES: usize = 2000;
 
 /// Check samples per knot span at least (a long curve gets more than [`CHECK_SAMPLES`]).
-pub const CHECK_SAMPLES_PER_SPAN: usize = 4;
+pub(crate) const CHECK_SAMPLES_PER_SPAN: usize = 4;
 
 /// The unit normal of the plane holding all `pts` to `1e-12 ×` their bounding-box diagonal, if they
 /// span one (`None` for points on a line or not coplanar). The plane is spanned from the first point
@@ -97,7 +97,7 @@ impl FairingSetup {
     }
 
     /// [`Self::new`] with `check_samples` arc-length samples for the band
-    /// check instead of [`CHECK_SAMPLES`] (0: the fairing samples themselves,
+    /// check instead of `CHECK_SAMPLES` (2000) (0: the fairing samples themselves,
     /// which saves a second arc-length table), and arc-length tables to a relative
     /// accuracy of 1e-9 instead of 1e-12 (the samples are then equally spaced
     /// to 1e-9 of the length, far below anything the fairing resolves). The
