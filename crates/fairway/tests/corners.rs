@@ -544,7 +544,7 @@ proptest::proptest! {
                 proptest::prop_assert!(r.max_deviation <= m * (1.0 + 1e-9));
                 proptest::prop_assert!(
                     reported_bound_ok_dense(r.max_deviation, measured, &c, f, m),
-                    "reported {} vs measured {}", r.max_deviation, measured
+                    "reported {} vs measured {} (dense {:?})", r.max_deviation, measured, common::dense::dense_deviation(&c, f, 20, 2)
                 );
                 proptest::prop_assert!(f.points()[0].distance(*f.points().last().unwrap()) <= 1e-12);
                 let n0 = c.knots().values().len();

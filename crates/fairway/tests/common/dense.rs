@@ -79,6 +79,7 @@ pub fn dense_deviation(a: &BSplineCurve, b: &BSplineCurve, per_span: usize, wind
     let (pa, pb) = (Plain::new(a), Plain::new(b));
     let bs = pb.spans();
     let closed = b.points()[0].distance(*b.points().last().unwrap()) <= 1e-12 * (1.0 + b.points()[0].length());
+    let domain = (bs[0].0, bs[bs.len() - 1].1);
     let project = |u: f64, foot: usize| -> (f64, usize) {
         let q = pa.point(u);
         // b's span holding u (the curves share their domain and nearly their parametrization)
@@ -120,7 +121,9 @@ pub fn dense_deviation(a: &BSplineCurve, b: &BSplineCurve, per_span: usize, wind
             let (x0, x1) = bs[v.2];
             let h = (x1 - x0) / 16.0;
             let f = |t: f64| pb.point(t).distance(q);
-            let here = golden(v.1 - h, v.1 + h, f, false).1;
+            // inside the domain: past its end the clamped evaluation is flat, and the ties it makes send
+            // the golden section away from a foot just inside the end (a closed curve's seam)
+            let here = golden((v.1 - h).max(domain.0), (v.1 + h).min(domain.1), f, false).1;
             if here < dist {
                 dist = here;
                 best = v;
