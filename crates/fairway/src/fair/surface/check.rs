@@ -1,0 +1,239 @@
+//! The check grids that verify the band on the surface (module docs of `fair::surface`, step 7).
+
+use super::par_map;
+use crate::basis::{MAX_ORDER, basis_funs};
+use crate::knots::KnotVector;
+use crate::measure_surface::newton_project;
+use crate::surface::BSplineSurface;
+use glam::DVec3;
+use std::ops::Range;
+
+/// Basis values of one direction at the parameters of a check grid.
+struct GridBasis {
+    spans: Vec<usize>,
+    vals: Vec<[f64; MAX_ORDER]>,
+    params: Vec<f64>,
+}
+
+impl GridBasis {
+    fn new(k: &KnotVector, ts: &[f64]) -> Self {
+        let p = k.degree();
+        let mut spans = Vec::with_capacity(ts.len());
+        let mut vals = Vec::with_capacity(ts.len());
+        for &t in ts {
+            let sp = k.find_span(t);
+            let mut n = [0.0; MAX_ORDER];
+            basis_funs(k.values(), sp, k.clamp(t), p, &mut n);
+            spans.push(sp);
+            vals.push(n);
+        }
+        Self {
+            spans,
+            vals,
+            params: ts.to_vec(),
+        }
+    }
+}
+
+/// A check grid (module docs, step 7) with its basis values, so that the
+/// change `S_f − S = Σ ΔD_ij N_i(u) M_j(v)` is evaluated separably
+/// (O(grid · p)) instead of by two point evaluations per sample.
+pub(super) struct CheckGrid {
+    u: GridBasis,
+    v: GridBasis,
+    pu: usize,
+    pv: usize,
+    threads: Option<usize>,
+}
+
+/// Rows of a check grid per unit of parallel work (fixed, so the result does not depend on the threads).
+const CHECK_ROWS_PER_TASK: usize = 16;
+
+/// The surface at every grid node `(us[k], vs[l])` (row-major over k), evaluated separably:
+/// `T[k][j] = Σ_i N_i(u_k) P_ij`, then `S = Σ_j M_j(v_l) T[k][j]` (O(grid · p) instead of a point
+/// evaluation per node).
+pub(super) fn grid_points(s: &BSplineSurface, us: &[f64], vs: &[f64]) -> Vec<DVec3> {
+    let (bu, bv) = (GridBasis::new(s.knots_u(), us), GridBasis::new(s.knots_v(), vs));
+    let (pu, pv, nv) = (s.degree_u(), s.degree_v(), s.nv());
+    let pts = s.points();
+    let mut out = Vec::with_capacity(us.len() * vs.len());
+    let mut row = vec![DVec3::ZERO; nv];
+    for k in 0..us.len() {
+        row.fill(DVec3::ZERO);
+        let sp = bu.spans[k];
+        for a in 0..=pu {
+            let w = bu.vals[k][a];
+            let src = &pts[(sp - pu + a) * nv..(sp - pu + a + 1) * nv];
+            for (r, q) in row.iter_mut().zip(src) {
+                *r += *q * w;
+            }
+        }
+        for l in 0..vs.len() {
+            let sp = bv.spans[l];
+            out.push((0..=pv).map(|b| row[sp - pv + b] * bv.vals[l][b]).sum());
+        }
+    }
+    out
+}
+
+impl CheckGrid {
+    /// The parametric change `|S_b − S_a|` on the grid (`b` differing from `a` only in the control block
+    /// `fu × fv`, evaluated separably from the change of that block): its maximum and the nodes where it
+    /// exceeds `thresh` and is no smaller than at its four grid neighbours, as `(change, u, v)`.
+    pub(super) fn change_peaks(
+        &self,
+        a: &BSplineSurface,
+        b: &BSplineSurface,
+        fu: &Range<usize>,
+        fv: &Range<usize>,
+        thresh: f64,
+    ) -> (f64, Vec<(f64, f64, f64)>) {
+        let nv = a.nv();
+        let nfv = fv.len();
+        let (mu, mv) = (self.u.params.len(), self.v.params.len());
+        let (pa, pb) = (a.points(), b.points());
+        let mut tmp = vec![DVec3::ZERO; mu * nfv];
+        for k in 0..mu {
+            let sp = self.u.spans[k];
+            for ia in 0..=self.pu {
+                let i = sp - self.pu + ia;
+                if !fu.contains(&i) {
+                    continue;
+                }
+                let w = self.u.vals[k][ia];
+                for (jj, t) in tmp[k * nfv..(k + 1) * nfv].iter_mut().enumerate() {
+                    let idx = i * nv + fv.start + jj;
+                    *t += (pb[idx] - pa[idx]) * w;
+                }
+            }
+        }
+        let mut d = vec![0.0f64; mu * mv];
+        for k in 0..mu {
+            for l in 0..mv {
+                let sp = self.v.spans[l];
+                let mut x = DVec3::ZERO;
+                for jb in 0..=self.pv {
+                    let j = sp - self.pv + jb;
+                    if fv.contains(&j) {
+                        x += tmp[k * nfv + j - fv.start] * self.v.vals[l][jb];
+                    }
+                }
+                d[k * mv + l] = x.length();
+            }
+        }
+        let max = d.iter().fold(0.0f64, |m, &x| m.max(x));
+        let mut out = Vec::new();
+        for k in 0..mu {
+            for l in 0..mv {
+                let x = d[k * mv + l];
+                if !(x > thresh) {
+                    continue;
+                }
+                let nb = [
+                    (k > 0).then(|| d[(k - 1) * mv + l]),
+                    (k + 1 < mu).then(|| d[(k + 1) * mv + l]),
+                    (l > 0).then(|| d[k * mv + l - 1]),
+                    (l + 1 < mv).then(|| d[k * mv + l + 1]),
+                ];
+                if nb.iter().flatten().all(|&y| y <= x) {
+                    out.push((x, self.u.params[k], self.v.params[l]));
+                }
+            }
+        }
+        (max, out)
+    }
+
+    pub(super) fn new(s: &BSplineSurface, cu: &[f64], cv: &[f64], threads: Option<usize>) -> Self {
+        Self {
+            u: GridBasis::new(s.knots_u(), cu),
+            v: GridBasis::new(s.knots_v(), cv),
+            pu: s.degree_u(),
+            pv: s.degree_v(),
+            threads,
+        }
+    }
+
+    /// Upper bound of the deviation between `a` (the original) and `b` (same
+    /// knots, control points differing only in the block `fu × fv`) on the
+    /// grid: `|S_b − S_a|` at every sample, sharpened by Newton projections
+    /// in both directions where it exceeds `m`. With `stop_early`, returns
+    /// the first sharpened value above `m` (a proof that the band is broken,
+    /// not the maximum).
+    pub(super) fn deviation(
+        &self,
+        a: &BSplineSurface,
+        b: &BSplineSurface,
+        fu: &Range<usize>,
+        fv: &Range<usize>,
+        m: f64,
+        stop_early: bool,
+    ) -> f64 {
+        let nv = a.nv();
+        let nfv = fv.len();
+        let (mu, mv) = (self.u.params.len(), self.v.params.len());
+        // T[k][jj] = Σ_a N_a(u_k) ΔD[i][fv.start + jj]
+        let mut tmp = vec![DVec3::ZERO; mu * nfv];
+        let (pa, pb) = (a.points(), b.points());
+        for k in 0..mu {
+            let sp = self.u.spans[k];
+            for ia in 0..=self.pu {
+                let i = sp - self.pu + ia;
+                if !fu.contains(&i) {
+                    continue;
+                }
+                let w = self.u.vals[k][ia];
+                let row = &mut tmp[k * nfv..(k + 1) * nfv];
+                for (jj, t) in row.iter_mut().enumerate() {
+                    let idx = i * nv + fv.start + jj;
+                    *t += (pb[idx] - pa[idx]) * w;
+                }
+            }
+        }
+        // rows in fixed chunks, in parallel; each chunk returns (its max, whether it stopped at a violation)
+        let chunks: Vec<(usize, Range<usize>)> = (0..mu)
+            .step_by(CHECK_ROWS_PER_TASK)
+            .map(|k0| k0..(k0 + CHECK_ROWS_PER_TASK).min(mu))
+            .enumerate()
+            .collect();
+        // with stop_early, chunks after one that proved a violation need not finish (the result is the
+        // violation of the first such chunk in grid order, as a sequential scan would return)
+        let first_violation = std::sync::atomic::AtomicUsize::new(usize::MAX);
+        let per_chunk = par_map(&chunks, self.threads, |(c, rows)| {
+            let mut max = 0.0f64;
+            for k in rows.clone() {
+                if stop_early && first_violation.load(std::sync::atomic::Ordering::Relaxed) < *c {
+                    return (max, false);
+                }
+                for l in 0..mv {
+                    let sp = self.v.spans[l];
+                    let mut d = DVec3::ZERO;
+                    for jb in 0..=self.pv {
+                        let j = sp - self.pv + jb;
+                        if fv.contains(&j) {
+                            d += tmp[k * nfv + j - fv.start] * self.v.vals[l][jb];
+                        }
+                    }
+                    let mut dist = d.length();
+                    if dist > m {
+                        let (u, v) = (self.u.params[k], self.v.params[l]);
+                        let (qa, qb) = (a.point(u, v), b.point(u, v));
+                        let d1 = newton_project(b, qa, (u, v)).distance;
+                        let d2 = newton_project(a, qb, (u, v)).distance;
+                        dist = dist.min(d1.max(d2));
+                        if stop_early && dist > m {
+                            first_violation.fetch_min(*c, std::sync::atomic::Ordering::Relaxed);
+                            return (dist, true);
+                        }
+                    }
+                    max = max.max(dist);
+                }
+            }
+            (max, false)
+        });
+        // with stop_early: the first chunk (in grid order) that proved a violation
+        if let Some(&(d, _)) = per_chunk.iter().find(|c| c.1) {
+            return d;
+        }
+        per_chunk.iter().fold(0.0f64, |acc, c| acc.max(c.0))
+    }
+}
