@@ -34,7 +34,7 @@
 //!
 //!    The moving stretch `[a, b]` is the union of the free points' supports.
 //! 2. **Samples.** n points at equal arc length over `[a, b]`
-//!    ([`ArcLengthTable`]): parameters `p_k`, points `f_k`, unit tangents,
+//!    ([`ArcLengthTable`](crate::arclength::ArcLengthTable)): parameters `p_k`, points `f_k`, unit tangents,
 //!    normals, curvature κ_k, speed `v = |c'|` and `v' = c'·c''/v`. In 3D the
 //!    curvature is signed along a sign-consistent principal normal: the
 //!    normal is flipped whenever it would turn by more than 90° from the

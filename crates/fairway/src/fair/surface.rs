@@ -30,7 +30,7 @@
 //!    the moving rectangle (ends included).
 //! 3. **Isocurves.** For each `v_l` the u-isocurve `S(·, v_l)` (a B-spline
 //!    curve with knots U, [`BSplineSurface::iso_u`]) is faired by
-//!    the curve engine ([`FairingSetup`], set up by [`isocurve_setup`]:
+//!    the curve engine ([`FairingSetup`](super::curve::FairingSetup), set up by [`isocurve_setup`]:
 //!    4 samples per knot span, a target smoothing of 1.6 spans, the band
 //!    checked at the samples) over `[u1, u2]` with the isocurve tolerance —
 //!    target, integration, band, fit and G2 ends are the curve engine's — and
@@ -148,7 +148,7 @@
 //! 8. **The fairest candidate** (default [`SurfaceMethod::Fairway`]; [`SurfaceMethod::Isocurves`] stops
 //!    after step 7). The **reference smoother** ([`SurfaceMethod::Smoothing`], `fairway fair --method
 //!    smoothing`) is the surface counterpart of the curve engine's `FitMode::Smoothing`: on the same
-//!    free block and grid as step 5, with the original's samples as data, [`PlateFit`] minimises
+//!    free block and grid as step 5, with the original's samples as data, [`PlateFit`](crate::fit_surface::PlateFit) minimises
 //!    `‖S − S₀‖² + λ ∫∫ S_xxx² + 3 S_xxy² + 3 S_xyy² + S_yyy²` (order [`REFERENCE_ORDER`] = 3, the
 //!    rotation-invariant curvature-variation energy, x, y the parameters scaled by the mean speeds), the
 //!    largest λ on a log bisection whose result holds the band. Candidates: the original, step 7's

@@ -121,7 +121,7 @@ pub struct FairingOptions {
     /// is often far off (the end knot span has the fewest points to fix it). By default the smoothed
     /// target climbs to that value from deep inside and the faired curve dips to compensate; eased, the
     /// target is smoothed as at a free end and joins the kept value within the end knot span
-    /// ([`Target::ease_end`]). For ends whose curvature is noise: on noisy circle and clothoid arcs
+    /// ([`Target::ease_end`](crate::fair::target::Target::ease_end)). For ends whose curvature is noise: on noisy circle and clothoid arcs
     /// (8 seeds each) it halves the curvature error and the extra extrema (circle Σ extrema 74 → 36),
     /// on the ellipse arc it removes a few extrema at about the same error. Where the end curvature is
     /// real it can add wiggles near the ends, since the held end points leave little freedom to follow

@@ -166,7 +166,7 @@ impl FairingSetup {
         (dev, e)
     }
 
-    /// Interior-point polish of the paper's E inside the band ([`PolishMethod::InteriorPoint`]): a
+    /// Interior-point polish of the paper's E inside the band ([`PolishMethod::InteriorPoint`](super::PolishMethod::InteriorPoint)): a
     /// primal–dual barrier method on
     ///
     /// `min E(ΔP)  subject to  c_j = m² − |D_j|² > 0` for every check sample j,
@@ -437,7 +437,7 @@ impl FairingSetup {
         (v, rough)
     }
 
-    /// [`PolishMethod::Variation`]: from the reference smoother's result or the fit's, whichever is fairer
+    /// [`PolishMethod::Variation`](super::PolishMethod::Variation): from the reference smoother's result or the fit's, whichever is fairer
     /// (fewer curvature extrema at the quadrature nodes, then the lower E_var), the interior point on
     /// `E_var + β ∫ (κ − g)² ds / ℓ²`.
     pub(super) fn polish_variation(&mut self, accept: f64, dev: f64, e: f64, solves: &mut usize) -> Result<(f64, f64)> {
@@ -483,10 +483,10 @@ impl FairingSetup {
     }
 
     /// The interior point of the variation polish. On a non-planar 3D curve it carries the torsion term
-    /// ([`FairingOptions::torsion_weight`]), which fairs τ as well as κ; where that result has more
-    /// curvature extrema or no lower E_var than the polish started from, the polish runs again from the
-    /// same start without the term and keeps whichever has fewer curvature extrema (then the lower E_var):
-    /// the torsion is faired only where the curvature does not pay for it.
+    /// ([`FairingOptions::torsion_weight`](super::FairingOptions::torsion_weight)), which fairs τ as well
+    /// as κ; where that result has more curvature extrema or no lower E_var than the polish started from,
+    /// the polish runs again from the same start without the term and keeps whichever has fewer curvature
+    /// extrema (then the lower E_var): the torsion is faired only where the curvature does not pay for it.
     fn polish_variation_torsion(
         &mut self,
         accept: f64,

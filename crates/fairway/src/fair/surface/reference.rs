@@ -58,7 +58,7 @@ pub(super) fn plate_fit<'g, 'a>(
     PlateFit::new(grid, order, lu / n as f64, lv / n as f64)
 }
 
-/// The band as [`fair_surface`] verifies it: the coarse check, then the full one.
+/// The band as [`fair_surface`](super::fair_surface) verifies it: the coarse check, then the full one.
 pub(super) struct Bands<'a> {
     pub(super) coarse: &'a CheckGrid,
     pub(super) full: &'a CheckGrid,
