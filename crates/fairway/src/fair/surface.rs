@@ -250,7 +250,15 @@ fn span_grid(knots: &KnotVector, a: f64, b: f64, per_span: usize) -> Vec<f64> {
 pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Result<SurfaceFairingResult> {
     let m = opts.tolerance;
     let mut r = fair_surface_unbounded(surface, opts)?;
-    r.band_bound = super::verify::surface_band_bound(surface, &r.surface, m);
+    // a rational input with equal weights (the only kind the engine takes) is its polynomial form exactly
+    let bound = |faired: &BSplineSurface| -> Result<Option<f64>> {
+        Ok(super::verify::surface_band_bound(
+            &surface.to_polynomial()?,
+            &faired.to_polynomial()?,
+            m,
+        ))
+    };
+    r.band_bound = bound(&r.surface)?;
     if let Some(b) = r.band_bound
         && b > m
     {
@@ -265,7 +273,7 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
             .collect();
         r.surface = r.surface.with_points(pts)?;
         r.alpha *= t;
-        r.band_bound = super::verify::surface_band_bound(surface, &r.surface, m);
+        r.band_bound = bound(&r.surface)?;
         // the grid's figure was the old surface's; the bound is this one's (and sound)
         r.max_deviation = r.band_bound.unwrap_or(m);
     }

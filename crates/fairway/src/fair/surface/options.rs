@@ -170,8 +170,9 @@ pub struct SurfaceFairingResult {
     /// [`crate::fair::verify::surface_band_bound`], the control net of the parametric difference refined
     /// where it comes near m. `Some(b)` with b ≤ tolerance certifies the band: where the first bound came
     /// out above m (the grid held the band, but the fair slid the surface along itself between its
-    /// points), the change is scaled back until it certifies m (`alpha` says by how much). `None` for a
-    /// rational input, where only the check grid holds.
+    /// points), the change is scaled back until it certifies m (`alpha` says by how much). A rational
+    /// input (equal weights: the engine refuses others) is bounded in its polynomial form, the same
+    /// surface. `None` only where the bound cannot apply (different knots: never for this engine's result).
     pub band_bound: Option<f64>,
 }
 

@@ -458,6 +458,12 @@ fn rectangular_nonuniform_other_degrees_and_rational() {
     let fr = fair_surface(&rs, opts).unwrap();
     assert!(!fr.surface.is_rational());
     assert_eq!(fr.surface.points(), out.surface.points());
+    // and its band is certified like the non-rational surface's (bounded in its polynomial form)
+    let b = fr
+        .band_bound
+        .expect("a sound bound for the equal-weight rational input");
+    assert!(b <= m * (1.0 + 1e-9), "{b} > {m}");
+    assert_eq!(fr.band_bound, out.band_bound);
     // bad requests
     assert!(
         fair_surface(
