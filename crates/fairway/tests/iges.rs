@@ -504,3 +504,23 @@ fn multi_entity_file_from_another_system_loads_all_objects_with_notices() {
     assert_eq!(fairway::io::load(&path).unwrap().geometry, f.objects[0]);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// One bad entity skips that entity, not the file: the foreign file's 3D cubic with decreasing knots
+/// is listed in the notices with its reason, and the quarter circle and the surface still open. (A file
+/// whose only object is bad is refused with that object's reason: the IGES rows of the degenerate tables.)
+#[test]
+fn a_bad_entity_is_skipped_with_its_reason_and_the_rest_opens() {
+    let text = foreign_multi_entity_file();
+    let bad = text.replacen("0.0, 0.5, 1.0, 1.0,", "0.0, 1.5, 1.0, 1.0,", 1);
+    assert_ne!(bad, text);
+    let f = iges::read_all(bad.as_bytes()).unwrap();
+    assert_eq!(f.objects.len(), 2, "the quarter circle and the surface");
+    let skipped: Vec<&String> = f
+        .notices
+        .iter()
+        .filter(|n| n.starts_with("entity 7 (curve, 126) skipped"))
+        .collect();
+    assert_eq!(skipped.len(), 1, "{:?}", f.notices);
+    assert!(skipped[0].contains("knot"), "{}", skipped[0]);
+    assert_eq!(f.entities.iter().map(|e| e.entity).collect::<Vec<_>>(), vec![3, 9]);
+}

@@ -556,6 +556,7 @@ pub fn read_all_with(bytes: &[u8], opts: ReadOptions) -> Result<IgesFile> {
     let mut budget = plines.len().saturating_mul(4).saturating_add(64);
     let mut objects = Vec::new();
     let mut infos = Vec::new();
+    let mut first_error: Option<Error> = None;
     for e in &entries {
         let kind = match e.etype {
             126 => "curve",
@@ -580,30 +581,55 @@ pub fn read_all_with(bytes: &[u8], opts: ReadOptions) -> Result<IgesFile> {
         }
         let what = format!("entity {} ({kind} 126/128)", e.seq).replace("(curve 126/128)", "(curve, 126)");
         let what = what.replace("(surface 126/128)", "(surface, 128)");
-        let toks = entity_params(&plines, e, &what, pd, rd, &mut budget)?;
-        let mut p = Params {
-            toks: &toks,
-            pos: 1,
-            what: what.clone(),
+        // one bad entity skips that entity (listed in the notices), not the file
+        let read = |budget: &mut usize, notices: &mut Vec<String>| -> Result<Geometry> {
+            let toks = entity_params(&plines, e, &what, pd, rd, budget)?;
+            let mut p = Params {
+                toks: &toks,
+                pos: 1,
+                what: what.clone(),
+            };
+            let xf = transform_chain(&entries, &plines, e.transform, pd, rd, budget)?;
+            let mut geom = if e.etype == 126 {
+                read_126(&mut p, notices)?
+            } else {
+                read_128(&mut p, notices)?
+            };
+            if let Some(m) = xf {
+                geom = apply(geom, |q| m.apply(q))?;
+            }
+            if factor != 1.0 {
+                geom = apply(geom, |q| q * factor)?;
+            }
+            crate::range::check_geometry(&geom).map_err(|e| perr(format!("{what}: {e}")))?;
+            Ok(geom)
         };
-        let xf = transform_chain(&entries, &plines, e.transform, pd, rd, &mut budget)?;
-        let mut geom = if e.etype == 126 {
-            read_126(&mut p, &mut notices)?
-        } else {
-            read_128(&mut p, &mut notices)?
+        let geom = match read(&mut budget, &mut notices) {
+            Ok(g) => g,
+            Err(err) => {
+                let reason = match &err {
+                    Error::Parse { message, .. } => message
+                        .strip_prefix(&format!("{what}: "))
+                        .unwrap_or(message)
+                        .to_string(),
+                    other => other.to_string(),
+                };
+                notices.push(format!("{what} skipped: {reason}"));
+                first_error.get_or_insert(err);
+                continue;
+            }
         };
-        if let Some(m) = xf {
-            geom = apply(geom, |q| m.apply(q))?;
-        }
-        if factor != 1.0 {
-            geom = apply(geom, |q| q * factor)?;
-        }
-        crate::range::check_geometry(&geom).map_err(|e| perr(format!("{what}: {e}")))?;
         objects.push(geom);
         infos.push(EntityInfo {
             entity: e.seq,
             label: e.label.clone(),
         });
+    }
+    // nothing readable: the first entity's reason is the file's
+    if objects.is_empty()
+        && let Some(err) = first_error
+    {
+        return Err(err);
     }
     Ok(IgesFile {
         objects,
