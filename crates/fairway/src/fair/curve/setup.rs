@@ -453,7 +453,13 @@ impl FairingSetup {
                 .twist
                 .cap_to(p + 1, torsion::TWIST_CAP * opts.torsion_weight.max(0.0) * e_var);
         }
-        self.probes = VarRows::probes(&self.work, range, i0, nf);
+        // the extrema count also looks one knot span past each end of the moving stretch: a G1 / G0 end
+        // may leave a curvature step there, which `measure` counts on the whole curve (proptest seed 822:
+        // 3 → 5 extrema with the stretch's own count unchanged)
+        let bps = self.work.knots().breakpoints();
+        let before = bps.iter().rev().find(|&&k| k < range.0).copied().unwrap_or(range.0);
+        let after = bps.iter().find(|&&k| k > range.1).copied().unwrap_or(range.1);
+        self.probes = VarRows::probes(&self.work, (before, after), i0, nf);
         (self.a3, self.rhs3) = self.var.penalty_gram(p, nf);
         // normal matrices
         for k in 0..ns {
