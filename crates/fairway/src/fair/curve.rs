@@ -239,7 +239,7 @@ pub struct FairingSetup {
     perp0: Vec<f64>,
 }
 
-fn validate_tolerance(m: f64) -> Result<()> {
+pub(crate) fn validate_tolerance(m: f64) -> Result<()> {
     if !(m.is_finite() && m > 0.0) {
         return Err(Error::InvalidInput(format!(
             "tolerance must be a positive finite number, got {m}"

@@ -16,6 +16,11 @@
 //!
 //! Every result is on the input curve's domain and knot vector (plus the knots a G1 / G0 region end
 //! inserts), and sample parameters are given on the input's parameter.
+//!
+//! A rational curve with unequal weights (NURBS: conics, circles) is faired through a non-rational
+//! B-spline within a tenth of the band of it ([`super::nurbs`]): the fair runs on that stand-in with the
+//! band narrowed by its error, the reported deviation adds the error back (a bound from the rational
+//! original), and a note says so. The result is non-rational, of degree max(p, 3).
 
 use super::closed::{self, AcrossSeam};
 use super::curve::{EndCondition, FairingOptions, FairingResult, FairingSetup};
@@ -96,8 +101,10 @@ enum Route {
 /// ```
 #[derive(Debug, Clone)]
 pub struct CurveFairing {
-    /// The curve as given (polynomial form).
+    /// The curve faired: as given in polynomial form, or a rational curve's non-rational stand-in.
     input: BSplineCurve,
+    /// A rational input (unequal weights) as given, and the bound of its stand-in's error.
+    rational: Option<(BSplineCurve, f64)>,
     opts: FairingOptions,
     ends: [EndCondition; 2],
     route: Route,
@@ -113,10 +120,27 @@ impl CurveFairing {
 
     /// [`Self::new`] with separate end conditions at the region's start and end (`opts.ends` is ignored).
     pub fn with_ends(curve: &BSplineCurve, opts: FairingOptions, ends: [EndCondition; 2]) -> Result<Self> {
-        let input = curve.to_polynomial()?;
-        let route = Self::route(&input, opts, ends)?;
+        let (input, rational) = match curve.to_polynomial() {
+            Ok(c) => (c, None),
+            Err(_) if curve.is_rational() => {
+                super::curve::validate_tolerance(opts.tolerance)?;
+                let a = super::nurbs::polynomial_approximation(curve, super::nurbs::APPROX_FRACTION * opts.tolerance)?;
+                (a.curve, Some((curve.clone(), a.error)))
+            }
+            Err(e) => return Err(e),
+        };
+        let approx_error = rational.as_ref().map_or(0.0, |r| r.1);
+        let route = Self::route(
+            &input,
+            FairingOptions {
+                tolerance: opts.tolerance - approx_error,
+                ..opts
+            },
+            ends,
+        )?;
         Ok(Self {
             input,
+            rational,
             opts,
             ends,
             route,
@@ -264,10 +288,35 @@ impl CurveFairing {
             .collect()
     }
 
-    /// Change the tolerance (then [`Self::fair`] again).
+    /// The bound of a rational input's stand-in error (0 for a non-rational input).
+    fn approx_error(&self) -> f64 {
+        self.rational.as_ref().map_or(0.0, |r| r.1)
+    }
+
+    /// The options the engine runs with: the band narrowed by a rational input's stand-in error.
+    fn engine_opts(&self) -> FairingOptions {
+        FairingOptions {
+            tolerance: self.opts.tolerance - self.approx_error(),
+            ..self.opts
+        }
+    }
+
+    /// Change the tolerance (then [`Self::fair`] again). A rational input whose stand-in would take more
+    /// than a tenth of the new band is approximated afresh (which drops a hand-edited target).
     pub fn set_tolerance(&mut self, m: f64) -> Result<()> {
+        if let Some((original, e)) = &self.rational
+            && !(*e <= super::nurbs::APPROX_FRACTION * m)
+        {
+            let opts = FairingOptions {
+                tolerance: m,
+                ..self.opts
+            };
+            *self = Self::with_ends(&original.clone(), opts, self.ends)?;
+            return Ok(());
+        }
+        let approx_error = self.approx_error();
         for s in self.setups_mut() {
-            s.set_tolerance(m)?;
+            s.set_tolerance(m - approx_error)?;
         }
         self.opts.tolerance = m;
         Ok(())
@@ -296,7 +345,8 @@ impl CurveFairing {
             } else {
                 [opts.ends; 2]
             };
-            *self = Self::with_ends(&self.input, opts, ends)?;
+            let source = self.rational.as_ref().map_or(&self.input, |r| &r.0).clone();
+            *self = Self::with_ends(&source, opts, ends)?;
             return Ok(true);
         }
         let retarget = (opts.target, opts.strength) != (self.opts.target, self.opts.strength);
@@ -412,7 +462,8 @@ impl CurveFairing {
         for s in self.setups_mut() {
             s.set_polish(polish);
         }
-        let (input, opts, edited) = (&self.input, self.opts, self.edited);
+        let (input, opts, edited) = (&self.input, self.engine_opts(), self.edited);
+        let rational = self.rational.as_ref().map(|r| r.1);
         let run = |s: &mut FairingSetup| match pass {
             Pass::Iterative(o) => fair_iterative(s, o),
             Pass::Full | Pass::Draft => s.fair(),
@@ -433,6 +484,7 @@ impl CurveFairing {
                     Some(a) => a.back(result)?,
                     None => result,
                 };
+                let result = with_stand_in(result, rational);
                 Ok(CurveFair {
                     result,
                     corners: vec![],
@@ -447,7 +499,7 @@ impl CurveFairing {
                 };
                 let energy_before = f.stretches.iter().map(|s| s.energy_before).sum();
                 Ok(CurveFair {
-                    result: f.result,
+                    result: with_stand_in(f.result, rational),
                     corners: f.corners,
                     stretches: f.stretches,
                     energy_before,
@@ -455,6 +507,21 @@ impl CurveFairing {
             }
         }
     }
+}
+
+/// A result of a rational input's stand-in: its deviation bound from the rational original (the stand-in's
+/// error added) and a note saying what was faired.
+fn with_stand_in(mut result: FairingResult, approx_error: Option<f64>) -> FairingResult {
+    if let Some(e) = approx_error {
+        result.max_deviation += e;
+        result.notes.push(format!(
+            "rational curve (unequal weights): faired through a non-rational B-spline of degree {} within {} of it; \
+             the deviation bound is from the rational original",
+            result.curve.degree(),
+            crate::range::short(e)
+        ));
+    }
+    result
 }
 
 /// Parameters in order along a region, unwrapped across the seam of a closed curve of domain length
