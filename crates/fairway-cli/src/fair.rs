@@ -64,10 +64,9 @@ pub struct Args {
     /// variation (β; default 0.1).
     #[arg(long)]
     pub target_weight: Option<f64>,
-    /// Curves in 3D, variation polish: weight of the term that fairs the torsion too (default 0: off; 5
-    /// fairs it about as well as the reference smoother, at some cost in curvature variation when the
-    /// tolerance is loose).
-    #[arg(long, default_value_t = 0.0)]
+    /// Curves in 3D, variation polish: weight of the term that fairs the torsion too (the variation of
+    /// κ²τ; 0 turns it off).
+    #[arg(long, default_value_t = fairway::fair::TORSION_WEIGHT)]
     pub torsion_weight: f64,
     /// Integration scheme: euler, rk2 or arc.
     #[arg(long, default_value = "arc")]

@@ -899,3 +899,38 @@ fn report_and_output_must_not_overwrite_the_input_or_each_other() {
     }
     assert!(!dir.join("b.json").exists(), "nothing written");
 }
+
+/// `fairway fair` fairs a 3D curve's torsion by default (the library's `TORSION_WEIGHT`), and
+/// `--torsion-weight 0` turns it off: on the bundled spatial curve the default ends with far fewer torsion
+/// extrema, and no more curvature extrema and no larger ∫(dκ/ds)² than without the term, both in the band.
+#[test]
+fn a_3d_curve_has_its_torsion_faired_by_default() {
+    let dir = temp_dir("torsion");
+    let input = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/spatial_curve.json"));
+    let run = |extra: &[&str], tag: &str| -> Value {
+        let (out, rep) = (dir.join(format!("{tag}.json")), dir.join(format!("{tag}.report.json")));
+        let mut args = vec!["fair", input.to_str().unwrap(), "--tolerance", "0.01"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["-o", out.to_str().unwrap(), "--report", rep.to_str().unwrap()]);
+        ok(&fairway(&args));
+        json_file(&rep)
+    };
+    let (on, off) = (run(&[], "default"), run(&["--torsion-weight", "0"], "off"));
+    let m = |r: &Value, k: &str| r["measures"][k].as_f64().unwrap();
+    println!(
+        "torsion extrema {} vs {}, curvature extrema {} vs {}, E_var {} vs {}",
+        m(&on, "n_torsion_extrema"),
+        m(&off, "n_torsion_extrema"),
+        m(&on, "n_curv_extrema"),
+        m(&off, "n_curv_extrema"),
+        m(&on, "E_var"),
+        m(&off, "E_var")
+    );
+    assert!(4.0 * m(&on, "n_torsion_extrema") < m(&off, "n_torsion_extrema"));
+    assert!(m(&on, "n_curv_extrema") <= m(&off, "n_curv_extrema"));
+    assert!(m(&on, "E_var") <= m(&off, "E_var"));
+    for r in [&on, &off] {
+        assert!(m(r, "dev_max") <= 0.01 * (1.0 + 1e-9));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
