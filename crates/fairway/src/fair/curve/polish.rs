@@ -34,6 +34,94 @@ pub(crate) const IP_START: f64 = 0.95;
 /// Centring parameter of the interior-point polish: τ ← σ · mean(z_j c_j) after each step.
 pub(crate) const IP_SIGMA: f64 = 0.2;
 
+/// The interior point's iterate and its work arrays ([`FairingSetup::interior_point`]).
+struct IpState {
+    /// The update (the free control points' displacements) and its parametric displacements `D_j`.
+    x: Vec<DVec3>,
+    disp: Vec<DVec3>,
+    /// The duals of the band constraints and the barrier parameter τ.
+    z: Vec<f64>,
+    tau: f64,
+    /// The objective at `x` and its barrier `−Σ ln(c_j / m²)`.
+    e_x: f64,
+    log_b: f64,
+    /// Marquardt damping of the system (raised while the factorization or the line search fail).
+    damping: f64,
+    /// Size and half bandwidth of the system.
+    nu: usize,
+    bw: usize,
+    /// The system, its damped factorization, right-hand side and solution.
+    h: BandedSpd,
+    m: BandedSpd,
+    rhs: Vec<DVec3>,
+    sol: Vec<DVec3>,
+    /// The step and a candidate iterate with their displacements, the duals' step, the per-point traces.
+    step: Vec<DVec3>,
+    cand: Vec<DVec3>,
+    sdisp: Vec<DVec3>,
+    cdisp: Vec<DVec3>,
+    dz: Vec<f64>,
+    traces: Vec<f64>,
+}
+
+impl IpState {
+    /// The longest step along `step` (at most 1) that stays 1 % inside every constraint, and the duals'
+    /// step `dz` (from `z_j c_j = τ` linearized) with its longest length that keeps z positive.
+    fn step_bounds(&mut self, m2: f64) -> (f64, f64) {
+        let (mut a_max, mut a_dual) = (1.0f64, 1.0f64);
+        for j in 0..self.disp.len() {
+            let (d, ds) = (self.disp[j], self.sdisp[j]);
+            let c = m2 - d.length_squared();
+            let (qa, qb) = (ds.length_squared(), 2.0 * d.dot(ds));
+            // |d + α ds|² ≤ |d|² + |qb| + qa for α ≤ 1: where that stays 1 % inside, no root is needed
+            if qa > 0.0 && c - qb.abs() - qa < 0.02 * c {
+                // the positive root of |d + α ds|² = m²
+                let disc = (qb * qb + 4.0 * qa * c).sqrt();
+                let root = if qb > 0.0 {
+                    2.0 * c / (qb + disc)
+                } else {
+                    (disc - qb) / (2.0 * qa)
+                };
+                a_max = a_max.min(0.99 * root);
+            }
+            self.dz[j] = (self.tau - self.z[j] * c + self.z[j] * qb) / c;
+            if self.dz[j] < 0.0 {
+                a_dual = a_dual.min(-0.99 * self.z[j] / self.dz[j]);
+            }
+        }
+        (a_max, a_dual)
+    }
+
+    /// Take the accepted candidate (objective `e_c`, barrier `lb`) as the iterate, the duals' step of length
+    /// `a_z`, and τ ← [`IP_SIGMA`] · mean(z_j c_j).
+    fn advance(&mut self, a_z: f64, e_c: f64, lb: f64, m2: f64) {
+        std::mem::swap(&mut self.x, &mut self.cand);
+        std::mem::swap(&mut self.disp, &mut self.cdisp);
+        (self.e_x, self.log_b) = (e_c, lb);
+        let nc = self.z.len();
+        let mut zc = 0.0;
+        for j in 0..nc {
+            self.z[j] = (self.z[j] + a_z * self.dz[j]).max(1e-300);
+            zc += self.z[j] * (m2 - self.disp[j].length_squared());
+        }
+        self.tau = IP_SIGMA * zc / nc as f64;
+    }
+}
+
+/// The fairest iterate of the interior point so far and what ranks it ([`FairingSetup::ip_consider`]).
+struct IpBest {
+    /// Its objective, deviation bound and update.
+    value: f64,
+    dev: f64,
+    upd: Vec<DVec3>,
+    /// The paper's E: the roughness an iterate may not exceed (∞ for the variation objective).
+    rough_cap: f64,
+    /// The variation objective: the start's E_var, and the best's E_var and curvature extrema.
+    start_var: f64,
+    var: f64,
+    extrema: usize,
+}
+
 impl FairingSetup {
     /// Gauss–Newton polish of the paper's E = Σ (κ(p_k) − g_k)² from the band-holding fit in
     /// `self.best`, inside the band: Levenberg–Marquardt steps on the free control points (the
@@ -50,18 +138,8 @@ impl FairingSetup {
         let mut e = e;
         let mut dev = dev;
         let mut lambda = 1e-3;
-        // A step may lower E only without roughening the curvature beyond the polish's start and the target
-        // (POLISH_ROUGHNESS_CAP): E compares κ with g at fixed parameters, and where the band leaves room
-        // the cheapest way to lower it is to let κ zig-zag about g from knot span to knot span, sliding
-        // samples along the curve. Before session 14, on `assets/car_roof.json` at m = 0.1 the polish took
-        // E 7.6 → 4.9 while ∫(dκ/ds)² went 5.3 → 14.3 and the curvature extrema 2 → 32: a looser tolerance
-        // gave a less fair curve. Where the polish smooths the curvature (the bench curve, the known-answer
-        // arcs) the cap does not bind.
-        let rough_cap = {
-            let r0 = self.energy_and_roughness::<true>(&self.best).1;
-            let rg = g.windows(2).map(|w| (w[1] - w[0]).powi(2)).sum::<f64>() / self.h;
-            r0.max(rg) * POLISH_ROUGHNESS_CAP
-        };
+        // a step may lower E only without roughening the curvature (see `roughness_cap`)
+        let rough_cap = self.roughness_cap(&g);
         let mut h = BandedSpd::zeros(nu, bw);
         let mut rhs = vec![DVec3::ZERO; nu];
         for _ in 0..self.opts.polish_iterations {
@@ -85,70 +163,11 @@ impl FairingSetup {
             self.best = best;
             let mut accepted = false;
             for _ in 0..12 {
-                let mut m = h.clone();
-                let b = rhs.clone();
-                for &j in &active {
-                    let f = self.chk_first[j];
-                    let w = &self.chk_b[j * (p + 1)..(j + 1) * (p + 1)];
-                    for x in 0..=p {
-                        let lx = f + x as isize;
-                        if lx < 0 || lx as usize >= self.nf {
-                            continue;
-                        }
-                        for y in 0..=x {
-                            let ly = f + y as isize;
-                            if ly < 0 {
-                                continue;
-                            }
-                            for c in 0..dim {
-                                m.add(lx as usize * dim + c, ly as usize * dim + c, rho * w[x] * w[y]);
-                            }
-                        }
-                    }
-                }
-                // unknowns κ does not depend on (e.g. out of the plane of a planar 3D curve) get a floor
-                // of damping, so they stay at zero instead of making the system singular
-                // Marquardt damping by the trace of each point's diagonal block: invariant under rotations
-                // (a planar curve fairs the same in 2D and rotated into 3D)
-                for (i, tr) in traces.iter().enumerate() {
-                    for c in 0..dim {
-                        m.add(i * dim + c, i * dim + c, lambda * tr.max(1e-9 * tmax).max(1e-300));
-                    }
-                }
-                *solves += 1;
-                if m.factor().is_err() {
+                let Some(full) = self.lm_step(&h, &rhs, &active, rho, &traces, tmax, lambda, solves) else {
                     lambda *= 10.0;
                     continue;
-                }
-                let mut step = b;
-                m.solve_in_place(&mut step);
-                let mut full: Vec<DVec3> = (0..self.nf)
-                    .map(|j| {
-                        let mut d = DVec3::ZERO;
-                        for c in 0..dim {
-                            d[c] = step[j * dim + c].x;
-                        }
-                        d
-                    })
-                    .collect();
-                self.constrain_update(&mut full);
-                // backtracking on the step length: the longest of 1, 1/2, … that lowers E inside the band
-                let mut found = None;
-                let mut alpha = 1.0;
-                for _ in 0..8 {
-                    let cand: Vec<DVec3> = self.best.iter().zip(&full).map(|(b, s)| *b + *s * alpha).collect();
-                    // band first: a violated band stops the check at the first proven violation
-                    let d_new = self.deviation(&cand, accept);
-                    if d_new <= accept {
-                        let (e_new, rough) = self.energy_and_roughness::<true>(&cand);
-                        if e_new < e && rough <= rough_cap {
-                            found = Some((cand, e_new, d_new));
-                            break;
-                        }
-                    }
-                    alpha *= 0.5;
-                }
-                let Some((cand, e_new, d_new)) = found else {
+                };
+                let Some((cand, e_new, d_new)) = self.lm_backtrack(&full, accept, e, rough_cap) else {
                     lambda *= 10.0;
                     continue;
                 };
@@ -164,6 +183,107 @@ impl FairingSetup {
             }
         }
         (dev, e)
+    }
+
+    /// The roughness cap of the E polishes ([`Self::polish`], [`Self::polish_interior`]): a step may lower E
+    /// only without roughening the curvature beyond the polish's start (the update in `self.best`) and the
+    /// target `g`, times [`POLISH_ROUGHNESS_CAP`].
+    ///
+    /// Why: E compares κ with g at fixed parameters, and where the band leaves room the cheapest way to lower
+    /// it is to let κ zig-zag about g from knot span to knot span, sliding samples along the curve. Before
+    /// session 14, on `assets/car_roof.json` at m = 0.1 the polish took E 7.6 → 4.9 while ∫(dκ/ds)² went
+    /// 5.3 → 14.3 and the curvature extrema 2 → 32: a looser tolerance gave a less fair curve. Where the
+    /// polish smooths the curvature (the bench curve, the known-answer arcs) the cap does not bind.
+    fn roughness_cap(&self, g: &[f64]) -> f64 {
+        let r0 = self.energy_and_roughness::<true>(&self.best).1;
+        let rg = g.windows(2).map(|w| (w[1] - w[0]).powi(2)).sum::<f64>() / self.h;
+        r0.max(rg) * POLISH_ROUGHNESS_CAP
+    }
+
+    /// One damped solve of [`Self::polish`]: the Gauss–Newton system `h`, `rhs` plus the penalty `rho` that
+    /// freezes the displacement at the `active` check samples and Marquardt damping `lambda` by the
+    /// per-point `traces`, factored and solved. Returns the step projected onto the directions the setup
+    /// allows, or `None` when the factorization fails (the caller raises the damping).
+    fn lm_step(
+        &self,
+        h: &BandedSpd,
+        rhs: &[DVec3],
+        active: &[usize],
+        rho: f64,
+        traces: &[f64],
+        tmax: f64,
+        lambda: f64,
+        solves: &mut usize,
+    ) -> Option<Vec<DVec3>> {
+        let p = self.work.degree();
+        let dim = self.work.dim();
+        let mut m = h.clone();
+        let b = rhs.to_vec();
+        for &j in active {
+            let f = self.chk_first[j];
+            let w = &self.chk_b[j * (p + 1)..(j + 1) * (p + 1)];
+            for x in 0..=p {
+                let lx = f + x as isize;
+                if lx < 0 || lx as usize >= self.nf {
+                    continue;
+                }
+                for y in 0..=x {
+                    let ly = f + y as isize;
+                    if ly < 0 {
+                        continue;
+                    }
+                    for c in 0..dim {
+                        m.add(lx as usize * dim + c, ly as usize * dim + c, rho * w[x] * w[y]);
+                    }
+                }
+            }
+        }
+        // unknowns κ does not depend on (e.g. out of the plane of a planar 3D curve) get a floor
+        // of damping, so they stay at zero instead of making the system singular
+        // Marquardt damping by the trace of each point's diagonal block: invariant under rotations
+        // (a planar curve fairs the same in 2D and rotated into 3D)
+        for (i, tr) in traces.iter().enumerate() {
+            for c in 0..dim {
+                m.add(i * dim + c, i * dim + c, lambda * tr.max(1e-9 * tmax).max(1e-300));
+            }
+        }
+        *solves += 1;
+        if m.factor().is_err() {
+            return None;
+        }
+        let mut step = b;
+        m.solve_in_place(&mut step);
+        let mut full: Vec<DVec3> = (0..self.nf)
+            .map(|j| {
+                let mut d = DVec3::ZERO;
+                for c in 0..dim {
+                    d[c] = step[j * dim + c].x;
+                }
+                d
+            })
+            .collect();
+        self.constrain_update(&mut full);
+        Some(full)
+    }
+
+    /// The line search of [`Self::polish`]: backtracking on the step length, the longest of 1, 1/2, … (8
+    /// tries) whose update `self.best + α full` holds the band and lowers E below `e` within `rough_cap`.
+    /// Returns that update with its E and deviation, or `None` (the caller raises the damping).
+    fn lm_backtrack(&mut self, full: &[DVec3], accept: f64, e: f64, rough_cap: f64) -> Option<(Vec<DVec3>, f64, f64)> {
+        let mut alpha = 1.0;
+        for _ in 0..8 {
+            let cand: Vec<DVec3> = self.best.iter().zip(full).map(|(b, s)| *b + *s * alpha).collect();
+            // band first: a violated band stops the check at the first proven violation
+            let d_new = self.deviation(&cand, accept);
+            if d_new <= accept {
+                let (e_new, rough) = self.energy_and_roughness::<true>(&cand);
+                if e_new < e && rough <= rough_cap {
+                    return Some((cand, e_new, d_new));
+                }
+            }
+            alpha *= 0.5;
+        }
+        None
     }
 
     /// Interior-point polish of the paper's E inside the band ([`PolishMethod::InteriorPoint`](super::PolishMethod::InteriorPoint)): a
@@ -189,18 +309,17 @@ impl FairingSetup {
     /// The interior-point minimization of `obj` (the paper's E, or the variation objective) inside the
     /// parametric band at the check samples, from the band-holding update in `self.best` whose paper's E is
     /// `e` and deviation `dev`. Leaves the fairest iterate in `self.best`; returns its (deviation, E).
+    ///
+    /// Each iteration: the damped system ([`Self::ip_factor`]), the step ([`Self::ip_direction`]), its
+    /// longest feasible length and the duals' ([`IpState::step_bounds`]), the line search
+    /// ([`Self::ip_backtrack`]), the update of the iterate and duals ([`IpState::advance`]) and its ranking
+    /// ([`Self::ip_consider`]).
     fn interior_point(&mut self, accept: f64, dev: f64, e: f64, solves: &mut usize, obj: Objective) -> (f64, f64) {
-        let p = self.work.degree();
-        let dim = self.work.dim();
         let nf = self.nf;
         let nc = self.chk_u.len();
         if nc == 0 || nf == 0 || !(accept > 0.0) {
             return (dev, e);
         }
-        let nu = dim * nf;
-        // a curvature step at a knot below C2 couples the points of the spans on both sides
-        let reach = if obj.var > 0.0 { self.var.jump_reach() } else { 0 };
-        let bw = dim * (p + 1 + reach) - 1;
         let g = self.target.values().to_vec();
         // the variation objective rides the band: between two check samples (spacing L / 2000) such a curve
         // can bulge past it (measured: 1.1e-6 m on the suite's ellipse, projected at 8000 samples), so its
@@ -211,12 +330,45 @@ impl FairingSetup {
             accept
         };
         let m2 = accept * accept;
+        let mut best = self.ip_ranking(obj, &g, e, dev);
+        let mut st = self.ip_start(obj, accept, m2);
+        for _ in 0..self.opts.polish_iterations {
+            if !self.ip_factor(&mut st, obj, &g, m2, solves) {
+                break;
+            }
+            self.ip_direction(&mut st);
+            let (a_max, a_dual) = st.step_bounds(m2);
+            let Some((alpha, e_c, rough, lb)) = self.ip_backtrack(&mut st, obj, m2, a_max) else {
+                st.damping *= 100.0;
+                continue;
+            };
+            st.damping = (st.damping / 10.0).max(1e-12);
+            let e_prev = st.e_x;
+            st.advance(alpha.min(a_dual), e_c, lb, m2);
+            self.ip_consider(&mut best, obj, &st, rough);
+            // converged: E moved by less than 0.02 % and the barrier is negligible against E
+            if (e_prev - st.e_x).abs() < 2e-4 * e_prev && st.tau * (nc as f64) < 1e-3 * st.e_x {
+                break;
+            }
+        }
+        let IpBest { value: e, dev, upd, .. } = best;
+        self.best = upd;
+        let e = if obj.var > 0.0 {
+            self.energy_of_update(&self.best)
+        } else {
+            e
+        };
+        (dev, e)
+    }
+
+    /// The interior point's ranking at its start (the update in `self.best`, of paper's E `e` and deviation
+    /// `dev`): the iterate to beat and, for the paper's E, the roughness cap ([`Self::roughness_cap`]) an
+    /// iterate must keep to be taken.
+    fn ip_ranking(&self, obj: Objective, g: &[f64], e: f64, dev: f64) -> IpBest {
         let rough_cap = if obj.var > 0.0 {
             f64::INFINITY
         } else {
-            let r0 = self.energy_and_roughness::<true>(&self.best).1;
-            let rg = g.windows(2).map(|w| (w[1] - w[0]).powi(2)).sum::<f64>() / self.h;
-            r0.max(rg) * POLISH_ROUGHNESS_CAP
+            self.roughness_cap(g)
         };
         let (start_value, start_var) = if obj.var > 0.0 {
             self.objective_value(obj, &self.best)
@@ -225,16 +377,35 @@ impl FairingSetup {
         };
         // the variation objective ranks iterates by their curvature extrema first (never more than the
         // start's), then by E_var, among those whose E_var is not above the start's
-        let mut best_var = start_var;
-        let mut best_extrema = if obj.var > 0.0 {
+        let extrema = if obj.var > 0.0 {
             self.node_extrema(&self.best)
         } else {
             0
         };
-        // the fairest accepted state so far: (objective, deviation bound, update)
-        let mut best = (start_value, dev, self.best.clone());
-        // start strictly inside the parametric band (the fit holds the band in the closest-point sense:
-        // where the curve slid along itself its parametric displacement can reach m)
+        IpBest {
+            value: start_value,
+            dev,
+            upd: self.best.clone(),
+            rough_cap,
+            start_var,
+            var: start_var,
+            extrema,
+        }
+    }
+
+    /// The interior point's start: strictly inside the parametric band (the fit holds the band in the
+    /// closest-point sense: where the curve slid along itself its parametric displacement can reach m), the
+    /// update in `self.best` scaled towards the original until its displacement is within [`IP_START`] of
+    /// the band; τ = objective / samples with the duals on `z_j c_j = τ`; the work arrays of the system.
+    fn ip_start(&mut self, obj: Objective, accept: f64, m2: f64) -> IpState {
+        let p = self.work.degree();
+        let dim = self.work.dim();
+        let nf = self.nf;
+        let nc = self.chk_u.len();
+        let nu = dim * nf;
+        // a curvature step at a knot below C2 couples the points of the spans on both sides
+        let reach = if obj.var > 0.0 { self.var.jump_reach() } else { 0 };
+        let bw = dim * (p + 1 + reach) - 1;
         let mut x = self.best.clone();
         let mut disp = vec![DVec3::ZERO; nc];
         self.chk_displacements(&x, &mut disp);
@@ -252,172 +423,154 @@ impl FairingSetup {
                 *d *= s;
             }
         }
-        let mut e_x = self.objective_value(obj, &x).0;
-        let mut tau = (e_x / nc as f64).max(1e-300);
-        let mut z: Vec<f64> = disp.iter().map(|d| tau / (m2 - d.length_squared())).collect();
-        let mut log_b = barrier_log_sum(&disp, m2);
-        let (mut h, mut m) = (BandedSpd::zeros(nu, bw), BandedSpd::zeros(nu, bw));
-        let (mut rhs, mut sol) = (vec![DVec3::ZERO; nu], vec![DVec3::ZERO; nu]);
-        let (mut step, mut cand) = (vec![DVec3::ZERO; nf], vec![DVec3::ZERO; nf]);
-        let (mut sdisp, mut cdisp) = (vec![DVec3::ZERO; nc], vec![DVec3::ZERO; nc]);
-        let mut dz = vec![0.0; nc];
-        let mut traces = vec![0.0; nf];
-        let mut damping = 1e-9;
-        for _ in 0..self.opts.polish_iterations {
-            // Gauss–Newton system of E at x
-            h.reset(nu, bw);
-            rhs.fill(DVec3::ZERO);
-            if obj.paper > 0.0 {
-                std::mem::swap(&mut self.best, &mut x);
-                self.gauss_newton(&g, &mut h, &mut rhs);
-                std::mem::swap(&mut self.best, &mut x);
-            }
-            if obj.var > 0.0 {
-                self.variation_system(&x, obj.var, &mut h, &mut rhs);
-            }
-            // the constraints' terms
-            match (p, dim) {
-                (2, 2) => self.barrier_terms::<3, 2>(&disp, &z, tau, m2, &mut h, &mut rhs),
-                (2, 3) => self.barrier_terms::<3, 3>(&disp, &z, tau, m2, &mut h, &mut rhs),
-                (3, 2) => self.barrier_terms::<4, 2>(&disp, &z, tau, m2, &mut h, &mut rhs),
-                (3, 3) => self.barrier_terms::<4, 3>(&disp, &z, tau, m2, &mut h, &mut rhs),
-                (4, 2) => self.barrier_terms::<5, 2>(&disp, &z, tau, m2, &mut h, &mut rhs),
-                (5, 2) => self.barrier_terms::<6, 2>(&disp, &z, tau, m2, &mut h, &mut rhs),
-                _ => self.barrier_terms::<0, 0>(&disp, &z, tau, m2, &mut h, &mut rhs),
-            }
-            // Marquardt damping by each point's diagonal block (rotation invariant, with a floor for
-            // unknowns E does not see), and a stiff penalty on the directions the setup's constraints
-            // forbid (the plane of a planar 3D curve, joins at multiple knots), which the projection of
-            // the step then removes exactly
-            for (i, t) in traces.iter_mut().enumerate() {
-                *t = (0..dim).map(|c| h.get(i * dim + c, i * dim + c)).sum();
-            }
-            let tmax = traces.iter().fold(0.0f64, |a, &b| a.max(b));
-            let mut factored = false;
-            for _ in 0..6 {
-                m.clone_from(&h);
-                for (i, tr) in traces.iter().enumerate() {
-                    for c in 0..dim {
-                        m.add(i * dim + c, i * dim + c, damping * tr.max(1e-9 * tmax).max(1e-300));
-                    }
-                }
-                self.penalize_constrained(&mut m, 1e6 * tmax.max(1e-300));
-                *solves += 1;
-                if m.factor().is_ok() {
-                    factored = true;
-                    break;
-                }
-                damping *= 100.0;
-            }
-            if !factored {
-                break;
-            }
-            sol.copy_from_slice(&rhs);
-            m.solve_in_place(&mut sol);
-            for (i, s) in step.iter_mut().enumerate() {
-                let mut v = DVec3::ZERO;
+        let e_x = self.objective_value(obj, &x).0;
+        let tau = (e_x / nc as f64).max(1e-300);
+        let z: Vec<f64> = disp.iter().map(|d| tau / (m2 - d.length_squared())).collect();
+        let log_b = barrier_log_sum(&disp, m2);
+        IpState {
+            x,
+            disp,
+            z,
+            tau,
+            e_x,
+            log_b,
+            damping: 1e-9,
+            nu,
+            bw,
+            h: BandedSpd::zeros(nu, bw),
+            m: BandedSpd::zeros(nu, bw),
+            rhs: vec![DVec3::ZERO; nu],
+            sol: vec![DVec3::ZERO; nu],
+            step: vec![DVec3::ZERO; nf],
+            cand: vec![DVec3::ZERO; nf],
+            sdisp: vec![DVec3::ZERO; nc],
+            cdisp: vec![DVec3::ZERO; nc],
+            dz: vec![0.0; nc],
+            traces: vec![0.0; nf],
+        }
+    }
+
+    /// The interior point's system at the iterate: the Gauss–Newton system of E and/or the variation's,
+    /// plus the constraints' terms ([`Self::barrier_terms`]), damped and factored into `st.m` (the damping
+    /// raised ×100 up to 6 times until the factorization succeeds). Returns whether it did.
+    fn ip_factor(&mut self, st: &mut IpState, obj: Objective, g: &[f64], m2: f64, solves: &mut usize) -> bool {
+        let p = self.work.degree();
+        let dim = self.work.dim();
+        // Gauss–Newton system of E at x
+        st.h.reset(st.nu, st.bw);
+        st.rhs.fill(DVec3::ZERO);
+        if obj.paper > 0.0 {
+            std::mem::swap(&mut self.best, &mut st.x);
+            self.gauss_newton(g, &mut st.h, &mut st.rhs);
+            std::mem::swap(&mut self.best, &mut st.x);
+        }
+        if obj.var > 0.0 {
+            self.variation_system(&st.x, obj.var, &mut st.h, &mut st.rhs);
+        }
+        // the constraints' terms
+        let (disp, z, tau, h, rhs) = (&st.disp, &st.z, st.tau, &mut st.h, &mut st.rhs);
+        match (p, dim) {
+            (2, 2) => self.barrier_terms::<3, 2>(disp, z, tau, m2, h, rhs),
+            (2, 3) => self.barrier_terms::<3, 3>(disp, z, tau, m2, h, rhs),
+            (3, 2) => self.barrier_terms::<4, 2>(disp, z, tau, m2, h, rhs),
+            (3, 3) => self.barrier_terms::<4, 3>(disp, z, tau, m2, h, rhs),
+            (4, 2) => self.barrier_terms::<5, 2>(disp, z, tau, m2, h, rhs),
+            (5, 2) => self.barrier_terms::<6, 2>(disp, z, tau, m2, h, rhs),
+            _ => self.barrier_terms::<0, 0>(disp, z, tau, m2, h, rhs),
+        }
+        // Marquardt damping by each point's diagonal block (rotation invariant, with a floor for
+        // unknowns E does not see), and a stiff penalty on the directions the setup's constraints
+        // forbid (the plane of a planar 3D curve, joins at multiple knots), which the projection of
+        // the step then removes exactly
+        for (i, t) in st.traces.iter_mut().enumerate() {
+            *t = (0..dim).map(|c| st.h.get(i * dim + c, i * dim + c)).sum();
+        }
+        let tmax = st.traces.iter().fold(0.0f64, |a, &b| a.max(b));
+        for _ in 0..6 {
+            st.m.clone_from(&st.h);
+            for (i, tr) in st.traces.iter().enumerate() {
                 for c in 0..dim {
-                    v[c] = sol[i * dim + c].x;
-                }
-                *s = v;
-            }
-            self.constrain_update(&mut step);
-            self.chk_displacements(&step, &mut sdisp);
-            // the longest step that stays 1 % inside every constraint, and the duals' step
-            let (mut a_max, mut a_dual) = (1.0f64, 1.0f64);
-            for j in 0..nc {
-                let (d, ds) = (disp[j], sdisp[j]);
-                let c = m2 - d.length_squared();
-                let (qa, qb) = (ds.length_squared(), 2.0 * d.dot(ds));
-                // |d + α ds|² ≤ |d|² + |qb| + qa for α ≤ 1: where that stays 1 % inside, no root is needed
-                if qa > 0.0 && c - qb.abs() - qa < 0.02 * c {
-                    // the positive root of |d + α ds|² = m²
-                    let disc = (qb * qb + 4.0 * qa * c).sqrt();
-                    let root = if qb > 0.0 {
-                        2.0 * c / (qb + disc)
-                    } else {
-                        (disc - qb) / (2.0 * qa)
-                    };
-                    a_max = a_max.min(0.99 * root);
-                }
-                dz[j] = (tau - z[j] * c + z[j] * qb) / c;
-                if dz[j] < 0.0 {
-                    a_dual = a_dual.min(-0.99 * z[j] / dz[j]);
+                    st.m.add(i * dim + c, i * dim + c, st.damping * tr.max(1e-9 * tmax).max(1e-300));
                 }
             }
-            // backtracking on the barrier function from the longest feasible step
-            let phi0 = e_x + tau * log_b;
-            let mut alpha = a_max;
-            let mut accepted = None;
-            for _ in 0..12 {
-                for ((c, x0), s) in cand.iter_mut().zip(&x).zip(&step) {
-                    *c = *x0 + *s * alpha;
-                }
-                for ((c, d0), s) in cdisp.iter_mut().zip(&disp).zip(&sdisp) {
-                    *c = *d0 + *s * alpha;
-                }
-                let lb = barrier_log_sum(&cdisp, m2);
-                if lb.is_finite() {
-                    let (e_c, rough) = self.objective_value(obj, &cand);
-                    // NaN-safe: a NaN energy is not a decrease
-                    if e_c + tau * lb <= phi0 {
-                        accepted = Some((e_c, rough, lb));
-                        break;
-                    }
-                }
-                alpha *= 0.5;
+            self.penalize_constrained(&mut st.m, 1e6 * tmax.max(1e-300));
+            *solves += 1;
+            if st.m.factor().is_ok() {
+                return true;
             }
-            let Some((e_c, rough, lb)) = accepted else {
-                damping *= 100.0;
-                continue;
-            };
-            damping = (damping / 10.0).max(1e-12);
-            let e_prev = e_x;
-            std::mem::swap(&mut x, &mut cand);
-            std::mem::swap(&mut disp, &mut cdisp);
-            (e_x, log_b) = (e_c, lb);
-            let a_z = alpha.min(a_dual);
-            let mut zc = 0.0;
-            for j in 0..nc {
-                z[j] = (z[j] + a_z * dz[j]).max(1e-300);
-                zc += z[j] * (m2 - disp[j].length_squared());
+            st.damping *= 100.0;
+        }
+        false
+    }
+
+    /// The interior point's step from the factored system: solved, projected onto the directions the
+    /// setup allows, and its parametric displacements at the check samples (`st.step`, `st.sdisp`).
+    fn ip_direction(&mut self, st: &mut IpState) {
+        let dim = self.work.dim();
+        st.sol.copy_from_slice(&st.rhs);
+        st.m.solve_in_place(&mut st.sol);
+        for (i, s) in st.step.iter_mut().enumerate() {
+            let mut v = DVec3::ZERO;
+            for c in 0..dim {
+                v[c] = st.sol[i * dim + c].x;
             }
-            tau = IP_SIGMA * zc / nc as f64;
-            let better = if obj.var > 0.0 {
-                // the objective steers the descent; E_var (the curvature's own variation) picks among equals
-                // (the extrema are probed only for an iterate whose E_var is not above the start's)
-                let take = rough <= start_var && {
-                    let ext = self.node_extrema(&x);
-                    let take = ext < best_extrema || (ext == best_extrema && rough < best_var);
-                    if take {
-                        best_extrema = ext;
-                    }
-                    take
-                };
+            *s = v;
+        }
+        self.constrain_update(&mut st.step);
+        self.chk_displacements(&st.step, &mut st.sdisp);
+    }
+
+    /// The interior point's line search: backtracking on the barrier function `E + τ (−Σ ln(c_j/m²))` from
+    /// the longest feasible step `a_max`, halved up to 12 times until it does not rise. Leaves the accepted
+    /// candidate in `st.cand`, `st.cdisp`; returns (α, objective, roughness, barrier) there, or `None`.
+    fn ip_backtrack(&self, st: &mut IpState, obj: Objective, m2: f64, a_max: f64) -> Option<(f64, f64, f64, f64)> {
+        let phi0 = st.e_x + st.tau * st.log_b;
+        let mut alpha = a_max;
+        for _ in 0..12 {
+            for ((c, x0), s) in st.cand.iter_mut().zip(&st.x).zip(&st.step) {
+                *c = *x0 + *s * alpha;
+            }
+            for ((c, d0), s) in st.cdisp.iter_mut().zip(&st.disp).zip(&st.sdisp) {
+                *c = *d0 + *s * alpha;
+            }
+            let lb = barrier_log_sum(&st.cdisp, m2);
+            if lb.is_finite() {
+                let (e_c, rough) = self.objective_value(obj, &st.cand);
+                // NaN-safe: a NaN energy is not a decrease
+                if e_c + st.tau * lb <= phi0 {
+                    return Some((alpha, e_c, rough, lb));
+                }
+            }
+            alpha *= 0.5;
+        }
+        None
+    }
+
+    /// The interior point's ranking of an accepted iterate (`st.x`, of roughness or E_var `rough`): kept in
+    /// `best` if it is fairer than the best so far.
+    fn ip_consider(&self, best: &mut IpBest, obj: Objective, st: &IpState, rough: f64) {
+        let better = if obj.var > 0.0 {
+            // the objective steers the descent; E_var (the curvature's own variation) picks among equals
+            // (the extrema are probed only for an iterate whose E_var is not above the start's)
+            let take = rough <= best.start_var && {
+                let ext = self.node_extrema(&st.x);
+                let take = ext < best.extrema || (ext == best.extrema && rough < best.var);
                 if take {
-                    best_var = rough;
+                    best.extrema = ext;
                 }
                 take
-            } else {
-                e_x < best.0 && rough <= rough_cap
             };
-            if better {
-                let dev = disp.iter().fold(0.0f64, |a, d| a.max(d.length_squared())).sqrt();
-                best = (e_x, dev, x.clone());
+            if take {
+                best.var = rough;
             }
-            // converged: E moved by less than 0.02 % and the barrier is negligible against E
-            if (e_prev - e_x).abs() < 2e-4 * e_prev && tau * (nc as f64) < 1e-3 * e_x {
-                break;
-            }
-        }
-        let (e, dev, upd) = best;
-        self.best = upd;
-        let e = if obj.var > 0.0 {
-            self.energy_of_update(&self.best)
+            take
         } else {
-            e
+            st.e_x < best.value && rough <= best.rough_cap
         };
-        (dev, e)
+        if better {
+            let dev = st.disp.iter().fold(0.0f64, |a, d| a.max(d.length_squared())).sqrt();
+            (best.value, best.dev, best.upd) = (st.e_x, dev, st.x.clone());
+        }
     }
 
     /// The interior point's objective at the update `d` and, for the paper's E, the roughness its steps

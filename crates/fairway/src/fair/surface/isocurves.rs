@@ -121,138 +121,190 @@ pub(super) fn combined_cloud(
     tm: &mut SurfaceTimings,
 ) -> Result<Vec<Vec<DVec3>>> {
     let t0 = Instant::now();
-    let (mu, mv) = (us.len(), vs.len());
-    let nl = levels.len();
-    let mut du = vec![vec![DVec3::ZERO; mu * mv]; nl];
-    let mut dv = vec![vec![DVec3::ZERO; mu * mv]; nl];
-    // A direction whose region holds fewer than p + 1 knot spans has no movable isocurve control point for
-    // the curve engine (e.g. a cubic direction with one span): its isocurves stay, Δ = 0.
-    let spans_in = |k: &crate::knots::KnotVector, (a, b): (f64, f64)| {
-        k.breakpoints().windows(2).filter(|w| w[0] >= a && w[1] <= b).count()
+    let grid = IsoGrid {
+        s,
+        opts,
+        us,
+        vs,
+        orig,
+        size: net_size(s),
     };
-    let (spans_u, spans_v) = (spans_in(s.knots_u(), ru), spans_in(s.knots_v(), rv));
-    let fair_u = spans_u > s.degree_u();
-    let fair_v = spans_v > s.degree_v();
-    // The isocurves are independent: fair them in blocks of ISO_BLOCK neighbours (each block warm-starts
-    // the band search of an isocurve from its neighbour's μ), the blocks spread over the available cores.
-    // Blocks are fixed by the grid, not by the core count, so the result does not depend on the machine.
-    let mut tasks: Vec<(bool, usize)> = Vec::with_capacity(mu + mv);
-    if fair_u {
-        tasks.extend((0..mv).map(|l| (true, l)));
-    }
-    if fair_v {
-        tasks.extend((0..mu).map(|k| (false, k)));
-    }
-    let blocks: Vec<&[(bool, usize)]> = tasks
-        .chunk_by(|a, b| a.0 == b.0)
-        .flat_map(|c| c.chunks(ISO_BLOCK))
-        .collect();
-    // per isocurve of the block, per level: the faired isocurve at the grid parameters
-    type BlockResult = Result<Vec<Vec<Vec<DVec3>>>>;
-    let size = net_size(s);
-    let ((du0, du1), (dv0, dv1)) = s.domain();
-    let fair_block = |block: &[(bool, usize)]| -> BlockResult {
-        let mut hints = vec![None; nl];
-        block
-            .iter()
-            .map(|&(is_u, i)| {
-                let (iso, r, spans, t, at) = if is_u {
-                    (s.iso_u(vs[i]), ru, spans_u, us, ("u", "v", vs[i]))
-                } else {
-                    (s.iso_v(us[i]), rv, spans_v, vs, ("v", "u", us[i]))
-                };
-                // the isocurve along a pole (a collapsed boundary row, held by `hold_poles_and_seams`) is a single point:
-                // it stays (Δ = 0); a point isocurve inside the domain (a pinch at a p-fold knot) still fails
-                let on_edge = if is_u {
-                    vs[i] == dv0 || vs[i] == dv1
-                } else {
-                    us[i] == du0 || us[i] == du1
-                };
-                if on_edge && collapsed(iso.points().iter().copied(), size) {
-                    let kept: Vec<DVec3> = if is_u {
-                        (0..mu).map(|k| orig[k * mv + i]).collect()
+    let (du, dv) = grid.displacements(levels, ru, rv)?;
+    let t1 = Instant::now();
+    tm.isocurves += t1 - t0;
+    let clouds = du.iter().zip(&dv).map(|(du, dv)| grid.combine(du, dv)).collect();
+    tm.combine += t1.elapsed();
+    Ok(clouds)
+}
+
+/// Grid data, one cloud per isocurve tolerance.
+type Clouds = Vec<Vec<DVec3>>;
+
+/// The surface, its grid `us × vs` and the original's points there, shared by the steps of
+/// [`combined_cloud`].
+struct IsoGrid<'a> {
+    s: &'a BSplineSurface,
+    opts: &'a SurfaceFairingOptions,
+    us: &'a [f64],
+    vs: &'a [f64],
+    orig: &'a [DVec3],
+    /// [`net_size`] of `s`.
+    size: f64,
+}
+
+impl IsoGrid<'_> {
+    /// Step 3: fair every isocurve through the grid at each tolerance of `levels` and return the
+    /// displacements `Δ_u = P_u − S`, `Δ_v = P_v − S` on the grid, one pair of clouds per level.
+    fn displacements(&self, levels: &[f64], ru: (f64, f64), rv: (f64, f64)) -> Result<(Clouds, Clouds)> {
+        let (s, us, vs, orig) = (self.s, self.us, self.vs, self.orig);
+        let (mu, mv) = (us.len(), vs.len());
+        let nl = levels.len();
+        let mut du = vec![vec![DVec3::ZERO; mu * mv]; nl];
+        let mut dv = vec![vec![DVec3::ZERO; mu * mv]; nl];
+        // A direction whose region holds fewer than p + 1 knot spans has no movable isocurve control point for
+        // the curve engine (e.g. a cubic direction with one span): its isocurves stay, Δ = 0.
+        let spans_in = |k: &crate::knots::KnotVector, (a, b): (f64, f64)| {
+            k.breakpoints().windows(2).filter(|w| w[0] >= a && w[1] <= b).count()
+        };
+        let (spans_u, spans_v) = (spans_in(s.knots_u(), ru), spans_in(s.knots_v(), rv));
+        let fair_u = spans_u > s.degree_u();
+        let fair_v = spans_v > s.degree_v();
+        // The isocurves are independent: fair them in blocks of ISO_BLOCK neighbours (each block warm-starts
+        // the band search of an isocurve from its neighbour's μ), the blocks spread over the available cores.
+        // Blocks are fixed by the grid, not by the core count, so the result does not depend on the machine.
+        let mut tasks: Vec<(bool, usize)> = Vec::with_capacity(mu + mv);
+        if fair_u {
+            tasks.extend((0..mv).map(|l| (true, l)));
+        }
+        if fair_v {
+            tasks.extend((0..mu).map(|k| (false, k)));
+        }
+        let blocks: Vec<&[(bool, usize)]> = tasks
+            .chunk_by(|a, b| a.0 == b.0)
+            .flat_map(|c| c.chunks(ISO_BLOCK))
+            .collect();
+        // per isocurve of the block, per level: the faired isocurve at the grid parameters
+        type BlockResult = Result<Vec<Vec<Vec<DVec3>>>>;
+        let fair_block = |block: &[(bool, usize)]| -> BlockResult {
+            let mut hints = vec![None; nl];
+            block
+                .iter()
+                .map(|&(is_u, i)| {
+                    let (r, spans) = if is_u { (ru, spans_u) } else { (rv, spans_v) };
+                    self.fair_isocurve(is_u, i, levels, r, spans, &mut hints)
+                })
+                .collect()
+        };
+        let results = par_map(&blocks, self.opts.threads, |b| fair_block(b));
+        for (block, res) in blocks.iter().zip(results) {
+            let pts = res?;
+            for (&(is_u, i), per_level) in block.iter().zip(pts) {
+                for (lv, p) in per_level.into_iter().enumerate() {
+                    if is_u {
+                        for k in 0..mu {
+                            du[lv][k * mv + i] = p[k] - orig[k * mv + i];
+                        }
                     } else {
-                        (0..mv).map(|l| orig[i * mv + l]).collect()
-                    };
-                    return Ok(vec![kept; nl]);
-                }
-                let err = |e: Error| {
-                    Error::InvalidInput(format!("fairing the {}-isocurve at {} = {}: {e}", at.0, at.1, at.2))
-                };
-                let mut st = isocurve_setup(&iso, opts, levels[0], r, spans).map_err(err)?;
-                let mut out = Vec::with_capacity(nl);
-                for (&m_iso, hint) in levels.iter().zip(hints.iter_mut()) {
-                    st.set_tolerance(m_iso).map_err(err)?;
-                    st.set_mu_hint(*hint);
-                    let res = st.fair().map_err(err)?;
-                    *hint = Some(res.mu);
-                    out.push(t.iter().map(|&x| res.curve.point(x)).collect());
-                }
-                Ok(out)
-            })
-            .collect()
-    };
-    let results = par_map(&blocks, opts.threads, |b| fair_block(b));
-    for (block, res) in blocks.iter().zip(results) {
-        let pts = res?;
-        for (&(is_u, i), per_level) in block.iter().zip(pts) {
-            for (lv, p) in per_level.into_iter().enumerate() {
-                if is_u {
-                    for k in 0..mu {
-                        du[lv][k * mv + i] = p[k] - orig[k * mv + i];
-                    }
-                } else {
-                    for l in 0..mv {
-                        dv[lv][i * mv + l] = p[l] - orig[i * mv + l];
+                        for l in 0..mv {
+                            dv[lv][i * mv + l] = p[l] - orig[i * mv + l];
+                        }
                     }
                 }
             }
         }
+        Ok((du, dv))
     }
-    let t1 = Instant::now();
-    tm.isocurves += t1 - t0;
-    // normalized distance to the held borders; a side on the domain boundary is no border (its rows are free)
-    let border_dist = |t: f64, a: f64, b: f64, lo: f64, hi: f64| {
-        let da = if a > lo { t - a } else { f64::INFINITY };
-        let db = if b < hi { b - t } else { f64::INFINITY };
-        (da.min(db) / (b - a)).clamp(0.0, 0.5)
-    };
-    let (a0, a1) = (us[0], us[mu - 1]);
-    let (b0, b1) = (vs[0], vs[mv - 1]);
-    let clouds = du
-        .iter()
-        .zip(&dv)
-        .map(|(du, dv)| {
-            let mut data = vec![DVec3::ZERO; mu * mv];
-            for k in 0..mu {
-                let d_u = border_dist(us[k], a0, a1, du0, du1);
-                for l in 0..mv {
-                    let d_v = border_dist(vs[l], b0, b1, dv0, dv1);
-                    let (beta_u, beta_v) = if d_u + d_v > 0.0 {
-                        (d_v / (d_u + d_v), d_u / (d_u + d_v))
-                    } else {
-                        (0.5, 0.5)
-                    };
-                    let (x, y) = (du[k * mv + l], dv[k * mv + l]);
-                    let (mut a, mut b) = match opts.combine {
-                        Combine::Average => (0.5, 0.5),
-                        Combine::Border => (beta_u, beta_v),
-                        Combine::Weighted | Combine::Smoothed => (beta_u * x.length(), beta_v * y.length()),
-                    };
-                    if !(a + b > 0.0) {
-                        (a, b) = (beta_u, beta_v);
-                    }
-                    data[k * mv + l] = orig[k * mv + l] + (x * a + y * b) / (a + b);
+
+    /// One isocurve of step 3: the u-isocurve at `vs[i]` (`is_u`) or the v-isocurve at `us[i]`, over the
+    /// region `r` of `spans` knot spans, faired at each tolerance of `levels` (warm-started from `hints`,
+    /// the neighbour's μ per level, which it updates) and evaluated at the grid parameters.
+    fn fair_isocurve(
+        &self,
+        is_u: bool,
+        i: usize,
+        levels: &[f64],
+        r: (f64, f64),
+        spans: usize,
+        hints: &mut [Option<f64>],
+    ) -> Result<Vec<Vec<DVec3>>> {
+        let (s, us, vs, orig) = (self.s, self.us, self.vs, self.orig);
+        let (mu, mv) = (us.len(), vs.len());
+        let nl = levels.len();
+        let ((du0, du1), (dv0, dv1)) = s.domain();
+        let (iso, t, at) = if is_u {
+            (s.iso_u(vs[i]), us, ("u", "v", vs[i]))
+        } else {
+            (s.iso_v(us[i]), vs, ("v", "u", us[i]))
+        };
+        // the isocurve along a pole (a collapsed boundary row, held by `hold_poles_and_seams`) is a single point:
+        // it stays (Δ = 0); a point isocurve inside the domain (a pinch at a p-fold knot) still fails
+        let on_edge = if is_u {
+            vs[i] == dv0 || vs[i] == dv1
+        } else {
+            us[i] == du0 || us[i] == du1
+        };
+        if on_edge && collapsed(iso.points().iter().copied(), self.size) {
+            let kept: Vec<DVec3> = if is_u {
+                (0..mu).map(|k| orig[k * mv + i]).collect()
+            } else {
+                (0..mv).map(|l| orig[i * mv + l]).collect()
+            };
+            return Ok(vec![kept; nl]);
+        }
+        let err = |e: Error| Error::InvalidInput(format!("fairing the {}-isocurve at {} = {}: {e}", at.0, at.1, at.2));
+        let mut st = isocurve_setup(&iso, self.opts, levels[0], r, spans).map_err(err)?;
+        let mut out = Vec::with_capacity(nl);
+        for (&m_iso, hint) in levels.iter().zip(hints.iter_mut()) {
+            st.set_tolerance(m_iso).map_err(err)?;
+            st.set_mu_hint(*hint);
+            let res = st.fair().map_err(err)?;
+            *hint = Some(res.mu);
+            out.push(t.iter().map(|&x| res.curve.point(x)).collect());
+        }
+        Ok(out)
+    }
+
+    /// Step 4 for one level: the grid data `S + Δ` from the displacements `du`, `dv` of the two
+    /// directions, weighted as `opts.combine` says (then umbrella-smoothed for [`Combine::Smoothed`]).
+    fn combine(&self, du: &[DVec3], dv: &[DVec3]) -> Vec<DVec3> {
+        let (us, vs, orig, opts) = (self.us, self.vs, self.orig, self.opts);
+        let (mu, mv) = (us.len(), vs.len());
+        let ((du0, du1), (dv0, dv1)) = self.s.domain();
+        // normalized distance to the held borders; a side on the domain boundary is no border (its rows are free)
+        let border_dist = |t: f64, a: f64, b: f64, lo: f64, hi: f64| {
+            let da = if a > lo { t - a } else { f64::INFINITY };
+            let db = if b < hi { b - t } else { f64::INFINITY };
+            (da.min(db) / (b - a)).clamp(0.0, 0.5)
+        };
+        let (a0, a1) = (us[0], us[mu - 1]);
+        let (b0, b1) = (vs[0], vs[mv - 1]);
+        let mut data = vec![DVec3::ZERO; mu * mv];
+        for k in 0..mu {
+            let d_u = border_dist(us[k], a0, a1, du0, du1);
+            for l in 0..mv {
+                let d_v = border_dist(vs[l], b0, b1, dv0, dv1);
+                let (beta_u, beta_v) = if d_u + d_v > 0.0 {
+                    (d_v / (d_u + d_v), d_u / (d_u + d_v))
+                } else {
+                    (0.5, 0.5)
+                };
+                let (x, y) = (du[k * mv + l], dv[k * mv + l]);
+                let (mut a, mut b) = match opts.combine {
+                    Combine::Average => (0.5, 0.5),
+                    Combine::Border => (beta_u, beta_v),
+                    Combine::Weighted | Combine::Smoothed => (beta_u * x.length(), beta_v * y.length()),
+                };
+                if !(a + b > 0.0) {
+                    (a, b) = (beta_u, beta_v);
                 }
+                data[k * mv + l] = orig[k * mv + l] + (x * a + y * b) / (a + b);
             }
-            if opts.combine == Combine::Smoothed {
-                umbrella_smooth(&mut data, mu, mv, 3, 0.25);
-            }
-            data
-        })
-        .collect();
-    tm.combine += t1.elapsed();
-    Ok(clouds)
+        }
+        if opts.combine == Combine::Smoothed {
+            umbrella_smooth(&mut data, mu, mv, 3, 0.25);
+        }
+        data
+    }
 }
 
 /// Normal umbrella smoothing: `P ← P + τ ((avg of the 4 neighbours − P)·n) n`, n the grid normal,
