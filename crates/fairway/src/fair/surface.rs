@@ -185,12 +185,13 @@
 //! Degree 2 gives C1 (G1) joins only; any degree ≥ 1 and any clamped knot
 //! vectors work otherwise.
 
+use std::ops::{ControlFlow, Range};
 use std::time::Instant;
 
 use glam::DVec3;
 
 use crate::error::{Error, Result};
-use crate::fit_surface::{GridFit, SurfaceSmoothing, free_range};
+use crate::fit_surface::{GridFit, PlateFit, SurfaceSmoothing, free_range};
 use crate::knots::KnotVector;
 use crate::surface::BSplineSurface;
 
@@ -280,7 +281,29 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
     Ok(r)
 }
 
+/// [`fair_surface`] before the sound band bound: validation and grids ([`free_block`], [`Grids::new`]),
+/// then the reference smoother alone ([`smoothing_only`]) or the isocurve rounds ([`isocurve_rounds`],
+/// steps 3–7) followed by step 8's pick of the fairest candidate ([`fairest_candidate`]).
 fn fair_surface_unbounded(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Result<SurfaceFairingResult> {
+    let (s, ru, rv, free_u, free_v) = free_block(surface, &opts)?;
+    let (g, tm) = Grids::new(&s, &opts, ru, rv, free_u, free_v);
+    if opts.method == SurfaceMethod::Smoothing {
+        return smoothing_only(&g, tm);
+    }
+    // today's isocurve fairing (module docs, steps 3-7)
+    let iso_result = isocurve_rounds(&g, &opts, tm)?;
+    if opts.method == SurfaceMethod::Isocurves {
+        return Ok(iso_result);
+    }
+    fairest_candidate(&g, iso_result)
+}
+
+/// What [`free_block`] returns: (surface, region in u, region in v, free rows, free columns).
+type FreeBlock = (BSplineSurface, (f64, f64), (f64, f64), Range<usize>, Range<usize>);
+
+/// Validation and step 1: the tolerance, the grid density and the region are checked, the surface taken
+/// in its polynomial form, and the free control rows and columns found (poles and seams held).
+fn free_block(surface: &BSplineSurface, opts: &SurfaceFairingOptions) -> Result<FreeBlock> {
     let m = opts.tolerance;
     let size = surface
         .points()
@@ -318,9 +341,9 @@ fn fair_surface_unbounded(surface: &BSplineSurface, opts: SurfaceFairingOptions)
             });
         }
     }
-    let (ku, kv) = (s.knots_u().clone(), s.knots_v().clone());
-    let free_u = free_range(&ku, u1, u2);
-    let free_v = free_range(&kv, v1, v2);
+    let (ku, kv) = (s.knots_u(), s.knots_v());
+    let free_u = free_range(ku, u1, u2);
+    let free_v = free_range(kv, v1, v2);
     let had = !free_u.is_empty() && !free_v.is_empty();
     let (free_u, free_v) = hold_poles_and_seams(&s, free_u, free_v);
     if had && (free_u.is_empty() || free_v.is_empty()) {
@@ -337,245 +360,406 @@ fn fair_surface_unbounded(surface: &BSplineSurface, opts: SurfaceFairingOptions)
             kv.degree() + 1
         )));
     }
-    let (pu, pv) = (ku.degree(), kv.degree());
-    // moving rectangle: union of free supports
-    let (au, bu) = (ku.values()[free_u.start], ku.values()[free_u.end - 1 + pu + 1]);
-    let (av, bv) = (kv.values()[free_v.start], kv.values()[free_v.end - 1 + pv + 1]);
-    let us = span_grid(&ku, au, bu, opts.samples_per_span);
-    let vs = span_grid(&kv, av, bv, opts.samples_per_span);
-    let t_orig = Instant::now();
-    let orig = grid_points(&s, &us, &vs);
-    let threads = opts.threads;
-    let full_check = CheckGrid::new(
-        &s,
-        &span_grid(&ku, au, bu, CHECK_PER_SPAN),
-        &span_grid(&kv, av, bv, CHECK_PER_SPAN),
-        threads,
-    );
-    let coarse_check = CheckGrid::new(&s, &span_grid(&ku, au, bu, 3), &span_grid(&kv, av, bv, 3), threads);
+    Ok((s, (u1, u2), (v1, v2), free_u, free_v))
+}
 
-    let mut tm = SurfaceTimings {
-        isocurves: t_orig.elapsed(),
-        ..Default::default()
-    };
-    let rect = ((au, bu), (av, bv));
-    let fine_check = || {
-        CheckGrid::new(
-            &s,
-            &span_grid(&ku, au, bu, FINE_CHECK_PER_SPAN),
-            &span_grid(&kv, av, bv, FINE_CHECK_PER_SPAN),
+/// The surface to fair with its free block, the moving rectangle and the grids on it (module docs,
+/// steps 1, 2 and 7), shared by the steps of [`fair_surface_unbounded`].
+struct Grids<'a> {
+    /// The surface (polynomial) and the options' region.
+    s: &'a BSplineSurface,
+    ru: (f64, f64),
+    rv: (f64, f64),
+    free_u: Range<usize>,
+    free_v: Range<usize>,
+    /// The moving rectangle: the union of the free control points' supports.
+    rect: ((f64, f64), (f64, f64)),
+    /// The fit grid (`samples_per_span` per knot span) and the original's points there.
+    us: Vec<f64>,
+    vs: Vec<f64>,
+    orig: Vec<DVec3>,
+    /// The band checks of step 7: [`CHECK_PER_SPAN`] and 3 samples per knot span.
+    full_check: CheckGrid,
+    coarse_check: CheckGrid,
+    threads: Option<usize>,
+    m: f64,
+}
+
+impl<'a> Grids<'a> {
+    /// Step 2 and the check grids of step 7 for `s` with the region `ru × rv` and the free block; returns
+    /// them with the timings so far (the original's sampling counts as the isocurves').
+    fn new(
+        s: &'a BSplineSurface,
+        opts: &SurfaceFairingOptions,
+        ru: (f64, f64),
+        rv: (f64, f64),
+        free_u: Range<usize>,
+        free_v: Range<usize>,
+    ) -> (Self, SurfaceTimings) {
+        let (ku, kv) = (s.knots_u(), s.knots_v());
+        let (pu, pv) = (ku.degree(), kv.degree());
+        // moving rectangle: union of free supports
+        let (au, bu) = (ku.values()[free_u.start], ku.values()[free_u.end - 1 + pu + 1]);
+        let (av, bv) = (kv.values()[free_v.start], kv.values()[free_v.end - 1 + pv + 1]);
+        let us = span_grid(ku, au, bu, opts.samples_per_span);
+        let vs = span_grid(kv, av, bv, opts.samples_per_span);
+        let t_orig = Instant::now();
+        let orig = grid_points(s, &us, &vs);
+        let threads = opts.threads;
+        let full_check = CheckGrid::new(
+            s,
+            &span_grid(ku, au, bu, CHECK_PER_SPAN),
+            &span_grid(kv, av, bv, CHECK_PER_SPAN),
             threads,
-        )
-    };
-    if opts.method == SurfaceMethod::Smoothing {
-        let fine = fine_check();
-        let t0 = Instant::now();
-        let grid_fit = GridFit::new(&s, &us, &vs, free_u.clone(), free_v.clone())?;
-        let plate = plate_fit(&s, &grid_fit, &us, &vs, REFERENCE_ORDER)?;
-        let rhs = grid_fit.project(&orig)?;
-        let bands = Bands {
-            coarse: &coarse_check,
-            full: &full_check,
-            fine: &fine,
-            free_u: &free_u,
-            free_v: &free_v,
-            m,
+        );
+        let coarse_check = CheckGrid::new(s, &span_grid(ku, au, bu, 3), &span_grid(kv, av, bv, 3), threads);
+        let tm = SurfaceTimings {
+            isocurves: t_orig.elapsed(),
+            ..Default::default()
         };
-        let (pts, dev, strength) = plate_search(&s, &plate, &rhs, &bands)?
-            .pop()
-            .unwrap_or_else(|| (s.points().to_vec(), 0.0, 0.0));
-        tm.reference += t0.elapsed();
-        return Ok(SurfaceFairingResult {
-            surface: s.with_points(pts)?,
-            max_deviation: dev,
-            iso_tolerance: 0.0,
-            rounds: 0,
-            alpha: 1.0,
-            smoothing: SurfaceSmoothing {
-                strength_u: strength,
-                strength_v: strength,
-                order: REFERENCE_ORDER,
-            },
+        let g = Self {
+            s,
+            ru,
+            rv,
             free_u,
             free_v,
-            timings: tm,
-            pick: SurfacePick::Reference,
-            band_bound: None,
-        });
+            rect: ((au, bu), (av, bv)),
+            us,
+            vs,
+            orig,
+            full_check,
+            coarse_check,
+            threads,
+            m: opts.tolerance,
+        };
+        (g, tm)
     }
-    // today's isocurve fairing (module docs, steps 3-7)
-    let iso_result = (|| -> Result<SurfaceFairingResult> {
-        let mut m_iso = m;
-        let mut best: Option<(Vec<DVec3>, f64)> = None;
-        let mut rounds = 0;
-        let ladder: &[f64] = if opts.auto_smoothing {
+
+    /// The check grid of [`FINE_CHECK_PER_SPAN`] samples per knot span of the moving rectangle (step 8).
+    fn fine_check(&self) -> CheckGrid {
+        let ((au, bu), (av, bv)) = self.rect;
+        CheckGrid::new(
+            self.s,
+            &span_grid(self.s.knots_u(), au, bu, FINE_CHECK_PER_SPAN),
+            &span_grid(self.s.knots_v(), av, bv, FINE_CHECK_PER_SPAN),
+            self.threads,
+        )
+    }
+
+    /// The band as step 8 verifies it, with `fine` from [`Self::fine_check`].
+    fn bands<'b>(&'b self, fine: &'b CheckGrid) -> Bands<'b> {
+        Bands {
+            coarse: &self.coarse_check,
+            full: &self.full_check,
+            fine,
+            free_u: &self.free_u,
+            free_v: &self.free_v,
+            m: self.m,
+        }
+    }
+
+    /// A result of the isocurve rounds on this free block (`pick` [`SurfacePick::Isocurves`]).
+    fn iso_result(
+        &self,
+        surface: BSplineSurface,
+        max_deviation: f64,
+        (iso_tolerance, rounds, alpha): (f64, usize, f64),
+        smoothing: SurfaceSmoothing,
+        timings: SurfaceTimings,
+    ) -> SurfaceFairingResult {
+        SurfaceFairingResult {
+            surface,
+            max_deviation,
+            iso_tolerance,
+            rounds,
+            alpha,
+            smoothing,
+            free_u: self.free_u.clone(),
+            free_v: self.free_v.clone(),
+            timings,
+            pick: SurfacePick::Isocurves,
+            band_bound: None,
+        }
+    }
+}
+
+/// [`SurfaceMethod::Smoothing`]: the reference smoother of step 8 alone, on the original's samples (the
+/// original itself when no strength holds the band).
+fn smoothing_only(g: &Grids<'_>, mut tm: SurfaceTimings) -> Result<SurfaceFairingResult> {
+    let s = g.s;
+    let fine = g.fine_check();
+    let t0 = Instant::now();
+    let grid_fit = GridFit::new(s, &g.us, &g.vs, g.free_u.clone(), g.free_v.clone())?;
+    let plate = plate_fit(s, &grid_fit, &g.us, &g.vs, REFERENCE_ORDER)?;
+    let rhs = grid_fit.project(&g.orig)?;
+    let bands = g.bands(&fine);
+    let (pts, dev, strength) = plate_search(s, &plate, &rhs, &bands)?
+        .pop()
+        .unwrap_or_else(|| (s.points().to_vec(), 0.0, 0.0));
+    tm.reference += t0.elapsed();
+    Ok(SurfaceFairingResult {
+        surface: s.with_points(pts)?,
+        max_deviation: dev,
+        iso_tolerance: 0.0,
+        rounds: 0,
+        alpha: 1.0,
+        smoothing: SurfaceSmoothing {
+            strength_u: strength,
+            strength_v: strength,
+            order: REFERENCE_ORDER,
+        },
+        free_u: g.free_u.clone(),
+        free_v: g.free_v.clone(),
+        timings: tm,
+        pick: SurfacePick::Reference,
+        band_bound: None,
+    })
+}
+
+/// The fairest candidate of a level holding the band: (points, dev, m_iso, smoothing, round, energy).
+type Pick = (Vec<DVec3>, f64, f64, SurfaceSmoothing, usize, f64);
+
+/// A fitted candidate of one level: (smoothing, points, surface, fairness energy with auto smoothing).
+type Fitted = (SurfaceSmoothing, Vec<DVec3>, BSplineSurface, Option<f64>);
+
+/// The state of the isocurve rounds (module docs, steps 5–7) of [`isocurve_rounds`].
+struct Rounds<'g, 'a> {
+    g: &'g Grids<'a>,
+    opts: &'g SurfaceFairingOptions,
+    /// The smoothing strengths tried ([`AUTO_STRENGTHS`], or the options' smoothing alone as NaN).
+    ladder: &'static [f64],
+    /// Fairness energy over the moving rectangle (auto-smoothing selection, module docs step 6).
+    energy: Option<FairnessGrid>,
+    grid_fit: GridFit<'a>,
+    tm: SurfaceTimings,
+    /// The isocurve tolerance of the round and the rounds so far.
+    m_iso: f64,
+    rounds: usize,
+    /// The candidate of least deviation so far: (points, dev).
+    best: Option<(Vec<DVec3>, f64)>,
+    /// The fairest candidate holding the band so far.
+    pick: Option<Pick>,
+}
+
+/// Steps 3–7: the isocurve rounds, each fitting the smoothing strengths to its level's cloud and checking
+/// the band; the fairest band-holding candidate, or the α fallback when no round held the band.
+fn isocurve_rounds(g: &Grids<'_>, opts: &SurfaceFairingOptions, tm: SurfaceTimings) -> Result<SurfaceFairingResult> {
+    let m = g.m;
+    let mut r = Rounds {
+        g,
+        opts,
+        ladder: if opts.auto_smoothing {
             &AUTO_STRENGTHS
         } else {
             &[f64::NAN]
+        },
+        energy: opts.auto_smoothing.then(|| FairnessGrid::new(g.s, g.rect.0, g.rect.1)),
+        grid_fit: GridFit::new(g.s, &g.us, &g.vs, g.free_u.clone(), g.free_v.clone())?,
+        tm,
+        m_iso: m,
+        rounds: 0,
+        best: None,
+        pick: None,
+    };
+    let max_rounds = if opts.auto_smoothing {
+        MAX_ROUNDS.max(opts.iso_levels.max(1))
+    } else {
+        MAX_ROUNDS
+    };
+    let mut level_clouds = r.level_clouds()?;
+    for _ in 0..max_rounds {
+        r.rounds += 1;
+        let data = match level_clouds.iter().position(|(l, _)| *l == r.m_iso) {
+            Some(i) => level_clouds.swap_remove(i).1,
+            None => r.cloud(&[r.m_iso])?.pop().expect("one level"),
         };
-        // fairness energy over the moving rectangle (auto-smoothing selection, module docs step 6)
-        let energy = opts.auto_smoothing.then(|| FairnessGrid::new(&s, (au, bu), (av, bv)));
-        let grid_fit = GridFit::new(&s, &us, &vs, free_u.clone(), free_v.clone())?;
-        // the fairest candidate holding the band so far: (points, dev, m_iso, smoothing, round, energy)
-        type Pick = (Vec<DVec3>, f64, f64, SurfaceSmoothing, usize, f64);
-        let mut pick: Option<Pick> = None;
-        let max_rounds = if opts.auto_smoothing {
-            MAX_ROUNDS.max(opts.iso_levels.max(1))
-        } else {
-            MAX_ROUNDS
+        let (rhs, cands) = r.fit_level(&data)?;
+        let level_best = match r.check_level(cands)? {
+            ControlFlow::Break(done) => return Ok(done),
+            ControlFlow::Continue(level_best) => level_best,
         };
-        // With auto smoothing the clouds of all `iso_levels` levels m, m/3, m/9, … are made in the first round:
-        // the correction of the pass at m scaled by 1/3, 1/9, … or, with `refair_levels`, the isocurves faired at
-        // each tolerance (one setup per isocurve, re-faired per level). The rounds that step down a level take
-        // their cloud from here; a tightening round (no level held the band) fairs the isocurves at its own m_iso.
+        if r.next_level(level_best, &rhs)? {
+            break;
+        }
+    }
+    r.finish()
+}
+
+impl Rounds<'_, '_> {
+    /// Step 3–4: the combined clouds of the isocurves faired at each tolerance of `levels`.
+    fn cloud(&mut self, levels: &[f64]) -> Result<Vec<Vec<DVec3>>> {
+        let g = self.g;
+        combined_cloud(g.s, self.opts, levels, g.ru, g.rv, &g.us, &g.vs, &g.orig, &mut self.tm)
+    }
+
+    /// The clouds of the levels made up front: with auto smoothing, those of all `iso_levels` levels m,
+    /// m/3, m/9, … are made in the first round (the correction of the pass at m scaled by 1/3, 1/9, … or,
+    /// with `refair_levels`, the isocurves faired at each tolerance: one setup per isocurve, re-faired per
+    /// level). The rounds that step down a level take their cloud from here; a tightening round (no level
+    /// held the band) fairs the isocurves at its own m_iso.
+    fn level_clouds(&mut self) -> Result<Vec<(f64, Vec<DVec3>)>> {
+        let opts = self.opts;
         let mut level_clouds: Vec<(f64, Vec<DVec3>)> = Vec::new();
         if opts.auto_smoothing && opts.iso_levels > 1 {
-            let mut levels = vec![m_iso];
+            let mut levels = vec![self.m_iso];
             for _ in 1..opts.iso_levels {
                 levels.push(levels[levels.len() - 1] * ISO_LEVEL_FACTOR);
             }
             let clouds = if opts.refair_levels {
-                combined_cloud(&s, &opts, &levels, (u1, u2), (v1, v2), &us, &vs, &orig, &mut tm)?
+                self.cloud(&levels)?
             } else {
-                let first = combined_cloud(&s, &opts, &levels[..1], (u1, u2), (v1, v2), &us, &vs, &orig, &mut tm)?;
+                let first = self.cloud(&levels[..1])?;
                 let first = first.into_iter().next().expect("one level");
                 let t0 = Instant::now();
+                let orig = &self.g.orig;
                 let scaled = levels
                     .iter()
                     .map(|l| {
                         let a = l / levels[0];
-                        first.iter().zip(&orig).map(|(c, o)| *o + (*c - *o) * a).collect()
+                        first.iter().zip(orig).map(|(c, o)| *o + (*c - *o) * a).collect()
                     })
                     .collect();
-                tm.combine += t0.elapsed();
+                self.tm.combine += t0.elapsed();
                 scaled
             };
             level_clouds = levels.into_iter().zip(clouds).collect();
         }
-        for _ in 0..max_rounds {
-            rounds += 1;
-            let data = match level_clouds.iter().position(|(l, _)| *l == m_iso) {
-                Some(i) => level_clouds.swap_remove(i).1,
-                None => combined_cloud(&s, &opts, &[m_iso], (u1, u2), (v1, v2), &us, &vs, &orig, &mut tm)?
-                    .pop()
-                    .expect("one level"),
-            };
-            let mut level_best: Option<Pick> = None;
-            // the fits and their fairness energies are independent: computed in parallel, then checked in order
-            let t0 = Instant::now();
-            // After the first level only the pick's strength and its two neighbours on the ladder are fitted
-            // (module docs, step 6): the fairest strength moves little from one level to the next.
-            let near: Vec<f64> = match &pick {
-                Some(pk) => {
-                    let i = ladder.iter().position(|&x| x == pk.3.strength_u).unwrap_or(0);
-                    ladder[i.saturating_sub(1)..(i + 2).min(ladder.len())].to_vec()
-                }
-                _ => ladder.to_vec(),
-            };
-            // the data term is the same for every strength: projected once per level
-            let rhs = grid_fit.project(&data)?;
-            let cands = par_map(&near, threads, |&st| {
-                let sm = if st.is_nan() {
-                    opts.smoothing
-                } else {
-                    SurfaceSmoothing {
-                        strength_u: st,
-                        strength_v: st,
-                        order: opts.smoothing.order,
-                    }
-                };
-                let pts = grid_fit.solve(&rhs, sm)?;
-                let faired = s.with_points(pts.clone())?;
-                let e = energy.as_ref().map(|eg| eg.energy(&faired));
-                Ok::<_, Error>((sm, pts, faired, e))
-            });
-            tm.fit += t0.elapsed();
-            for cand in cands {
-                let (sm, pts, faired, e) = cand?;
-                let t1 = Instant::now();
-                // with auto smoothing: a candidate no fairer than the level's best is not checked
-                if let (Some(e), Some(lb)) = (e, level_best.as_ref())
-                    && e >= lb.5
-                {
-                    tm.verify += t1.elapsed();
-                    continue;
-                }
-                // coarse check first (cheap), the full check only for a candidate that passes it
-                if coarse_check.deviation(&s, &faired, &free_u, &free_v, m, true) > m {
-                    tm.verify += t1.elapsed();
-                    continue;
-                }
-                let dev = full_check.deviation(&s, &faired, &free_u, &free_v, m, false);
-                if dev <= m {
-                    match e {
-                        None => {
-                            tm.verify += t1.elapsed();
-                            return Ok(SurfaceFairingResult {
-                                surface: faired,
-                                max_deviation: dev,
-                                iso_tolerance: m_iso,
-                                rounds,
-                                alpha: 1.0,
-                                smoothing: sm,
-                                free_u: free_u.clone(),
-                                free_v: free_v.clone(),
-                                timings: tm,
-                                pick: SurfacePick::Isocurves,
-                                band_bound: None,
-                            });
-                        }
-                        Some(e) => level_best = Some((pts.clone(), dev, m_iso, sm, rounds, e)),
-                    }
-                }
-                tm.verify += t1.elapsed();
-                if best.as_ref().is_none_or(|b| dev < b.1) {
-                    best = Some((pts, dev));
-                }
+        Ok(level_clouds)
+    }
+
+    /// Step 5 for one level's cloud `data`: the fits of the strengths tried (all of the ladder in the first
+    /// level, after it the pick's and its two neighbours') with their fairness energies, in parallel.
+    /// Returns the projected data term and the candidates in ladder order.
+    fn fit_level(&mut self, data: &[DVec3]) -> Result<(Vec<DVec3>, Vec<Result<Fitted>>)> {
+        let (s, opts, ladder) = (self.g.s, self.opts, self.ladder);
+        // the fits and their fairness energies are independent: computed in parallel, then checked in order
+        let t0 = Instant::now();
+        // After the first level only the pick's strength and its two neighbours on the ladder are fitted
+        // (module docs, step 6): the fairest strength moves little from one level to the next.
+        let near: Vec<f64> = match &self.pick {
+            Some(pk) => {
+                let i = ladder.iter().position(|&x| x == pk.3.strength_u).unwrap_or(0);
+                ladder[i.saturating_sub(1)..(i + 2).min(ladder.len())].to_vec()
             }
-            if let Some(lb) = level_best {
-                let improved = pick.as_ref().is_none_or(|p| lb.5 < p.5);
-                if improved {
-                    pick = Some(lb);
+            _ => ladder.to_vec(),
+        };
+        // the data term is the same for every strength: projected once per level
+        let rhs = self.grid_fit.project(data)?;
+        let (grid_fit, energy) = (&self.grid_fit, &self.energy);
+        let cands = par_map(&near, self.g.threads, |&st| {
+            let sm = if st.is_nan() {
+                opts.smoothing
+            } else {
+                SurfaceSmoothing {
+                    strength_u: st,
+                    strength_v: st,
+                    order: opts.smoothing.order,
                 }
-                if !improved || rounds >= opts.iso_levels.max(1) {
-                    break;
-                }
-                m_iso *= ISO_LEVEL_FACTOR;
+            };
+            let pts = grid_fit.solve(&rhs, sm)?;
+            let faired = s.with_points(pts.clone())?;
+            let e = energy.as_ref().map(|eg| eg.energy(&faired));
+            Ok::<_, Error>((sm, pts, faired, e))
+        });
+        self.tm.fit += t0.elapsed();
+        Ok((rhs, cands))
+    }
+
+    /// Step 7 for one level's candidates, in order: the band check (coarse, then full) of each candidate
+    /// fairer than the level's best. Without auto smoothing the first that holds the band is the result
+    /// (`Break`); otherwise returns the level's fairest band-holding candidate. Every checked candidate
+    /// competes for the least deviation (`self.best`).
+    fn check_level(&mut self, cands: Vec<Result<Fitted>>) -> Result<ControlFlow<SurfaceFairingResult, Option<Pick>>> {
+        let g = self.g;
+        let (s, m, m_iso, rounds) = (g.s, g.m, self.m_iso, self.rounds);
+        let mut level_best: Option<Pick> = None;
+        for cand in cands {
+            let (sm, pts, faired, e) = cand?;
+            let t1 = Instant::now();
+            // with auto smoothing: a candidate no fairer than the level's best is not checked
+            if let (Some(e), Some(lb)) = (e, level_best.as_ref())
+                && e >= lb.5
+            {
+                self.tm.verify += t1.elapsed();
                 continue;
             }
-            if pick.is_some() {
-                m_iso *= ISO_LEVEL_FACTOR;
+            // coarse check first (cheap), the full check only for a candidate that passes it
+            if g.coarse_check.deviation(s, &faired, &g.free_u, &g.free_v, m, true) > m {
+                self.tm.verify += t1.elapsed();
                 continue;
             }
-            if best.is_none() {
-                let t0 = Instant::now();
-                let pts = grid_fit.solve(&rhs, opts.smoothing)?;
-                let t1 = Instant::now();
-                tm.fit += t1 - t0;
-                let dev = full_check.deviation(&s, &s.with_points(pts.clone())?, &free_u, &free_v, m, false);
-                tm.verify += t1.elapsed();
-                best = Some((pts, dev));
+            let dev = g.full_check.deviation(s, &faired, &g.free_u, &g.free_v, m, false);
+            if dev <= m {
+                match e {
+                    None => {
+                        self.tm.verify += t1.elapsed();
+                        return Ok(ControlFlow::Break(g.iso_result(
+                            faired,
+                            dev,
+                            (m_iso, rounds, 1.0),
+                            sm,
+                            self.tm,
+                        )));
+                    }
+                    Some(e) => level_best = Some((pts.clone(), dev, m_iso, sm, rounds, e)),
+                }
             }
-            let dev = best.as_ref().unwrap().1;
-            m_iso *= 0.8 * m / dev;
+            self.tm.verify += t1.elapsed();
+            if self.best.as_ref().is_none_or(|b| dev < b.1) {
+                self.best = Some((pts, dev));
+            }
         }
-        if let Some((pts, dev, m_iso, sm, round, _)) = pick {
-            return Ok(SurfaceFairingResult {
-                surface: s.with_points(pts)?,
-                max_deviation: dev,
-                iso_tolerance: m_iso,
-                rounds: round,
-                alpha: 1.0,
-                smoothing: sm,
-                free_u: free_u.clone(),
-                free_v: free_v.clone(),
-                timings: tm,
-                pick: SurfacePick::Isocurves,
-                band_bound: None,
-            });
+        Ok(ControlFlow::Continue(level_best))
+    }
+
+    /// Step 6/7 after a level: a fairer level's pick is kept and the next level (m_iso / 3) follows, until
+    /// a level is no fairer or `iso_levels` are done; with no band-holding candidate yet, the isocurve
+    /// tolerance is tightened by the least deviation so far (`rhs`: the level's projected data, fitted with
+    /// the options' smoothing when nothing was checked). Returns whether the rounds stop.
+    fn next_level(&mut self, level_best: Option<Pick>, rhs: &[DVec3]) -> Result<bool> {
+        let g = self.g;
+        if let Some(lb) = level_best {
+            let improved = self.pick.as_ref().is_none_or(|p| lb.5 < p.5);
+            if improved {
+                self.pick = Some(lb);
+            }
+            if !improved || self.rounds >= self.opts.iso_levels.max(1) {
+                return Ok(true);
+            }
+            self.m_iso *= ISO_LEVEL_FACTOR;
+            return Ok(false);
+        }
+        if self.pick.is_some() {
+            self.m_iso *= ISO_LEVEL_FACTOR;
+            return Ok(false);
+        }
+        if self.best.is_none() {
+            let t0 = Instant::now();
+            let pts = self.grid_fit.solve(rhs, self.opts.smoothing)?;
+            let t1 = Instant::now();
+            self.tm.fit += t1 - t0;
+            let dev = g
+                .full_check
+                .deviation(g.s, &g.s.with_points(pts.clone())?, &g.free_u, &g.free_v, g.m, false);
+            self.tm.verify += t1.elapsed();
+            self.best = Some((pts, dev));
+        }
+        let dev = self.best.as_ref().unwrap().1;
+        self.m_iso *= 0.8 * g.m / dev;
+        Ok(false)
+    }
+
+    /// The result of the rounds: the pick, or (no candidate held the band) the α fallback, the largest
+    /// α ∈ [0, 1] whose blend `S + α (S_best − S)` of the least-deviation candidate holds the band, bisected.
+    fn finish(self) -> Result<SurfaceFairingResult> {
+        let g = self.g;
+        let (s, m) = (g.s, g.m);
+        let mut tm = self.tm;
+        if let Some((pts, dev, m_iso, sm, round, _)) = self.pick {
+            return Ok(g.iso_result(s.with_points(pts)?, dev, (m_iso, round, 1.0), sm, tm));
         }
         // α fallback: bisect the largest α ∈ [0, 1] whose blend holds the band
-        let (pts, _) = best.expect("at least one round");
+        let (pts, _) = self.best.expect("at least one round");
         let blend = |alpha: f64| -> Vec<DVec3> {
             s.points()
                 .iter()
@@ -589,7 +773,7 @@ fn fair_surface_unbounded(surface: &BSplineSurface, opts: SurfaceFairingOptions)
         for _ in 0..20 {
             let mid = 0.5 * (lo + hi);
             let f = s.with_points(blend(mid))?;
-            let d = full_check.deviation(&s, &f, &free_u, &free_v, m, true);
+            let d = g.full_check.deviation(s, &f, &g.free_u, &g.free_v, m, true);
             if d <= m {
                 lo = mid;
                 lo_dev = d;
@@ -601,42 +785,55 @@ fn fair_surface_unbounded(surface: &BSplineSurface, opts: SurfaceFairingOptions)
             }
         }
         tm.verify += t0.elapsed();
-        Ok(SurfaceFairingResult {
-            surface: s.with_points(blend(lo))?,
-            max_deviation: lo_dev,
-            iso_tolerance: m_iso,
-            rounds,
-            alpha: lo,
-            smoothing: opts.smoothing,
-            free_u: free_u.clone(),
-            free_v: free_v.clone(),
-            timings: tm,
-            pick: SurfacePick::Isocurves,
-            band_bound: None,
-        })
-    })()?;
-    if opts.method == SurfaceMethod::Isocurves {
-        return Ok(iso_result);
+        let surface = s.with_points(blend(lo))?;
+        Ok(g.iso_result(surface, lo_dev, (self.m_iso, self.rounds, lo), self.opts.smoothing, tm))
     }
-    let mut result = iso_result;
-    // step 8 (module docs)
+}
+
+/// A candidate of step 8: (rank, pick, surface, deviation bound, strength).
+type Cand = (Rank, SurfacePick, BSplineSurface, f64, f64);
+
+/// Step 8 (module docs): the fairest of the original, the isocurve result `result`, the reference
+/// smoother's answers and their blends ([`smoother_candidates`], [`blend_candidates`], [`pick_fairest`]).
+fn fairest_candidate(g: &Grids<'_>, mut result: SurfaceFairingResult) -> Result<SurfaceFairingResult> {
+    let s = g.s;
     let t0 = Instant::now();
-    let grid_fit = GridFit::new(&s, &us, &vs, free_u.clone(), free_v.clone())?;
-    let plate = plate_fit(&s, &grid_fit, &us, &vs, REFERENCE_ORDER)?;
-    let fine = fine_check();
-    let bands = Bands {
-        coarse: &coarse_check,
-        full: &full_check,
-        fine: &fine,
-        free_u: &free_u,
-        free_v: &free_v,
-        m,
-    };
-    let ranker = Ranker::new(&s, rect);
-    // (rank, pick, surface, deviation bound, strength)
-    type Cand = (Rank, SurfacePick, BSplineSurface, f64, f64);
+    let grid_fit = GridFit::new(s, &g.us, &g.vs, g.free_u.clone(), g.free_v.clone())?;
+    let plate = plate_fit(s, &grid_fit, &g.us, &g.vs, REFERENCE_ORDER)?;
+    let fine = g.fine_check();
+    let bands = g.bands(&fine);
+    let ranker = Ranker::new(s, g.rect);
+    let mut cands = smoother_candidates(g, &result, &grid_fit, &plate, &bands, &ranker)?;
+    blend_candidates(g, &mut cands, &bands, &ranker)?;
+    let (_, kind, f, dev, st) = pick_fairest(cands);
+    if kind != SurfacePick::Isocurves {
+        result.surface = f;
+        result.max_deviation = dev;
+        result.alpha = if kind == SurfacePick::Original { 0.0 } else { 1.0 };
+        result.smoothing = SurfaceSmoothing {
+            strength_u: st,
+            strength_v: st,
+            order: REFERENCE_ORDER,
+        };
+        result.pick = kind;
+    }
+    result.timings.reference += t0.elapsed();
+    Ok(result)
+}
+
+/// Step 8's first candidates, ranked: the original, the isocurve result `result` and the reference
+/// smoother's strongest band-holding nets on the original's samples and on the isocurve result's.
+fn smoother_candidates(
+    g: &Grids<'_>,
+    result: &SurfaceFairingResult,
+    grid_fit: &GridFit<'_>,
+    plate: &PlateFit<'_, '_>,
+    bands: &Bands<'_>,
+    ranker: &Ranker,
+) -> Result<Vec<Cand>> {
+    let (s, threads) = (g.s, g.threads);
     let mut cands: Vec<Cand> = vec![
-        (ranker.rank(&s), SurfacePick::Original, s.clone(), 0.0, 0.0),
+        (ranker.rank(s), SurfacePick::Original, s.clone(), 0.0, 0.0),
         (
             ranker.rank(&result.surface),
             SurfacePick::Isocurves,
@@ -645,12 +842,11 @@ fn fair_surface_unbounded(surface: &BSplineSurface, opts: SurfaceFairingOptions)
             result.smoothing.strength_u,
         ),
     ];
-    let today = cands[1].0;
     // the smoother on the original's samples (the reference; its answer is the largest band-holding
     // strength) and on the isocurve result's: independent searches
-    let iso_grid = grid_points(&result.surface, &us, &vs);
-    let rhs = [grid_fit.project(&orig)?, grid_fit.project(&iso_grid)?];
-    let searches = par_map(&rhs, threads, |r| plate_search(&s, &plate, r, &bands));
+    let iso_grid = grid_points(&result.surface, &g.us, &g.vs);
+    let rhs = [grid_fit.project(&g.orig)?, grid_fit.project(&iso_grid)?];
+    let searches = par_map(&rhs, threads, |r| plate_search(s, plate, r, bands));
     let [reference, combined]: [_; 2] = (searches.into_iter().collect::<Result<Vec<_>>>()?)
         .try_into()
         .map_err(|_| Error::Solve("surface smoothing: one search per data set".into()))?;
@@ -669,13 +865,15 @@ fn fair_surface_unbounded(surface: &BSplineSurface, opts: SurfaceFairingOptions)
             .zip(ranks)
             .map(|((pick, f, dev, st), r)| (r, pick, f, dev, st)),
     );
-    // the reference's rank: that of its answer (the original's when no strength held the band)
-    let ref_rank = (cands.iter().rev())
-        .find(|c| c.1 == SurfacePick::Reference)
-        .map_or(cands[0].0, |c| c.0);
-    // blends of pairs of anchors — the isocurve result, the reference's answer and the fairest net of the
-    // smoother run on the isocurve result: |S_blend − S| is at most the larger of the two nets' changes at
-    // every point; each blend is checked on the fine grid again
+    Ok(cands)
+}
+
+/// Step 8's blends, ranked and appended to `cands`: pairs of anchors — the isocurve result, the
+/// reference's answer and the fairest net of the smoother run on the isocurve result — blended by
+/// [`BLENDS`]; |S_blend − S| is at most the larger of the two nets' changes at every point, and each blend
+/// is checked on the fine grid again.
+fn blend_candidates(g: &Grids<'_>, cands: &mut Vec<Cand>, bands: &Bands<'_>, ranker: &Ranker) -> Result<()> {
+    let s = g.s;
     let mut anchors: Vec<usize> = vec![1];
     if let Some(i) = cands.iter().rposition(|c| c.1 == SurfacePick::Reference) {
         anchors.push(i);
@@ -694,22 +892,32 @@ fn fair_surface_unbounded(surface: &BSplineSurface, opts: SurfaceFairingOptions)
                     .map(|(a, b)| *a + (*b - *a) * (1.0 - w))
                     .collect();
                 let f = s.with_points(pts)?;
-                if let Some(dev) = bands.holds(&s, &f) {
+                if let Some(dev) = bands.holds(s, &f) {
                     blends.push((f, dev));
                 }
             }
         }
     }
-    let ranks = par_map(&blends, threads, |b| ranker.rank(&b.0));
+    let ranks = par_map(&blends, g.threads, |b| ranker.rank(&b.0));
     cands.extend(
         blends
             .into_iter()
             .zip(ranks)
             .map(|((f, dev), r)| (r, SurfacePick::Blend, f, dev, 0.0)),
     );
-    // the lexicographically fairest of the candidates that are no less fair than the reference and the
-    // isocurve result on either measure and have no more extrema than the original; if none, of those no
-    // less fair than the reference with no more extrema than the original; if none, of all
+    Ok(())
+}
+
+/// Step 8's pick among `cands` (the original first, the isocurve result second): the lexicographically
+/// fairest of the candidates that are no less fair than the reference and the isocurve result on either
+/// measure and have no more extrema than the original; if none, of those no less fair than the reference
+/// with no more extrema than the original; if none, of all.
+fn pick_fairest(mut cands: Vec<Cand>) -> Cand {
+    // the reference's rank: that of its answer (the original's when no strength held the band)
+    let ref_rank = (cands.iter().rev())
+        .find(|c| c.1 == SurfacePick::Reference)
+        .map_or(cands[0].0, |c| c.0);
+    let today = cands[1].0;
     let dominates = |r: &Rank, o: &Rank| r.0 <= o.0 && r.1 <= o.1;
     let best_of = |keep: &dyn Fn(&Rank) -> bool| {
         cands
@@ -724,18 +932,5 @@ fn fair_surface_unbounded(surface: &BSplineSurface, opts: SurfaceFairingOptions)
         .or_else(|| best_of(&|r| dominates(r, &ref_rank) && r.0 <= orig_ext))
         .or_else(|| best_of(&|_| true))
         .unwrap_or(1);
-    let (_, kind, f, dev, st) = cands.swap_remove(pick);
-    if kind != SurfacePick::Isocurves {
-        result.surface = f;
-        result.max_deviation = dev;
-        result.alpha = if kind == SurfacePick::Original { 0.0 } else { 1.0 };
-        result.smoothing = SurfaceSmoothing {
-            strength_u: st,
-            strength_v: st,
-            order: REFERENCE_ORDER,
-        };
-        result.pick = kind;
-    }
-    result.timings.reference += t0.elapsed();
-    Ok(result)
+    cands.swap_remove(pick)
 }
