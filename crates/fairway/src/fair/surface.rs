@@ -17,10 +17,10 @@
 //!    the three control rows/columns next to the region border. A **pole** —
 //!    a boundary row or column whose control points coincide (a surface of
 //!    revolution, a triangular patch) — holds its row and the next two
-//!    ([`POLE_ROWS`]), so it stays one point with its tangent plane and
+//!    (`POLE_ROWS`), so it stays one point with its tangent plane and
 //!    curvature; the isocurve through it is a point and is left as it is
 //!    (test `a_pole_stays_one_point_and_the_rest_is_faired`). A **seam** —
-//!    a closed direction, first and last rows equal — holds [`POLE_ROWS`]
+//!    a closed direction, first and last rows equal — holds `POLE_ROWS`
 //!    rows at each side of it: the isocurves are faired one stretch each, not
 //!    across the seam, and fairing the two sides independently would open the
 //!    surface there (test `a_closed_surface_stays_closed_at_its_seam`). Fairing
@@ -87,9 +87,9 @@
 //!    knots and parameters ([`GridFit`], separable, O(n)).
 //! 6. **Choice of the isocurve tolerance and the fit smoothing** (with
 //!    `auto_smoothing`, the default). For the isocurve tolerances
-//!    `m_iso = m, m/3, m/9, …` ([`ISO_LEVEL_FACTOR`], at most
+//!    `m_iso = m, m/3, m/9, …` (`ISO_LEVEL_FACTOR`, at most
 //!    `iso_levels`, greedy: stop at the first level that is no fairer), each
-//!    smoothing strength of [`AUTO_STRENGTHS`] is fitted (after the first
+//!    smoothing strength of `AUTO_STRENGTHS` is fitted (after the first
 //!    level only those next to the pick, see below); among the
 //!    candidates that hold the band (step 7) the one with the least
 //!    *fairness energy* is taken: the Dirichlet energy of the mean curvature
@@ -132,7 +132,7 @@
 //!    ×0.722–0.738 scaled. Cost of the isocurves: one pass instead of up to
 //!    `iso_levels` (100 × 100: 118 ms instead of 220 ms wall on 2 threads), so
 //!    scaling is the default. After the first level, only the picked strength
-//!    and its two neighbours on [`AUTO_STRENGTHS`] are fitted (3 fits and
+//!    and its two neighbours on `AUTO_STRENGTHS` are fitted (3 fits and
 //!    energies instead of 8 per level; `surface_combine` and
 //!    `surface_region_quality` give the same or lower curvature errors).
 //! 7. **Hard tolerance.** The result is checked on a grid of
@@ -142,22 +142,22 @@
 //!    projection in both directions gives a sharper (still upper) bound. If
 //!    the bound exceeds m, the isocurve tolerance is tightened
 //!    (`m_iso ← 0.8 · m_iso · m / dev`) and all is redone (up to
-//!    [`MAX_ROUNDS`]); if still above, the change of the control points is
+//!    `MAX_ROUNDS`); if still above, the change of the control points is
 //!    scaled, `ΔD ← α ΔD`, α bisected in [0, 1] (α = 0 is the original, so a
 //!    positive tolerance is always met; the result reports α).
 //! 8. **The fairest candidate** (default [`SurfaceMethod::Fairway`]; [`SurfaceMethod::Isocurves`] stops
 //!    after step 7). The **reference smoother** ([`SurfaceMethod::Smoothing`], `fairway fair --method
 //!    smoothing`) is the surface counterpart of the curve engine's `FitMode::Smoothing`: on the same
 //!    free block and grid as step 5, with the original's samples as data, [`PlateFit`](crate::fit_surface::PlateFit) minimises
-//!    `‖S − S₀‖² + λ ∫∫ S_xxx² + 3 S_xxy² + 3 S_xyy² + S_yyy²` (order [`REFERENCE_ORDER`] = 3, the
+//!    `‖S − S₀‖² + λ ∫∫ S_xxx² + 3 S_xxy² + 3 S_xyy² + S_yyy²` (order `REFERENCE_ORDER` = 3, the
 //!    rotation-invariant curvature-variation energy, x, y the parameters scaled by the mean speeds), the
 //!    largest λ on a log bisection whose result holds the band. Candidates: the original, step 7's
 //!    result, the smoother's answer on the original's samples and on step 7's result (data = the isocurve
 //!    result's samples, band still against the original; ranking the weaker strengths the searches visited
 //!    as well changed no row of the table), and blends
 //!    `a + (b − a)(1 − w)` of pairs of the isocurve result, the smoother's answer and the fairest
-//!    smoother-on-isocurves net ([`BLENDS`]). A smoother or blend candidate holds the band when the
-//!    step-7 checks pass and, on a grid of [`FINE_CHECK_PER_SPAN`] samples per span, the parametric
+//!    smoother-on-isocurves net (`BLENDS`). A smoother or blend candidate holds the band when the
+//!    step-7 checks pass and, on a grid of `FINE_CHECK_PER_SPAN` samples per span, the parametric
 //!    change `|S_f − S|` stays ≤ m, its grid peaks followed to their local maxima by Newton ascent
 //!    (projected distances are never larger; without the peaks the smoother's nets exceeded m by up to
 //!    0.1 % between nodes, measured by dense projection). Each candidate is ranked by
@@ -205,35 +205,33 @@ mod reference;
 mod tests;
 
 use check::{CheckGrid, grid_points};
-pub use fairness::ENERGY_PER_SPAN;
 use fairness::FairnessGrid;
-pub use isocurves::{ISO_BLOCK, POLE_ROWS, isocurve_setup};
+use isocurves::POLE_ROWS;
+pub use isocurves::isocurve_setup;
 use isocurves::{combined_cloud, hold_poles_and_seams, net_size};
 pub use options::{Combine, SurfaceFairingOptions, SurfaceFairingResult, SurfaceMethod, SurfacePick, SurfaceTimings};
 use parallel::par_map;
-pub use reference::{
-    BLENDS, FINE_CHECK_PER_SPAN, MAX_PEAKS, PEAK_FRACTION, RANK_GAUSS, RANK_ISO, REFERENCE_LOG_STRENGTH,
-    REFERENCE_ORDER, REFERENCE_STEPS, SEARCH_CANDIDATES,
-};
+pub use reference::REFERENCE_LOG_STRENGTH;
+use reference::{BLENDS, FINE_CHECK_PER_SPAN, REFERENCE_ORDER, SEARCH_CANDIDATES};
 use reference::{Bands, Rank, Ranker, plate_fit, plate_search};
 
 /// Smoothing strengths tried, largest first, with `auto_smoothing` (see [`SurfaceSmoothing`]).
-pub const AUTO_STRENGTHS: [f64; 8] = [1e5, 1e4, 1e3, 1e2, 1e1, 1.0, 1e-1, 0.0];
+pub(crate) const AUTO_STRENGTHS: [f64; 8] = [1e5, 1e4, 1e3, 1e2, 1e1, 1.0, 1e-1, 0.0];
 
 /// Ratio of successive isocurve tolerances tried with `auto_smoothing` (module docs, step 6).
-pub const ISO_LEVEL_FACTOR: f64 = 1.0 / 3.0;
+pub(crate) const ISO_LEVEL_FACTOR: f64 = 1.0 / 3.0;
 
 /// Rounds of isocurve-tolerance tightening before the α fallback.
-pub const MAX_ROUNDS: usize = 4;
+pub(crate) const MAX_ROUNDS: usize = 4;
 
 /// Check samples per knot span and direction of the hard tolerance.
-pub const CHECK_PER_SPAN: usize = 6;
+pub(crate) const CHECK_PER_SPAN: usize = 6;
 
 /// Curve-engine samples per knot span of an isocurve (unless `curve.samples` is set).
-pub const ISO_SAMPLES_PER_SPAN: usize = 4;
+pub(crate) const ISO_SAMPLES_PER_SPAN: usize = 4;
 
 /// Width of the isocurves' default target smoothing, in knot spans (unless `curve.strength` is set).
-pub const ISO_TARGET_SIGMA_SPANS: f64 = 1.6;
+pub(crate) const ISO_TARGET_SIGMA_SPANS: f64 = 1.6;
 
 fn span_grid(knots: &KnotVector, a: f64, b: f64, per_span: usize) -> Vec<f64> {
     let bp: Vec<f64> = knots.breakpoints().into_iter().filter(|&t| t >= a && t <= b).collect();
@@ -435,7 +433,7 @@ impl<'a> Grids<'a> {
         (g, tm)
     }
 
-    /// The check grid of [`FINE_CHECK_PER_SPAN`] samples per knot span of the moving rectangle (step 8).
+    /// The check grid of `FINE_CHECK_PER_SPAN` samples per knot span of the moving rectangle (step 8).
     fn fine_check(&self) -> CheckGrid {
         let ((au, bu), (av, bv)) = self.rect;
         CheckGrid::new(
@@ -526,7 +524,7 @@ type Fitted = (SurfaceSmoothing, Vec<DVec3>, BSplineSurface, Option<f64>);
 struct Rounds<'g, 'a> {
     g: &'g Grids<'a>,
     opts: &'g SurfaceFairingOptions,
-    /// The smoothing strengths tried ([`AUTO_STRENGTHS`], or the options' smoothing alone as NaN).
+    /// The smoothing strengths tried (`AUTO_STRENGTHS`, or the options' smoothing alone as NaN).
     ladder: &'static [f64],
     /// Fairness energy over the moving rectangle (auto-smoothing selection, module docs step 6).
     energy: Option<FairnessGrid>,
@@ -870,7 +868,7 @@ fn smoother_candidates(
 
 /// Step 8's blends, ranked and appended to `cands`: pairs of anchors — the isocurve result, the
 /// reference's answer and the fairest net of the smoother run on the isocurve result — blended by
-/// [`BLENDS`]; |S_blend − S| is at most the larger of the two nets' changes at every point, and each blend
+/// `BLENDS`; |S_blend − S| is at most the larger of the two nets' changes at every point, and each blend
 /// is checked on the fine grid again.
 fn blend_candidates(g: &Grids<'_>, cands: &mut Vec<Cand>, bands: &Bands<'_>, ranker: &Ranker) -> Result<()> {
     let s = g.s;

@@ -22,7 +22,7 @@
 //! * `Heat` (default) — the same heat flow that `Average` integrates with
 //!   explicit steps (one three-point pass is a forward-Euler step of
 //!   `∂g/∂t = Δg` with `Δt = 1/3` sample²), integrated instead with
-//!   [`HEAT_STEPS`] backward-Euler steps, each one tridiagonal solve
+//!   `HEAT_STEPS` backward-Euler steps, each one tridiagonal solve
 //!   (Thomas). `strength` is the flow time in passes, so `Heat` with
 //!   strength P smooths like P averaging passes (same Gaussian variance
 //!   2P/3 samples² at low frequencies) but costs O(n) whatever P, where the

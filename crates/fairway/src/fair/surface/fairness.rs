@@ -18,7 +18,7 @@ pub(super) struct FairnessGrid {
 }
 
 /// Samples per knot span of the fairness energy grid.
-pub const ENERGY_PER_SPAN: usize = 2;
+pub(crate) const ENERGY_PER_SPAN: usize = 2;
 
 fn basis_table(k: &KnotVector, ts: &[f64]) -> Vec<(usize, [[f64; MAX_ORDER]; 3])> {
     ts.iter()

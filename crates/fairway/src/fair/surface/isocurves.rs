@@ -12,7 +12,7 @@ use std::time::Instant;
 
 /// Rows next to a pole that a fair keeps: the pole row and the two after it fix the surface's position,
 /// tangent plane and curvature at the pole.
-pub const POLE_ROWS: usize = 3;
+pub(crate) const POLE_ROWS: usize = 3;
 
 /// Diagonal of the control net's bounding box.
 pub(super) fn net_size(s: &BSplineSurface) -> f64 {
@@ -103,7 +103,7 @@ pub fn isocurve_setup(
 }
 
 /// Isocurves per block of neighbours (warm-started band search, one unit of parallel work).
-pub const ISO_BLOCK: usize = 8;
+pub(crate) const ISO_BLOCK: usize = 8;
 
 /// Fair the isocurves and combine the clouds: returns the grid data `S + Δ`, one per isocurve tolerance
 /// of `levels`. Each isocurve's setup (arc length, samples, basis rows, normal equations) does not depend on

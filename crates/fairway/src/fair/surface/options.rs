@@ -45,7 +45,7 @@ pub enum SurfaceMethod {
     #[default]
     Fairway,
     /// The reference smoother alone: tensor-product penalized least squares on the original's grid
-    /// samples with the curvature-variation energy ([`PlateFit`](crate::fit_surface::PlateFit), order [`REFERENCE_ORDER`](super::REFERENCE_ORDER)), the largest strength
+    /// samples with the curvature-variation energy ([`PlateFit`](crate::fit_surface::PlateFit), order `REFERENCE_ORDER`(super::REFERENCE_ORDER)), the largest strength
     /// whose result holds the verified band (module docs, step 8).
     Smoothing,
     /// The isocurve fairing alone (steps 1-7, without the step-8 choice): for comparisons.
@@ -75,7 +75,7 @@ pub enum SurfacePick {
     Reference,
     /// The reference smoother run on the isocurve fairing's result (band still against the original).
     Combined,
-    /// A blend of the isocurve result's net with the fairer smoother net ([`BLENDS`](super::BLENDS)).
+    /// A blend of the isocurve result's net with the fairer smoother net (`BLENDS`(super::BLENDS)).
     Blend,
     /// The original: no candidate was fairer.
     Original,
@@ -96,7 +96,7 @@ pub struct SurfaceFairingOptions {
     pub samples_per_span: usize,
     /// Smoothing of the surface fit (with `auto_smoothing`, only its order is used).
     pub smoothing: SurfaceSmoothing,
-    /// Choose the smoothing strength (of [`AUTO_STRENGTHS`](super::AUTO_STRENGTHS)) and the isocurve tolerance (see
+    /// Choose the smoothing strength (of `AUTO_STRENGTHS`(super::AUTO_STRENGTHS)) and the isocurve tolerance (see
     /// `iso_levels`) by the fairness energy among the results that hold the tolerance (module docs,
     /// step 6). Without it: `smoothing` as given, the isocurve tolerance m (tightened only when the
     /// band is broken).
@@ -104,7 +104,7 @@ pub struct SurfaceFairingOptions {
     /// Threads fairing the isocurves (`None`: rayon's global pool, `RAYON_NUM_THREADS` if set; `Some(1)`: this
     /// thread only). The result does not depend on it.
     pub threads: Option<usize>,
-    /// With `auto_smoothing`: at most this many isocurve tolerances `m, m/3, m/9, …` ([`ISO_LEVEL_FACTOR`](super::ISO_LEVEL_FACTOR)) are tried
+    /// With `auto_smoothing`: at most this many isocurve tolerances `m, m/3, m/9, …` (`ISO_LEVEL_FACTOR`(super::ISO_LEVEL_FACTOR)) are tried
     /// (greedy: stop at the first level that does not lower the fairness energy), ≥ 1 (module docs, step 6).
     pub iso_levels: usize,
     /// How the levels below m are made: `false` (default) scales the combined correction of the one

@@ -11,29 +11,29 @@ use glam::DVec3;
 use std::ops::Range;
 
 /// Check samples per knot span and direction of the step-8 candidates (module docs, step 8).
-pub const FINE_CHECK_PER_SPAN: usize = 4 * CHECK_PER_SPAN;
+pub(crate) const FINE_CHECK_PER_SPAN: usize = 4 * CHECK_PER_SPAN;
 
 /// Band-holding strengths of each smoother search that step 8 ranks, the strongest first (1: the search's answer).
-pub const SEARCH_CANDIDATES: usize = 1;
+pub(crate) const SEARCH_CANDIDATES: usize = 1;
 
 /// Blend weights of the isocurve result tried against the smoother's (step 8).
-pub const BLENDS: [f64; 3] = [0.25, 0.5, 0.75];
+pub(crate) const BLENDS: [f64; 3] = [0.25, 0.5, 0.75];
 
 /// Gauss–Legendre nodes per cell and direction of the step-8 ranking's `∫∫|∇H|²`.
-pub const RANK_GAUSS: usize = 10;
+pub(crate) const RANK_GAUSS: usize = 10;
 
 /// Order of the reference smoother's energy: 3, the curvature-variation energy (module docs, step 8; the
 /// thin plate, order 2, was measured as the weaker peer).
-pub const REFERENCE_ORDER: usize = 3;
+pub(crate) const REFERENCE_ORDER: usize = 3;
 
 /// Smallest and largest strength (log10) of the reference smoother's search.
 pub const REFERENCE_LOG_STRENGTH: (f64, f64) = (-6.0, 8.0);
 
 /// Bisection steps on log10 of the strength (resolution 14 / 2¹² decades, under 1 % in λ).
-pub const REFERENCE_STEPS: usize = 12;
+pub(crate) const REFERENCE_STEPS: usize = 12;
 
 /// Isocurves per direction of the step-8 ranking (as `measure`'s [`crate::measure_surface::N_ISO`]).
-pub const RANK_ISO: usize = 20;
+pub(crate) const RANK_ISO: usize = 20;
 
 /// The reference smoother's energy for `s` on its grid: [`PlateFit`] of [`REFERENCE_ORDER`] with the mean
 /// speeds `|S_u|`, `|S_v|` of the original over the grid as length scales.
@@ -100,10 +100,10 @@ impl Bands<'_> {
 }
 
 /// Grid peaks of the change above this fraction of m are followed to their local maximum (the band check of step 8).
-pub const PEAK_FRACTION: f64 = 0.99;
+pub(crate) const PEAK_FRACTION: f64 = 0.99;
 
 /// At most this many grid peaks (the largest) are followed.
-pub const MAX_PEAKS: usize = 16;
+pub(crate) const MAX_PEAKS: usize = 16;
 
 /// The local maximum of the parametric change `|S_b − S_a|` near `uv`: Newton ascent on `|Δ|²/2` (gradient
 /// `Δ·Δ_u, Δ·Δ_v`, Hessian `Δ_u·Δ_u + Δ·Δ_uu, …`; a gradient step where that is not negative definite),
