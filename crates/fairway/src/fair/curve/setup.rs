@@ -153,6 +153,7 @@ impl FairingSetup {
         s.sample_rows();
         let kappa = s.frames()?;
         s.fix_joins([!at_start, !at_end], ends);
+        s.keep_g1_joints();
         s.normal_matrices();
         let all = s.check_sample_params(&table, check_samples, check_phase, (s_a, s_b), length, domain);
         s.check_rows(all);
@@ -389,7 +390,7 @@ impl FairingSetup {
     /// r = o + 1 (p-fold knot, G2): it stays, and the next one moves along T only.
     fn fix_joins(&mut self, interior: [bool; 2], ends: [EndCondition; 2]) {
         let (p, nf, ns, range) = (self.work.degree(), self.nf, self.params.len(), self.range);
-        let work = &self.work;
+        let work = self.work.clone();
         for (e, (interior, cond)) in [(interior[0], ends[0]), (interior[1], ends[1])].into_iter().enumerate() {
             let r = cond.order();
             let kj = if e == 0 { range.0 } else { range.1 };
@@ -415,18 +416,51 @@ impl FairingSetup {
                 vec![(first, None), (second, Some(t))]
             };
             for (i, c) in fixes {
-                if i >= nf {
-                    continue;
+                if i < nf {
+                    self.add_join_fix(i, c);
                 }
-                match self.join_fix.iter_mut().find(|(k, _)| *k == i) {
-                    // a point constrained by both joins: along both tangents, i.e. still unless parallel
-                    Some((_, old)) => {
-                        *old = match (*old, c) {
-                            (Some(a), Some(b)) if a.cross(b).length() <= 1e-12 => Some(a),
-                            _ => None,
-                        }
-                    }
-                    None => self.join_fix.push((i, c)),
+            }
+        }
+    }
+
+    /// Constrain free point `i` (local index) to move along `c` only (`None`: not at all). A point
+    /// constrained twice moves along both directions, i.e. stays unless they are parallel.
+    fn add_join_fix(&mut self, i: usize, c: Option<DVec3>) {
+        match self.join_fix.iter_mut().find(|(k, _)| *k == i) {
+            Some((_, old)) => {
+                *old = match (*old, c) {
+                    (Some(a), Some(b)) if a.cross(b).length() <= 1e-12 => Some(a),
+                    _ => None,
+                }
+            }
+            None => self.join_fix.push((i, c)),
+        }
+    }
+
+    /// The C0 joints inside the moving stretch (interior knots of multiplicity p: a Bézier chain's
+    /// joints) where the original is G1 — a kink there is a corner, split off before the setup: the joint
+    /// point stays and its two neighbours move along the joint's tangent only, so the curve stays G1
+    /// there. Unconstrained, a fair opened such joints into kinks of 0.5–1.1° inside the band (the edges
+    /// of a public impeller model, `scripts/real_curves.sh`).
+    fn keep_g1_joints(&mut self) {
+        let (p, nf, i0, range) = (self.work.degree(), self.nf, self.i0, self.range);
+        let kv = self.work.knots().values().to_vec();
+        let pts = self.work.points().to_vec();
+        for u in self.work.knots().breakpoints() {
+            if u <= range.0 || u >= range.1 || self.work.knots().multiplicity(u) < p {
+                continue;
+            }
+            let j = kv.partition_point(|&k| k <= u) - 1 - p;
+            if j == 0 || j + 1 >= pts.len() {
+                continue;
+            }
+            let t = (pts[j + 1] - pts[j - 1]).normalize_or_zero();
+            if t == DVec3::ZERO {
+                continue;
+            }
+            for (g, c) in [(j - 1, Some(t)), (j, None), (j + 1, Some(t))] {
+                if let Some(local) = g.checked_sub(i0).filter(|&l| l < nf) {
+                    self.add_join_fix(local, c);
                 }
             }
         }
@@ -588,11 +622,8 @@ impl FairingSetup {
                 }
             }
         }
-        for (i, _) in checked.iter().enumerate().filter(|(_, c)| !**c) {
-            match self.join_fix.iter_mut().find(|(k, _)| *k == i) {
-                Some((_, fix)) => *fix = None,
-                None => self.join_fix.push((i, None)),
-            }
+        for i in (0..nf).filter(|&i| !checked[i]) {
+            self.add_join_fix(i, None);
         }
     }
 
