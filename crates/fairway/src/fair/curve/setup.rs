@@ -53,12 +53,14 @@ fn plane_normal(pts: &[DVec3]) -> Option<DVec3> {
     pts.iter().all(|p| (*p - o).dot(n).abs() <= 1e-12 * size).then_some(n)
 }
 
+/// A G1 / G0 region end this close to a knot, as a fraction of its knot span, is moved onto the knot;
+/// a knot span at an end of an open curve whose control polygon is below this fraction of the mean
+/// span's is a sliver left as it is (`region.rs`).
+pub(crate) const SLIVER_SNAP: f64 = 0.01;
+
 /// `u`, or the knot nearest to it if that is within `eps`: a G1 / G0 region end is inserted there rather
 /// than as a second knot `eps` away (the free-point test treats them as one; a span of length 1e-14
 /// would give the result derivatives of 1e14 and knots that collide under rounding).
-/// A G1 / G0 region end this close to a knot, as a fraction of its knot span, is moved onto the knot.
-pub(crate) const SLIVER_SNAP: f64 = 0.01;
-
 pub(crate) fn snap_to_knot(knots: &[f64], u: f64, eps: f64) -> f64 {
     let i = knots.partition_point(|&k| k < u);
     [i.checked_sub(1), Some(i)]
@@ -390,7 +392,8 @@ impl FairingSetup {
     /// r = o + 1 (p-fold knot, G2): it stays, and the next one moves along T only.
     fn fix_joins(&mut self, interior: [bool; 2], ends: [EndCondition; 2]) {
         let (p, nf, ns, range) = (self.work.degree(), self.nf, self.params.len(), self.range);
-        let work = self.work.clone();
+        let work = &self.work;
+        let mut all_fixes = vec![];
         for (e, (interior, cond)) in [(interior[0], ends[0]), (interior[1], ends[1])].into_iter().enumerate() {
             let r = cond.order();
             let kj = if e == 0 { range.0 } else { range.1 };
@@ -415,11 +418,10 @@ impl FairingSetup {
             } else {
                 vec![(first, None), (second, Some(t))]
             };
-            for (i, c) in fixes {
-                if i < nf {
-                    self.add_join_fix(i, c);
-                }
-            }
+            all_fixes.extend(fixes.into_iter().filter(|&(i, _)| i < nf));
+        }
+        for (i, c) in all_fixes {
+            self.add_join_fix(i, c);
         }
     }
 
@@ -444,13 +446,13 @@ impl FairingSetup {
     /// of a public impeller model, `scripts/real_curves.sh`).
     fn keep_g1_joints(&mut self) {
         let (p, nf, i0, range) = (self.work.degree(), self.nf, self.i0, self.range);
-        let kv = self.work.knots().values().to_vec();
-        let pts = self.work.points().to_vec();
-        for u in self.work.knots().breakpoints() {
-            if u <= range.0 || u >= range.1 || self.work.knots().multiplicity(u) < p {
+        let (knots, pts) = (self.work.knots(), self.work.points());
+        let mut fixes = vec![];
+        for u in knots.breakpoints() {
+            if u <= range.0 || u >= range.1 || knots.multiplicity(u) < p {
                 continue;
             }
-            let j = kv.partition_point(|&k| k <= u) - 1 - p;
+            let j = knots.values().partition_point(|&k| k <= u) - 1 - p;
             if j == 0 || j + 1 >= pts.len() {
                 continue;
             }
@@ -460,9 +462,12 @@ impl FairingSetup {
             }
             for (g, c) in [(j - 1, Some(t)), (j, None), (j + 1, Some(t))] {
                 if let Some(local) = g.checked_sub(i0).filter(|&l| l < nf) {
-                    self.add_join_fix(local, c);
+                    fixes.push((local, c));
                 }
             }
+        }
+        for (i, c) in fixes {
+            self.add_join_fix(i, c);
         }
     }
 
