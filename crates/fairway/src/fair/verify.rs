@@ -179,74 +179,161 @@ pub fn band_bound(original: &BSplineCurve, faired: &BSplineCurve, level: f64, bu
         return None;
     }
     let (c0, c) = common_knots(original, faired)?;
-    let p = c0.degree();
-    let kv = c0.knots().values().to_vec();
-    let n = c0.n_points();
-    let diff: Vec<DVec3> = c0.points().iter().zip(c.points()).map(|(a, b)| *a - *b).collect();
-    let bd = SpanBounds::new(&kv, p, &diff);
-    let b0 = SpanBounds::new(&kv, p, c0.points());
-    let bc = SpanBounds::new(&kv, p, c.points());
-    // rounding of the evaluations: a few ulps of the coordinates' magnitude
-    let scale = b0.m0.iter().chain(&bc.m0).fold(0.0f64, |a, &x| a.max(x));
-    let slack = 64.0 * f64::EPSILON * scale;
-    let (d0, d1) = c0.domain();
-    let closed = c.points()[0].distance(c.points()[n - 1]) <= slack;
-    let periodic = closed && {
-        let (ta, tb) = (c.derivs(d0).d1, c.derivs(d1).d1);
-        (ta - tb).length() <= 1e-9 * ta.length().max(tb.length())
-    };
-    let mut heap = BinaryHeap::new();
-    for s in p..n {
-        if kv[s + 1] > kv[s] && bd.m0[s] > 0.0 {
-            heap.push(Piece {
-                bound: bd.m0[s] + slack,
-                span: s,
-                depth: 0,
-                ends: None,
-            });
-        }
-    }
+    let mut search = BandSearch::new(&c0, &c);
+    let mut heap = search.initial_pieces();
     let mut out = BandBound {
         bound: 0.0,
         sampled: 0.0,
-        at: d0,
+        at: search.d0,
         evaluations: 0,
     };
-    // the spans of c covering [t_a, t_b]: max |c''| there
-    let m2_faired = |ta: f64, tb: f64| -> f64 {
+    while let Some(piece) = heap.pop() {
+        // no interval left exceeds the sampled maximum by more than SHARPNESS (nor `level`, unless
+        // by no more than rounding): the bound is its bound
+        let sharp = piece.bound <= out.sampled * (1.0 + SHARPNESS) + search.slack;
+        if sharp && (piece.bound <= level || piece.bound <= out.sampled * (1.0 + 1e-6) + search.slack) {
+            heap.push(piece);
+            break;
+        }
+        let new_samples = match piece.ends {
+            None => match search.sample_span(piece.span, budget, &mut out) {
+                Some(v) => v,
+                None => {
+                    heap.push(piece);
+                    break;
+                }
+            },
+            Some((l, r)) => match search.refine_ends(piece, l, r, level, budget, &mut out, &mut heap) {
+                Some(v) => v,
+                None => continue,
+            },
+        };
+        search.push_halves(&new_samples, piece, &mut out, &mut heap);
+    }
+    search.finish(&heap, &mut out);
+    Some(out)
+}
+
+/// The state of [`band_bound`]'s search: the two curves on common knots, their span bounds, the
+/// rounding slack, the faired curve's corners, and the projector for the feet searched further.
+struct BandSearch<'a> {
+    c0: &'a BSplineCurve,
+    c: &'a BSplineCurve,
+    p: usize,
+    kv: Vec<f64>,
+    bd: SpanBounds,
+    b0: SpanBounds,
+    bc: SpanBounds,
+    slack: f64,
+    d0: f64,
+    d1: f64,
+    closed: bool,
+    periodic: bool,
+    /// The faired curve's interior C0 breakpoints (its corners).
+    corners: Vec<f64>,
+    projector: Option<CurveProjector<'a>>,
+    /// Whole-curve searches done so far (at most GLOBAL_SEARCHES).
+    globals: usize,
+}
+
+impl<'a> BandSearch<'a> {
+    /// Setup: span bounds of the difference and of both curves, rounding slack, closedness, and
+    /// the corners, all read once before the search.
+    fn new(c0: &'a BSplineCurve, c: &'a BSplineCurve) -> Self {
+        let p = c0.degree();
+        let kv = c0.knots().values().to_vec();
+        let n = c0.n_points();
+        let diff: Vec<DVec3> = c0.points().iter().zip(c.points()).map(|(a, b)| *a - *b).collect();
+        let bd = SpanBounds::new(&kv, p, &diff);
+        let b0 = SpanBounds::new(&kv, p, c0.points());
+        let bc = SpanBounds::new(&kv, p, c.points());
+        // rounding of the evaluations: a few ulps of the coordinates' magnitude
+        let scale = b0.m0.iter().chain(&bc.m0).fold(0.0f64, |a, &x| a.max(x));
+        let slack = 64.0 * f64::EPSILON * scale;
+        let (d0, d1) = c0.domain();
+        let closed = c.points()[0].distance(c.points()[n - 1]) <= slack;
+        let periodic = closed && {
+            let (ta, tb) = (c.derivs(d0).d1, c.derivs(d1).d1);
+            (ta - tb).length() <= 1e-9 * ta.length().max(tb.length())
+        };
+        // the faired curve's interior C0 breakpoints (its corners): a closest point there is not a
+        // stationary point of the distance, so Newton cannot find it; they are tried directly
+        let corners: Vec<f64> = {
+            let kn = c.knots();
+            let bp = kn.breakpoints();
+            bp[1..bp.len().saturating_sub(1)]
+                .iter()
+                .copied()
+                .filter(|&k| kn.multiplicity(k) >= p)
+                .collect()
+        };
+        Self {
+            c0,
+            c,
+            p,
+            kv,
+            bd,
+            b0,
+            bc,
+            slack,
+            d0,
+            d1,
+            closed,
+            periodic,
+            corners,
+            projector: None,
+            globals: 0,
+        }
+    }
+
+    /// Seeding: one piece per nonempty span where the curves differ, bounded by the control
+    /// polygon of the difference.
+    fn initial_pieces(&self) -> BinaryHeap<Piece> {
+        let mut heap = BinaryHeap::new();
+        for s in self.p..self.c0.n_points() {
+            if self.kv[s + 1] > self.kv[s] && self.bd.m0[s] > 0.0 {
+                heap.push(Piece {
+                    bound: self.bd.m0[s] + self.slack,
+                    span: s,
+                    depth: 0,
+                    ends: None,
+                });
+            }
+        }
+        heap
+    }
+
+    /// The spans of c covering [t_a, t_b]: max |c''| there.
+    fn m2_faired(&self, ta: f64, tb: f64) -> f64 {
         let (lo, hi) = (ta.min(tb), ta.max(tb));
-        let (s0, s1) = (c.knots().find_span(lo), c.knots().find_span(hi));
-        (s0..=s1).fold(0.0f64, |a, s| a.max(bc.m2[s]))
-    };
-    // the faired curve's interior C0 breakpoints (its corners): a closest point there is not a
-    // stationary point of the distance, so Newton cannot find it; they are tried directly
-    let corners: Vec<f64> = {
-        let kn = c.knots();
-        let bp = kn.breakpoints();
-        bp[1..bp.len().saturating_sub(1)]
-            .iter()
-            .copied()
-            .filter(|&k| kn.multiplicity(k) >= p)
-            .collect()
-    };
-    let nearest_corner = |q: DVec3, t: f64, lo: f64, hi: f64| -> Option<(f64, f64)> {
-        let i = corners.partition_point(|&k| k < lo);
-        corners[i..]
+        let (s0, s1) = (self.c.knots().find_span(lo), self.c.knots().find_span(hi));
+        (s0..=s1).fold(0.0f64, |a, s| a.max(self.bc.m2[s]))
+    }
+
+    /// The corner of the faired curve in [lo, hi] nearest to `q` (ties: nearest to `t`), as
+    /// (parameter, distance).
+    fn nearest_corner(&self, q: DVec3, t: f64, lo: f64, hi: f64) -> Option<(f64, f64)> {
+        let i = self.corners.partition_point(|&k| k < lo);
+        self.corners[i..]
             .iter()
             .take_while(|&&k| k <= hi)
-            .map(|&k| (k, c.point(k).distance(q)))
+            .map(|&k| (k, self.c.point(k).distance(q)))
             .min_by(|a, b| a.1.total_cmp(&b.1).then((a.0 - t).abs().total_cmp(&(b.0 - t).abs())))
-    };
-    let sample = |u: f64, t_guess: f64, level: u8, evals: &mut usize| -> Sample {
+    }
+
+    /// Sampling one point c₀(u): its foot on the faired curve by Newton from `t_guess` (across
+    /// the seam of a closed curve, or at a corner), and how far that foot is trusted.
+    fn sample(&self, u: f64, t_guess: f64, level: u8, evals: &mut usize) -> Sample {
+        let (c0, c, p, d0, d1) = (self.c0, self.c, self.p, self.d0, self.d1);
         *evals += 1;
         let e0 = c0.derivs(u);
         let q = e0.p;
         let pdist = (q - c.point(u)).length();
-        let ((mut t, mut dist, mut speed), mut converged) = closest_near(&c, q, t_guess, d0, d1);
+        let ((mut t, mut dist, mut speed), mut converged) = closest_near(c, q, t_guess, d0, d1);
         // a closed curve: a foot stopped at one end of the domain may continue past the seam
-        if closed && (t == d0 || t == d1) {
+        if self.closed && (t == d0 || t == d1) {
             let other = if t == d0 { d1 } else { d0 };
-            let ((t2, dist2, speed2), conv2) = closest_near(&c, q, other, d0, d1);
+            let ((t2, dist2, speed2), conv2) = closest_near(c, q, other, d0, d1);
             if dist2 < dist {
                 (t, dist, speed, converged) = (t2, dist2, speed2, conv2);
             }
@@ -261,7 +348,7 @@ pub fn band_bound(original: &BSplineCurve, faired: &BSplineCurve, level: f64, bu
         let mut trusted = converged && (t - u).abs() <= width && speed >= 0.05 * e0.d1.length();
         // a corner of the faired curve in the spans around the foot may be nearer
         let (lo, hi) = (kvc[sk.saturating_sub(1).max(p)], kvc[(sk + 2).min(kvc.len() - p - 1)]);
-        if let Some((k, dk)) = nearest_corner(q, t, lo, hi)
+        if let Some((k, dk)) = self.nearest_corner(q, t, lo, hi)
             && dk < dist
         {
             (t, dist) = (k, dk);
@@ -274,21 +361,21 @@ pub fn band_bound(original: &BSplineCurve, faired: &BSplineCurve, level: f64, bu
             pdist,
             level: if trusted { level.max(1) } else { level },
         }
-    };
-    let mut projector: Option<CurveProjector<'_>> = None;
-    let globals = std::cell::Cell::new(0usize);
-    // a foot searched one level further (see `Sample::level`); the whole-curve search at most
-    // GLOBAL_SEARCHES times (each costs a pass over the curve)
-    let mut sharpen = |x: &mut Sample, global: bool| {
+    }
+
+    /// A foot searched one level further (see `Sample::level`); the whole-curve search at most
+    /// GLOBAL_SEARCHES times (each costs a pass over the curve).
+    fn sharpen(&mut self, x: &mut Sample, global: bool) {
+        let (c0, c, p) = (self.c0, self.c, self.p);
         let q = c0.point(x.u);
-        let proj = projector.get_or_insert_with(|| CurveProjector::new(&c, 16));
+        let proj = self.projector.get_or_insert_with(|| CurveProjector::new(c, 16));
         let found = if x.level == 0 {
             let kv = c.knots().values();
             let s = c.knots().find_span(x.t);
             let (lo, hi) = (kv[s.saturating_sub(8).max(p)], kv[(s + 9).min(kv.len() - p - 1)]);
             Some(proj.project_between(q, lo, hi))
-        } else if global && globals.get() < GLOBAL_SEARCHES {
-            globals.set(globals.get() + 1);
+        } else if global && self.globals < GLOBAL_SEARCHES {
+            self.globals += 1;
             Some(proj.project(q))
         } else {
             None
@@ -300,20 +387,25 @@ pub fn band_bound(original: &BSplineCurve, faired: &BSplineCurve, level: f64, bu
             x.dist = f.distance;
         }
         x.level += 1;
-    };
-    let bound_of = |a: &Sample, b: &Sample, span: usize| -> f64 {
+    }
+
+    /// Bounding an interval between two samples: the smaller of the parametric bound and the
+    /// projection bound (piecewise where the feet cross corners of the faired curve).
+    fn bound_of(&self, a: &Sample, b: &Sample, span: usize) -> f64 {
+        let (c0, c, d0, d1) = (self.c0, self.c, self.d0, self.d1);
+        let (bd, b0, corners) = (&self.bd, &self.b0, &self.corners);
         let h = b.u - a.u;
         let e = h * h / 8.0;
         let param = a.pdist.max(b.pdist) + e * bd.m2[span];
         // feet on either side of the seam of a C1-closed curve: φ runs across it (c is C1 there,
         // so g' is continuous and the interpolation bound holds with c'' from both ends)
-        let (dt, m2c) = if periodic && (b.t - a.t).abs() > 0.5 * (d1 - d0) {
+        let (dt, m2c) = if self.periodic && (b.t - a.t).abs() > 0.5 * (d1 - d0) {
             let (lo, hi) = if a.t > b.t { (a.t, b.t) } else { (b.t, a.t) };
             let l = d1 - d0;
             let dt = if b.t < a.t { b.t + l - a.t } else { b.t - l - a.t };
-            (dt, m2_faired(lo, d1).max(m2_faired(d0, hi)))
+            (dt, self.m2_faired(lo, d1).max(self.m2_faired(d0, hi)))
         } else {
-            (b.t - a.t, m2_faired(a.t, b.t))
+            (b.t - a.t, self.m2_faired(a.t, b.t))
         };
         let s = dt / h;
         let (lo, hi) = (a.t.min(b.t), a.t.max(b.t));
@@ -335,7 +427,7 @@ pub fn band_bound(original: &BSplineCurve, faired: &BSplineCurve, level: f64, bu
             };
             for &k in ordered.iter().chain(std::iter::once(&b.t)) {
                 let hk = h * (k - prev) / dt;
-                curv = curv.max(hk * hk / 8.0 * (b0.m2[span] + s * s * m2_faired(prev, k)));
+                curv = curv.max(hk * hk / 8.0 * (b0.m2[span] + s * s * self.m2_faired(prev, k)));
                 if k != b.t {
                     let uk = a.u + h * (k - a.t) / dt;
                     nodes = nodes.max(c0.point(uk).distance(c.point(k)));
@@ -344,82 +436,91 @@ pub fn band_bound(original: &BSplineCurve, faired: &BSplineCurve, level: f64, bu
             }
             nodes + curv
         };
-        param.min(proj) + slack
-    };
-    // the distance at a sample whose foot is trusted (a lower estimate of the true maximum)
-    let searched = |x: &Sample| if x.level >= 1 { x.dist } else { 0.0 };
-    while let Some(piece) = heap.pop() {
-        // no interval left exceeds the sampled maximum by more than SHARPNESS (nor `level`, unless
-        // by no more than rounding): the bound is its bound
-        let sharp = piece.bound <= out.sampled * (1.0 + SHARPNESS) + slack;
-        if sharp && (piece.bound <= level || piece.bound <= out.sampled * (1.0 + 1e-6) + slack) {
-            heap.push(piece);
-            break;
+        param.min(proj) + self.slack
+    }
+
+    /// First refinement of a whole span: PIECES + 1 equally spaced samples, each foot guessed
+    /// from the previous one. `None` when that would exceed `budget` (the search stops).
+    fn sample_span(&self, s: usize, budget: usize, out: &mut BandBound) -> Option<Vec<Sample>> {
+        let (a, b) = (self.kv[s], self.kv[s + 1]);
+        if out.evaluations + PIECES + 1 > budget {
+            return None;
         }
+        let mut v: Vec<Sample> = Vec::with_capacity(PIECES + 1);
+        for k in 0..=PIECES {
+            let u = if k == PIECES {
+                b
+            } else {
+                a + (b - a) * k as f64 / PIECES as f64
+            };
+            let guess = v.last().map_or(u, |x| x.t + (u - x.u));
+            v.push(self.sample(u, guess, 0, &mut out.evaluations));
+        }
+        Some(v)
+    }
+
+    /// Refinement of an interval between two samples: sharpen its ends' feet first where they make
+    /// its bound, else settle it at the depth or budget limit, else bisect it (the midpoint's
+    /// samples returned). `None` when the piece was requeued or settled instead.
+    #[allow(clippy::too_many_arguments)]
+    fn refine_ends(
+        &mut self,
+        piece: Piece,
+        mut l: Sample,
+        mut r: Sample,
+        level: f64,
+        budget: usize,
+        out: &mut BandBound,
+        heap: &mut BinaryHeap<Piece>,
+    ) -> Option<Vec<Sample>> {
         let s = piece.span;
-        let (a, b) = (kv[s], kv[s + 1]);
-        let new_samples: Vec<Sample> = match piece.ends {
-            None => {
-                if out.evaluations + PIECES + 1 > budget {
-                    heap.push(piece);
-                    break;
+        // an interval whose bound the ends' distances make: search their feet further first
+        // (Newton may have stopped at a local minimum, on another branch, at a cusp)
+        // (over the whole curve only for a foot that seems outside the band: there a
+        // nearer pass of the curve decides the certificate; elsewhere bisection does)
+        let global = l.dist.max(r.dist) > level;
+        let wants = |x: &Sample| x.level == 0 || (x.level == 1 && global);
+        if (wants(&l) || wants(&r)) && l.dist.max(r.dist) >= 0.5 * piece.bound {
+            for x in [&mut l, &mut r] {
+                if wants(x) {
+                    self.sharpen(x, global);
                 }
-                let mut v: Vec<Sample> = Vec::with_capacity(PIECES + 1);
-                for k in 0..=PIECES {
-                    let u = if k == PIECES {
-                        b
-                    } else {
-                        a + (b - a) * k as f64 / PIECES as f64
-                    };
-                    let guess = v.last().map_or(u, |x| x.t + (u - x.u));
-                    v.push(sample(u, guess, 0, &mut out.evaluations));
-                }
-                v
             }
-            Some((mut l, mut r)) => {
-                // an interval whose bound the ends' distances make: search their feet further first
-                // (Newton may have stopped at a local minimum, on another branch, at a cusp)
-                // (over the whole curve only for a foot that seems outside the band: there a
-                // nearer pass of the curve decides the certificate; elsewhere bisection does)
-                let global = l.dist.max(r.dist) > level;
-                let wants = |x: &Sample| x.level == 0 || (x.level == 1 && global);
-                if (wants(&l) || wants(&r)) && l.dist.max(r.dist) >= 0.5 * piece.bound {
-                    for x in [&mut l, &mut r] {
-                        if wants(x) {
-                            sharpen(x, global);
-                        }
-                    }
-                    out.evaluations += 2;
-                    out.sampled = out.sampled.max(searched(&l).max(searched(&r)));
-                    heap.push(Piece {
-                        bound: bound_of(&l, &r, s),
-                        ends: Some((l, r)),
-                        ..piece
-                    });
-                    continue;
-                }
-                if piece.depth >= MAX_DEPTH || out.evaluations + 1 > budget {
-                    // cannot refine further: it stays as it is (an upper bound)
-                    if piece.bound > out.bound {
-                        out.bound = piece.bound;
-                        out.at = 0.5 * (l.u + r.u);
-                    }
-                    continue;
-                }
-                // the midpoint's foot from each end's shift t − u: where the ends' feet are on
-                // different branches (a curve passing q twice, points slid along a line that doubles
-                // back), each half keeps its own end's branch
-                let um = 0.5 * (l.u + r.u);
-                let (shift_l, shift_r) = (l.t - l.u, r.t - r.u);
-                let ml = sample(um, um + shift_l, 0, &mut out.evaluations);
-                let mr = if (shift_l - shift_r).abs() <= 1e-9 * (d1 - d0) || out.evaluations + 1 > budget {
-                    ml
-                } else {
-                    sample(um, um + shift_r, 0, &mut out.evaluations)
-                };
-                vec![l, ml, mr, r]
+            out.evaluations += 2;
+            out.sampled = out.sampled.max(searched(&l).max(searched(&r)));
+            heap.push(Piece {
+                bound: self.bound_of(&l, &r, s),
+                ends: Some((l, r)),
+                ..piece
+            });
+            return None;
+        }
+        if piece.depth >= MAX_DEPTH || out.evaluations + 1 > budget {
+            // cannot refine further: it stays as it is (an upper bound)
+            if piece.bound > out.bound {
+                out.bound = piece.bound;
+                out.at = 0.5 * (l.u + r.u);
             }
+            return None;
+        }
+        // the midpoint's foot from each end's shift t − u: where the ends' feet are on
+        // different branches (a curve passing q twice, points slid along a line that doubles
+        // back), each half keeps its own end's branch
+        let um = 0.5 * (l.u + r.u);
+        let (shift_l, shift_r) = (l.t - l.u, r.t - r.u);
+        let ml = self.sample(um, um + shift_l, 0, &mut out.evaluations);
+        let mr = if (shift_l - shift_r).abs() <= 1e-9 * (self.d1 - self.d0) || out.evaluations + 1 > budget {
+            ml
+        } else {
+            self.sample(um, um + shift_r, 0, &mut out.evaluations)
         };
+        Some(vec![l, ml, mr, r])
+    }
+
+    /// Requeueing: the new samples' trusted distances raise the sampled maximum, and each
+    /// consecutive pair (the two halves, for a bisection) becomes a piece one level deeper.
+    fn push_halves(&self, new_samples: &[Sample], piece: Piece, out: &mut BandBound, heap: &mut BinaryHeap<Piece>) {
+        let s = piece.span;
         let pairs: Vec<(Sample, Sample)> = if new_samples.len() == 4 {
             vec![(new_samples[0], new_samples[1]), (new_samples[2], new_samples[3])]
         } else {
@@ -435,24 +536,33 @@ pub fn band_bound(original: &BSplineCurve, faired: &BSplineCurve, level: f64, bu
         for (a, b) in pairs {
             let w = [a, b];
             heap.push(Piece {
-                bound: bound_of(&w[0], &w[1], s),
+                bound: self.bound_of(&w[0], &w[1], s),
                 span: s,
                 depth: piece.depth + 1,
                 ends: Some((w[0], w[1])),
             });
         }
     }
-    if let Some(top) = heap.peek()
-        && top.bound > out.bound
-    {
-        out.bound = top.bound;
-        out.at = match top.ends {
-            Some((l, r)) => 0.5 * (l.u + r.u),
-            None => 0.5 * (kv[top.span] + kv[top.span + 1]),
-        };
+
+    /// Finish: the largest bound left in the queue (if above the settled ones) and the sampled
+    /// maximum make the result.
+    fn finish(&self, heap: &BinaryHeap<Piece>, out: &mut BandBound) {
+        if let Some(top) = heap.peek()
+            && top.bound > out.bound
+        {
+            out.bound = top.bound;
+            out.at = match top.ends {
+                Some((l, r)) => 0.5 * (l.u + r.u),
+                None => 0.5 * (self.kv[top.span] + self.kv[top.span + 1]),
+            };
+        }
+        out.bound = out.bound.max(out.sampled);
     }
-    out.bound = out.bound.max(out.sampled);
-    Some(out)
+}
+
+/// The distance at a sample whose foot is trusted (a lower estimate of the true maximum).
+fn searched(x: &Sample) -> f64 {
+    if x.level >= 1 { x.dist } else { 0.0 }
 }
 
 /// The closest point of `c` to `q` near the parameter `t`: Newton from `t`, and where it does not
