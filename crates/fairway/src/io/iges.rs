@@ -437,10 +437,45 @@ pub fn read_all_with(bytes: &[u8], opts: ReadOptions) -> Result<IgesFile> {
         return Err(perr(m));
     }
     let recs = records(bytes)?;
+    let (gtext, dlines, plines) = split_sections(&recs);
+    if gtext.is_empty() {
+        return Err(perr("no global (G) section"));
+    }
+    let (pd, rd) = global_delimiters(&gtext)?;
+    let gtoks = tokenize(&gtext, pd, rd);
+    let mut notices = Vec::new();
+    let (scale, unit, factor) = global_units(&gtoks, opts, &mut notices)?;
+    let entries = directory_entries(&dlines)?;
+    let data = DataSections {
+        entries: &entries,
+        plines: &plines,
+        pd,
+        rd,
+        factor,
+    };
+    let (objects, infos, first_error) = data.read_entities(&mut notices);
+    // nothing readable: the first entity's reason is the file's
+    if objects.is_empty()
+        && let Some(err) = first_error
+    {
+        return Err(err);
+    }
+    Ok(IgesFile {
+        objects,
+        unit,
+        scale,
+        notices,
+        entities: infos,
+    })
+}
+
+/// Sections: the records sorted into the global text, the directory records and the parameter
+/// records' columns 1–64 (start and terminate sections are not read).
+fn split_sections<'a>(recs: &[(u8, &'a [u8])]) -> (Vec<u8>, Vec<&'a [u8]>, Vec<&'a [u8]>) {
     let mut gtext: Vec<u8> = Vec::new();
     let mut dlines: Vec<&[u8]> = Vec::new();
     let mut plines: Vec<&[u8]> = Vec::new();
-    for (letter, body) in &recs {
+    for (letter, body) in recs {
         match letter {
             b'G' => gtext.extend_from_slice(body),
             b'D' => dlines.push(body),
@@ -448,38 +483,42 @@ pub fn read_all_with(bytes: &[u8], opts: ReadOptions) -> Result<IgesFile> {
             _ => {}
         }
     }
-    if gtext.is_empty() {
-        return Err(perr("no global (G) section"));
+    (gtext, dlines, plines)
+}
+
+/// Global section, delimiters first: the parameter and record delimiters (fields 1–2, default
+/// `,` and `;`), which every later field's tokenizing needs.
+fn global_delimiters(gtext: &[u8]) -> Result<(u8, u8)> {
+    let mut pd = b',';
+    let mut rd = b';';
+    let g = gtext;
+    let mut k = 0;
+    while k < g.len() && g[k] == b' ' {
+        k += 1;
     }
-    // Global section: delimiters first.
-    let (pd, rd) = {
-        let mut pd = b',';
-        let mut rd = b';';
-        let g = &gtext;
-        let mut k = 0;
+    if g.len() >= k + 3 && g[k] == b'1' && (g[k + 1] == b'H' || g[k + 1] == b'h') {
+        pd = g[k + 2];
+        k += 3;
+    }
+    // after field 1 comes pd, then field 2
+    if k < g.len() && g[k] == pd {
+        k += 1;
         while k < g.len() && g[k] == b' ' {
             k += 1;
         }
         if g.len() >= k + 3 && g[k] == b'1' && (g[k + 1] == b'H' || g[k + 1] == b'h') {
-            pd = g[k + 2];
-            k += 3;
+            rd = g[k + 2];
         }
-        // after field 1 comes pd, then field 2
-        if k < g.len() && g[k] == pd {
-            k += 1;
-            while k < g.len() && g[k] == b' ' {
-                k += 1;
-            }
-            if g.len() >= k + 3 && g[k] == b'1' && (g[k + 1] == b'H' || g[k + 1] == b'h') {
-                rd = g[k + 2];
-            }
-        }
-        if pd == rd || pd == b' ' || rd == b' ' || pd.is_ascii_digit() || rd.is_ascii_digit() {
-            return Err(perr("global section: invalid delimiters"));
-        }
-        (pd, rd)
-    };
-    let gtoks = tokenize(&gtext, pd, rd);
+    }
+    if pd == rd || pd == b' ' || rd == b' ' || pd.is_ascii_digit() || rd.is_ascii_digit() {
+        return Err(perr("global section: invalid delimiters"));
+    }
+    Ok((pd, rd))
+}
+
+/// Global section, units: the model-space scale (G13), the file's unit (G14/G15) and the factor
+/// converting coordinates to `opts.unit` (1 when not converting), as (scale, unit, factor).
+fn global_units(gtoks: &[Tok], opts: ReadOptions, notices: &mut Vec<String>) -> Result<(f64, Option<Unit>, f64)> {
     let greal = |i: usize| -> Option<f64> {
         match gtoks.get(i) {
             Some(Tok::Num(s)) => parse_real(s),
@@ -492,7 +531,6 @@ pub fn read_all_with(bytes: &[u8], opts: ReadOptions) -> Result<IgesFile> {
             _ => String::new(),
         }
     };
-    let mut notices = Vec::new();
     let scale = match greal(12) {
         Some(s) if s.is_finite() && s > 0.0 => s,
         None => 1.0,
@@ -521,8 +559,11 @@ pub fn read_all_with(bytes: &[u8], opts: ReadOptions) -> Result<IgesFile> {
             from.in_mm() / target.in_mm() / scale
         }
     };
+    Ok((scale, unit, factor))
+}
 
-    // Directory.
+/// Directory: the entries, one per pair of `D` records (the fields the reader uses).
+fn directory_entries(dlines: &[&[u8]]) -> Result<Vec<DirEntry>> {
     if !dlines.len().is_multiple_of(2) {
         return Err(perr(format!(
             "directory section has {} records; entries are pairs of records",
@@ -552,92 +593,108 @@ pub fn read_all_with(bytes: &[u8], opts: ReadOptions) -> Result<IgesFile> {
             },
         });
     }
+    Ok(entries)
+}
 
-    let mut budget = plines.len().saturating_mul(4).saturating_add(64);
-    let mut objects = Vec::new();
-    let mut infos = Vec::new();
-    let mut first_error: Option<Error> = None;
-    for e in &entries {
-        let kind = match e.etype {
-            126 => "curve",
-            128 => "surface",
-            _ => {
-                if e.etype != 124 {
-                    notices.push(format!(
-                        "entity {} (type {}, form {}) skipped: only B-spline curves (126) and surfaces (128) are read",
-                        e.seq, e.etype, e.form
-                    ));
+/// What reading the entities needs of the file: the directory, the parameter records, the
+/// delimiters and the unit conversion factor.
+struct DataSections<'a> {
+    entries: &'a [DirEntry],
+    plines: &'a [&'a [u8]],
+    pd: u8,
+    rd: u8,
+    factor: f64,
+}
+
+impl DataSections<'_> {
+    /// Entities: each curve and surface read (one bad entity skips that entity, listed in the
+    /// notices, not the file), as (objects, their entity infos, the first error met).
+    fn read_entities(&self, notices: &mut Vec<String>) -> (Vec<Geometry>, Vec<EntityInfo>, Option<Error>) {
+        let mut budget = self.plines.len().saturating_mul(4).saturating_add(64);
+        let mut objects = Vec::new();
+        let mut infos = Vec::new();
+        let mut first_error: Option<Error> = None;
+        for e in self.entries {
+            let Some(what) = entity_what(e, notices) else {
+                continue;
+            };
+            let geom = match self.read_entity(e, &what, &mut budget, notices) {
+                Ok(g) => g,
+                Err(err) => {
+                    let reason = match &err {
+                        Error::Parse { message, .. } => message
+                            .strip_prefix(&format!("{what}: "))
+                            .unwrap_or(message)
+                            .to_string(),
+                        other => other.to_string(),
+                    };
+                    notices.push(format!("{what} skipped: {reason}"));
+                    first_error.get_or_insert(err);
+                    continue;
                 }
-                continue;
-            }
-        };
-        // use flag (status digits 5-6) 05 = 2D parametric: a curve on a surface
-        if e.etype == 126 && e.status.get(4..6) == Some("05") {
-            notices.push(format!(
-                "entity {} (126) skipped: a curve in a surface's parameter space",
-                e.seq
-            ));
-            continue;
+            };
+            objects.push(geom);
+            infos.push(EntityInfo {
+                entity: e.seq,
+                label: e.label.clone(),
+            });
         }
-        let what = format!("entity {} ({kind} 126/128)", e.seq).replace("(curve 126/128)", "(curve, 126)");
-        let what = what.replace("(surface 126/128)", "(surface, 128)");
-        // one bad entity skips that entity (listed in the notices), not the file
-        let read = |budget: &mut usize, notices: &mut Vec<String>| -> Result<Geometry> {
-            let toks = entity_params(&plines, e, &what, pd, rd, budget)?;
-            let mut p = Params {
-                toks: &toks,
-                pos: 1,
-                what: what.clone(),
-            };
-            let xf = transform_chain(&entries, &plines, e.transform, pd, rd, budget)?;
-            let mut geom = if e.etype == 126 {
-                read_126(&mut p, notices)?
-            } else {
-                read_128(&mut p, notices)?
-            };
-            if let Some(m) = xf {
-                geom = apply(geom, |q| m.apply(q))?;
-            }
-            if factor != 1.0 {
-                geom = apply(geom, |q| q * factor)?;
-            }
-            crate::range::check_geometry(&geom).map_err(|e| perr(format!("{what}: {e}")))?;
-            Ok(geom)
-        };
-        let geom = match read(&mut budget, &mut notices) {
-            Ok(g) => g,
-            Err(err) => {
-                let reason = match &err {
-                    Error::Parse { message, .. } => message
-                        .strip_prefix(&format!("{what}: "))
-                        .unwrap_or(message)
-                        .to_string(),
-                    other => other.to_string(),
-                };
-                notices.push(format!("{what} skipped: {reason}"));
-                first_error.get_or_insert(err);
-                continue;
-            }
-        };
-        objects.push(geom);
-        infos.push(EntityInfo {
-            entity: e.seq,
-            label: e.label.clone(),
-        });
+        (objects, infos, first_error)
     }
-    // nothing readable: the first entity's reason is the file's
-    if objects.is_empty()
-        && let Some(err) = first_error
-    {
-        return Err(err);
+
+    /// One entity: its parameters parsed, its transformation chain and the unit factor applied,
+    /// its coordinates range-checked.
+    fn read_entity(&self, e: &DirEntry, what: &str, budget: &mut usize, notices: &mut Vec<String>) -> Result<Geometry> {
+        let (pd, rd, factor) = (self.pd, self.rd, self.factor);
+        let toks = entity_params(self.plines, e, what, pd, rd, budget)?;
+        let mut p = Params {
+            toks: &toks,
+            pos: 1,
+            what: what.to_string(),
+        };
+        let xf = transform_chain(self.entries, self.plines, e.transform, pd, rd, budget)?;
+        let mut geom = if e.etype == 126 {
+            read_126(&mut p, notices)?
+        } else {
+            read_128(&mut p, notices)?
+        };
+        if let Some(m) = xf {
+            geom = apply(geom, |q| m.apply(q))?;
+        }
+        if factor != 1.0 {
+            geom = apply(geom, |q| q * factor)?;
+        }
+        crate::range::check_geometry(&geom).map_err(|e| perr(format!("{what}: {e}")))?;
+        Ok(geom)
     }
-    Ok(IgesFile {
-        objects,
-        unit,
-        scale,
-        notices,
-        entities: infos,
-    })
+}
+
+/// Entity filter: the name of a curve (126) or surface (128) entry for the messages, or `None`
+/// (with a notice, except for transformation matrices, 124) for an entry that is not read.
+fn entity_what(e: &DirEntry, notices: &mut Vec<String>) -> Option<String> {
+    let kind = match e.etype {
+        126 => "curve",
+        128 => "surface",
+        _ => {
+            if e.etype != 124 {
+                notices.push(format!(
+                    "entity {} (type {}, form {}) skipped: only B-spline curves (126) and surfaces (128) are read",
+                    e.seq, e.etype, e.form
+                ));
+            }
+            return None;
+        }
+    };
+    // use flag (status digits 5-6) 05 = 2D parametric: a curve on a surface
+    if e.etype == 126 && e.status.get(4..6) == Some("05") {
+        notices.push(format!(
+            "entity {} (126) skipped: a curve in a surface's parameter space",
+            e.seq
+        ));
+        return None;
+    }
+    let what = format!("entity {} ({kind} 126/128)", e.seq).replace("(curve 126/128)", "(curve, 126)");
+    Some(what.replace("(surface 126/128)", "(surface, 128)"))
 }
 
 fn entity_params(plines: &[&[u8]], e: &DirEntry, what: &str, pd: u8, rd: u8, budget: &mut usize) -> Result<Vec<Tok>> {
@@ -870,6 +927,68 @@ fn check_weights(w: &[f64], rational: bool, what: &str) -> Result<()> {
 }
 
 fn read_128(p: &mut Params<'_>, notices: &mut Vec<String>) -> Result<Geometry> {
+    let h = read_128_header(p)?;
+    let (nu, nv, total, rational) = (h.nu, h.nv, h.nu * h.nv, h.polynomial == 0);
+    let (ku, kv, w, pts, (u0, u1, v0, v1)) = read_128_values(p, &h)?;
+    check_weights(&w, rational, &p.what)?;
+    // IGES order: index (i, j) at i + j*nu (u fastest); Fairway's is row-major i*nv + j.
+    let hom_at = |i: usize, j: usize| {
+        let q = pts[i + j * nu];
+        let wi = w[i + j * nu];
+        if rational { (q * wi).extend(wi) } else { q.extend(1.0) }
+    };
+    // clamp in u: for each j, the row over i
+    let rows: Vec<Vec<DVec4>> = (0..nv).map(|j| (0..nu).map(|i| hom_at(i, j)).collect()).collect();
+    let (new_ku, cols) = clamp_lines(&ku, rows, h.m1, (u0, u1), h.periodic_u != 0, &p.what, "u", notices)?;
+    let nu2 = cols.first().map_or(0, |c| c.len());
+    // clamp in v: for each i, the column over j
+    let by_i: Vec<Vec<DVec4>> = (0..nu2).map(|i| cols.iter().map(|c| c[i]).collect()).collect();
+    let (new_kv, grid) = clamp_lines(&kv, by_i, h.m2, (v0, v1), h.periodic_v != 0, &p.what, "v", notices)?;
+    let nv2 = grid.first().map_or(0, |c| c.len());
+    let (points, weights) = if new_ku.is_none() && new_kv.is_none() {
+        // Already clamped: the values as read (bit-exact).
+        let mut points = Vec::with_capacity(total);
+        let mut ws = Vec::with_capacity(total);
+        for i in 0..nu {
+            for j in 0..nv {
+                points.push(pts[i + j * nu]);
+                ws.push(w[i + j * nu]);
+            }
+        }
+        (points, rational.then_some(ws))
+    } else {
+        let flat: Vec<DVec4> = grid.into_iter().flatten().collect();
+        (
+            flat.iter().map(|h| h.truncate() / h.w).collect(),
+            rational.then(|| flat.iter().map(|h| h.w).collect()),
+        )
+    };
+    Ok(Geometry::Surface(BSplineSurface::try_new(
+        h.m1,
+        h.m2,
+        new_ku.unwrap_or(ku),
+        new_kv.unwrap_or(kv),
+        nu2,
+        nv2,
+        points,
+        weights,
+    )?))
+}
+
+/// The counts and flags heading an entity 128's parameters.
+struct Header128 {
+    nu: usize,
+    nv: usize,
+    m1: usize,
+    m2: usize,
+    polynomial: i64,
+    periodic_u: i64,
+    periodic_v: i64,
+}
+
+/// Entity 128 header: counts, degrees and flags read and checked (degrees, enough values
+/// present before anything is allocated, enough points per direction).
+fn read_128_header(p: &mut Params<'_>) -> Result<Header128> {
     let k1 = p.count("K1", i64::from(u32::MAX))?;
     let k2 = p.count("K2", i64::from(u32::MAX))?;
     let m1 = p.count("M1 (degree in u)", MAX_DEGREE as i64)?;
@@ -895,8 +1014,7 @@ fn read_128(p: &mut Params<'_>, notices: &mut Vec<String>) -> Result<Geometry> {
         .zip(nk_u.zip(nk_v))
         .and_then(|(a, (b, c))| a.checked_add(b)?.checked_add(c)?.checked_add(4));
     need(p, needed)?;
-    let (nu, nv, nk_u, nk_v) = (k1 + 1, k2 + 1, k1 + m1 + 2, k2 + m2 + 2);
-    let total = nu * nv;
+    let (nu, nv) = (k1 + 1, k2 + 1);
     for (n, m, f) in [(nu, m1, "u"), (nv, m2, "v")] {
         if n < m + 1 {
             return Err(Error::TooFewPoints {
@@ -907,6 +1025,24 @@ fn read_128(p: &mut Params<'_>, notices: &mut Vec<String>) -> Result<Geometry> {
             });
         }
     }
+    Ok(Header128 {
+        nu,
+        nv,
+        m1,
+        m2,
+        polynomial,
+        periodic_u,
+        periodic_v,
+    })
+}
+
+/// The values of an entity 128: knots in u and v, weights, points and the (u0, u1, v0, v1)
+/// parameter range.
+type Values128 = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<DVec3>, (f64, f64, f64, f64));
+
+/// Entity 128 values: knots, weights, points (IGES order) and parameter range, as read.
+fn read_128_values(p: &mut Params<'_>, h: &Header128) -> Result<Values128> {
+    let (nk_u, nk_v, total) = (h.nu + h.m1 + 1, h.nv + h.m2 + 1, h.nu * h.nv);
     let mut ku = Vec::with_capacity(nk_u);
     for _ in 0..nk_u {
         ku.push(p.real()?);
@@ -923,79 +1059,43 @@ fn read_128(p: &mut Params<'_>, notices: &mut Vec<String>) -> Result<Geometry> {
     for _ in 0..total {
         pts.push(DVec3::new(p.real()?, p.real()?, p.real()?));
     }
-    let (u0, u1, v0, v1) = (p.real()?, p.real()?, p.real()?, p.real()?);
-    let rational = polynomial == 0;
-    check_weights(&w, rational, &p.what)?;
-    // IGES order: index (i, j) at i + j*nu (u fastest); Fairway's is row-major i*nv + j.
-    let hom_at = |i: usize, j: usize| {
-        let q = pts[i + j * nu];
-        let wi = w[i + j * nu];
-        if rational { (q * wi).extend(wi) } else { q.extend(1.0) }
-    };
-    // clamp in u: for each j, the row over i
-    let mut new_ku = None;
-    let mut cols: Vec<Vec<DVec4>> = Vec::with_capacity(nv); // cols[j][i]
-    for j in 0..nv {
-        let row: Vec<DVec4> = (0..nu).map(|i| hom_at(i, j)).collect();
+    let range = (p.real()?, p.real()?, p.real()?, p.real()?);
+    Ok((ku, kv, w, pts, range))
+}
+
+/// The new knots (if any line was converted) and the lines of homogeneous points.
+type ClampedLines = (Option<Vec<f64>>, Vec<Vec<DVec4>>);
+
+/// Entity 128 clamping in one direction: each line of homogeneous points clamped to the
+/// parameter range `(t0, t1)` (the first line's notices kept, tagged with `dir`), as (the new
+/// knots if any line was converted, the lines).
+#[allow(clippy::too_many_arguments)]
+fn clamp_lines(
+    knots: &[f64],
+    lines: Vec<Vec<DVec4>>,
+    degree: usize,
+    (t0, t1): (f64, f64),
+    periodic: bool,
+    what: &str,
+    dir: &str,
+    notices: &mut Vec<String>,
+) -> Result<ClampedLines> {
+    let mut new_knots = None;
+    let mut out: Vec<Vec<DVec4>> = Vec::with_capacity(lines.len());
+    for (j, line) in lines.into_iter().enumerate() {
         let mut sink = Vec::new();
-        match clamp_to(ku.clone(), row.clone(), m1, u0, u1, periodic_u != 0, &p.what, &mut sink)? {
-            None => cols.push(row),
+        match clamp_to(knots.to_vec(), line.clone(), degree, t0, t1, periodic, what, &mut sink)? {
+            None => out.push(line),
             Some((k, r)) => {
-                new_ku = Some(k);
-                cols.push(r);
+                new_knots = Some(k);
+                out.push(r);
             }
         }
         if j == 0 {
-            notices.extend(sink.into_iter().map(|s| format!("{s} (u direction)")));
+            notices.extend(sink.into_iter().map(|s| format!("{s} ({dir} direction)")));
         }
     }
-    let nu2 = cols.first().map_or(0, |c| c.len());
-    // clamp in v: for each i, the column over j
-    let mut new_kv = None;
-    let mut grid: Vec<Vec<DVec4>> = Vec::with_capacity(nu2); // grid[i][j]
-    for i in 0..nu2 {
-        let col: Vec<DVec4> = cols.iter().map(|c| c[i]).collect();
-        let mut sink = Vec::new();
-        match clamp_to(kv.clone(), col.clone(), m2, v0, v1, periodic_v != 0, &p.what, &mut sink)? {
-            None => grid.push(col),
-            Some((k, r)) => {
-                new_kv = Some(k);
-                grid.push(r);
-            }
-        }
-        if i == 0 {
-            notices.extend(sink.into_iter().map(|s| format!("{s} (v direction)")));
-        }
-    }
-    let nv2 = grid.first().map_or(0, |c| c.len());
-    let (points, weights) = if new_ku.is_none() && new_kv.is_none() {
-        // Already clamped: the values as read (bit-exact).
-        let mut points = Vec::with_capacity(total);
-        let mut ws = Vec::with_capacity(total);
-        for i in 0..nu {
-            for j in 0..nv {
-                points.push(pts[i + j * nu]);
-                ws.push(w[i + j * nu]);
-            }
-        }
-        (points, rational.then_some(ws))
-    } else {
-        let flat: Vec<DVec4> = grid.into_iter().flatten().collect();
-        (
-            flat.iter().map(|h| h.truncate() / h.w).collect(),
-            rational.then(|| flat.iter().map(|h| h.w).collect()),
-        )
-    };
-    Ok(Geometry::Surface(BSplineSurface::try_new(
-        m1,
-        m2,
-        new_ku.unwrap_or(ku),
-        new_kv.unwrap_or(kv),
-        nu2,
-        nv2,
-        points,
-        weights,
-    )?))
+    Ok((new_knots, out))
 }
 
 /// Boehm insertion (The NURBS Book A5.1) of `u` once into an arbitrary
