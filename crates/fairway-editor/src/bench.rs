@@ -89,7 +89,20 @@ fn quantiles(v: &[f64]) -> Option<(f64, f64, f64)> {
 impl App {
     /// One frame of the benchmark.
     pub(crate) fn bench_frame(&mut self, ui: &mut egui::Ui, last_frame_cpu: Option<f32>) {
-        let Some(b) = self.bench.as_mut() else { return };
+        let Some((i, phase)) = self.bench_record_cycle(last_frame_cpu) else {
+            return;
+        };
+        self.bench_drive(i, phase);
+        self.bench_timed_show(ui, phase);
+        if self.bench.as_ref().is_some_and(|b| b.frame_no >= b.frames) {
+            self.bench_finish(ui);
+        }
+    }
+
+    /// Records the previous frame cycle's times and advances the frame counter: the frame's
+    /// number and phase, `None` when no benchmark runs.
+    fn bench_record_cycle(&mut self, last_frame_cpu: Option<f32>) -> Option<(usize, usize)> {
+        let b = self.bench.as_mut()?;
         let i = b.frame_no;
         let third = b.frames / 3;
         let phase_of = |i: usize| (i / third).min(2);
@@ -110,6 +123,11 @@ impl App {
         }
         b.last_cpu = now;
         b.frame_no += 1;
+        Some((i, phase))
+    }
+
+    /// Simulates this frame's input: a tolerance sweep, a target point drag or a region end drag.
+    fn bench_drive(&mut self, i: usize, phase: usize) {
         if i == 0 && self.region().is_none() {
             let (a, e) = self.curve().domain();
             self.apply(Command::SetRegion(Some((a + 0.2 * (e - a), a + 0.8 * (e - a)))));
@@ -164,6 +182,10 @@ impl App {
                 pinned,
             });
         }
+    }
+
+    /// Runs `show` and records its wall and CPU times and the re-fair time.
+    fn bench_timed_show(&mut self, ui: &mut egui::Ui, phase: usize) {
         let t0 = std::time::Instant::now();
         let c0 = thread_cpu_ns();
         self.show(ui);
@@ -181,37 +203,39 @@ impl App {
         b.times[phase].push(ms);
         b.fair[phase].push(fair);
         ui.ctx().request_repaint();
-        if b.frame_no >= b.frames {
-            let n_points = self.curve().n_points();
-            let b = self.bench.take().unwrap();
-            for (ph, name) in [
-                (0, "tolerance slider"),
-                (1, "target point drag"),
-                (2, "region end drag, new setup per frame"),
+    }
+
+    /// Prints the quantiles of each phase and closes the app.
+    fn bench_finish(&mut self, ui: &mut egui::Ui) {
+        let n_points = self.curve().n_points();
+        let b = self.bench.take().unwrap();
+        for (ph, name) in [
+            (0, "tolerance slider"),
+            (1, "target point drag"),
+            (2, "region end drag, new setup per frame"),
+        ] {
+            let mut line = format!(
+                "bench ({name}, {n_points} control points, target {:?}, integrator {:?}):",
+                self.prefs.fair.method, self.prefs.fair.integrator
+            );
+            for (what, v) in [
+                ("show() thread CPU", &b.cpu[ph]),
+                ("whole frame main-thread CPU", &b.frame_cpu[ph]),
+                (
+                    "whole frame process CPU (all threads, llvmpipe included)",
+                    &b.frame_proc[ph],
+                ),
+                ("show() wall", &b.times[ph]),
+                (if ph == 2 { "setup + fair wall" } else { "re-fair wall" }, &b.fair[ph]),
+                ("eframe frame wall (UI + tessellation + wgpu submit)", &b.frame[ph]),
             ] {
-                let mut line = format!(
-                    "bench ({name}, {n_points} control points, target {:?}, integrator {:?}):",
-                    self.prefs.fair.method, self.prefs.fair.integrator
-                );
-                for (what, v) in [
-                    ("show() thread CPU", &b.cpu[ph]),
-                    ("whole frame main-thread CPU", &b.frame_cpu[ph]),
-                    (
-                        "whole frame process CPU (all threads, llvmpipe included)",
-                        &b.frame_proc[ph],
-                    ),
-                    ("show() wall", &b.times[ph]),
-                    (if ph == 2 { "setup + fair wall" } else { "re-fair wall" }, &b.fair[ph]),
-                    ("eframe frame wall (UI + tessellation + wgpu submit)", &b.frame[ph]),
-                ] {
-                    if let Some((m, p95, max)) = quantiles(v) {
-                        line += &format!(" {what} median {m:.2} ms, p95 {p95:.2}, max {max:.2};");
-                    }
+                if let Some((m, p95, max)) = quantiles(v) {
+                    line += &format!(" {what} median {m:.2} ms, p95 {p95:.2}, max {max:.2};");
                 }
-                println!("{line}");
             }
-            self.allow_close = true;
-            ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
+            println!("{line}");
         }
+        self.allow_close = true;
+        ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
     }
 }

@@ -246,14 +246,30 @@ impl App {
     }
 
     fn draw_canvas(&self, painter: &egui::Painter) {
-        let cs = &self.canvas;
         let s = &self.view.sampled;
-        let scr = |p: DVec2| cs.to_screen(p);
         let region = self.region();
         // the region's samples in order along it (through the seam for a region across it)
         let in_region = region.map(|r| s.region_indices(r)).unwrap_or_default();
 
-        // tolerance band: offsets of the original inside the region
+        self.draw_band(painter, &in_region);
+        self.draw_control_polygon(painter);
+
+        // the faired preview (blended with the original by the blend slider)
+        let preview = self.preview().filter(|_| self.compare.show_after);
+        let shown_owned = preview.map(|p| blend(s, &p.sampled, self.compare.blend));
+        let shown = shown_owned.as_ref().unwrap_or(s);
+
+        self.draw_comb(painter, shown);
+        self.draw_curves(painter, &in_region, shown_owned.as_ref());
+        self.draw_max_dev(painter);
+        self.draw_markers(painter, shown);
+        self.draw_handles_and_cursor(painter, region);
+    }
+
+    /// The tolerance band: offsets of the original inside the region.
+    fn draw_band(&self, painter: &egui::Painter, in_region: &[usize]) {
+        let s = &self.view.sampled;
+        let scr = |p: DVec2| self.canvas.to_screen(p);
         if in_region.len() > 1 {
             let m = self.tolerance();
             for side in [-1.0, 1.0] {
@@ -261,8 +277,11 @@ impl App {
                 painter.add(Shape::line(pts, Stroke::new(1.0, colors::BAND)));
             }
         }
+    }
 
-        // control polygon
+    /// The control polygon and its points.
+    fn draw_control_polygon(&self, painter: &egui::Painter) {
+        let scr = |p: DVec2| self.canvas.to_screen(p);
         if self.prefs.show_polygon {
             let pts: Vec<Pos2> = self.view.control.iter().map(|&p| scr(p)).collect();
             painter.add(Shape::line(pts.clone(), Stroke::new(1.0, Color32::from_gray(90))));
@@ -274,13 +293,11 @@ impl App {
                 );
             }
         }
+    }
 
-        // the faired preview (blended with the original by the blend slider)
-        let preview = self.preview().filter(|_| self.compare.show_after);
-        let shown_owned = preview.map(|p| blend(s, &p.sampled, self.compare.blend));
-        let shown = shown_owned.as_ref().unwrap_or(s);
-
-        // comb of the shown curve
+    /// The curvature comb of the shown curve, with the target curvature as a second envelope.
+    fn draw_comb(&self, painter: &egui::Painter, shown: &Sampled) {
+        let scr = |p: DVec2| self.canvas.to_screen(p);
         if self.prefs.show_comb {
             let mut tips = Vec::with_capacity(shown.len());
             self.comb_tips(shown, &shown.kappa, &mut tips);
@@ -298,8 +315,12 @@ impl App {
                 painter.add(Shape::line(t, Stroke::new(1.5, colors::TARGET)));
             }
         }
+    }
 
-        // curve, region highlighted
+    /// The original curve (dimmed under a preview), the region highlighted, and the shown faired curve.
+    fn draw_curves(&self, painter: &egui::Painter, in_region: &[usize], shown_owned: Option<&Sampled>) {
+        let s = &self.view.sampled;
+        let scr = |p: DVec2| self.canvas.to_screen(p);
         let pts: Vec<Pos2> = s.p.iter().map(|&p| scr(p)).collect();
         let dim = shown_owned.is_some();
         if !dim || self.compare.overlay {
@@ -313,10 +334,16 @@ impl App {
             ));
         }
 
-        if let Some(sh) = shown_owned.as_ref() {
+        if let Some(sh) = shown_owned {
             let fp: Vec<Pos2> = sh.p.iter().map(|&p| scr(p)).collect();
             painter.add(Shape::line(fp, Stroke::new(2.0, colors::FAIRED)));
         }
+    }
+
+    /// The cross at the point of maximum deviation.
+    fn draw_max_dev(&self, painter: &egui::Painter) {
+        let s = &self.view.sampled;
+        let scr = |p: DVec2| self.canvas.to_screen(p);
         if let Some(u) = self.fairing.dev_at {
             let c = scr(s.point_at_u(u));
             let st = Stroke::new(2.0, Color32::from_rgb(255, 60, 60));
@@ -330,7 +357,11 @@ impl App {
                 st.color,
             );
         }
-        // markers
+    }
+
+    /// Curvature extrema and inflection markers of the shown curve.
+    fn draw_markers(&self, painter: &egui::Painter, shown: &Sampled) {
+        let scr = |p: DVec2| self.canvas.to_screen(p);
         if self.prefs.show_markers {
             let s = shown;
             for &i in &s.extrema {
@@ -351,8 +382,12 @@ impl App {
                 ));
             }
         }
+    }
 
-        // region handles
+    /// The region's end handles and the cursor shared with the κ plot.
+    fn draw_handles_and_cursor(&self, painter: &egui::Painter, region: Option<(f64, f64)>) {
+        let s = &self.view.sampled;
+        let scr = |p: DVec2| self.canvas.to_screen(p);
         if let Some((u1, u2)) = region {
             for u in [u1, u2] {
                 let c = scr(s.point_at_u(u));

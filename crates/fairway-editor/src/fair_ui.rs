@@ -142,6 +142,37 @@ impl App {
             ui.weak("Select a region to see the faired preview.");
             return;
         }
+        self.fair_status_ui(ui);
+        self.corner_stretches_ui(ui);
+        if self.fairing.target_mismatch {
+            ui.colored_label(
+                Color32::YELLOW,
+                "The saved target does not fit this region's samples; using the automatic target.",
+            );
+        }
+        ui.horizontal(|ui| {
+            // a draft (drag in progress) is not accepted: the full fair follows the release
+            let can = self.preview().is_some_and(|p| !p.draft);
+            if ui
+                .add_enabled(can, egui::Button::new(RichText::new("Accept").strong()))
+                .on_hover_text("Replace the region by the faired curve (one undo step)")
+                .clicked()
+                && let Some(c) = self.preview().map(|p| p.result.curve.clone())
+            {
+                self.push(Command::ReplaceCurve(Box::new(c)));
+            }
+        });
+        ui.add_space(4.0);
+        self.target_ui(ui);
+        ui.add_space(4.0);
+        self.end_conditions_ui(ui);
+        egui::CollapsingHeader::new("Advanced").show(ui, |ui| self.advanced_ui(ui));
+        ui.add_space(4.0);
+        self.compare_ui(ui);
+    }
+
+    /// The preview's status: error, or deviation bound, timing and what happened at the seam.
+    fn fair_status_ui(&self, ui: &mut egui::Ui) {
         match &self.fairing.preview {
             Some(Err(e)) => {
                 ui.label(RichText::new(format!("Error: {e}")).color(Color32::from_rgb(230, 80, 60)));
@@ -210,26 +241,10 @@ impl App {
             }
             None => {}
         }
-        self.corner_stretches_ui(ui);
-        if self.fairing.target_mismatch {
-            ui.colored_label(
-                Color32::YELLOW,
-                "The saved target does not fit this region's samples; using the automatic target.",
-            );
-        }
-        ui.horizontal(|ui| {
-            // a draft (drag in progress) is not accepted: the full fair follows the release
-            let can = self.preview().is_some_and(|p| !p.draft);
-            if ui
-                .add_enabled(can, egui::Button::new(RichText::new("Accept").strong()))
-                .on_hover_text("Replace the region by the faired curve (one undo step)")
-                .clicked()
-                && let Some(c) = self.preview().map(|p| p.result.curve.clone())
-            {
-                self.push(Command::ReplaceCurve(Box::new(c)));
-            }
-        });
-        ui.add_space(4.0);
+    }
+
+    /// Target tools, falloff, automatic strength and the target reset.
+    fn target_ui(&mut self, ui: &mut egui::Ui) {
         ui.strong("Target");
         ui.horizontal_wrapped(|ui| {
             for (t, name, tip) in [
@@ -286,7 +301,10 @@ impl App {
                 pinned: vec![],
             });
         }
-        ui.add_space(4.0);
+    }
+
+    /// The region's end conditions (a document edit) and easing of G2 curve ends.
+    fn end_conditions_ui(&mut self, ui: &mut egui::Ui) {
         ui.strong("End conditions");
         // the document's (an undo step; a hand-edited target is resampled onto the new samples)
         let mut ends = self.ends();
@@ -324,91 +342,96 @@ impl App {
                  to it from far inside (fewer wiggles near noisy ends; where the end curvature is real it can \
                  add some: compare). Region ends inside the curve and closed curves are not affected.",
         );
-        egui::CollapsingHeader::new("Advanced").show(ui, |ui| {
-            ui.horizontal(|ui| {
-                ui.label("Integrator:");
-                for (i, name, tip) in [
-                    (Integrator::Euler, "Euler", "Explicit Euler (the paper's first scheme)"),
-                    (
-                        Integrator::Rk2,
-                        "RK2",
-                        "Second-order Runge–Kutta (the paper's second scheme)",
-                    ),
-                    (Integrator::Arc, "Arc", "Exact circular-arc steps (default)"),
-                ] {
-                    ui.selectable_value(&mut self.prefs.fair.integrator, i, name)
-                        .on_hover_text(tip);
-                }
-            });
-            ui.horizontal(|ui| {
-                ui.label("Target:");
-                for (m, name, tip) in [
-                    (
-                        TargetMethod::Heat,
-                        "Heat",
-                        "Heat flow of the averaging, implicit: fast at any strength",
-                    ),
-                    (TargetMethod::Average, "Average", "Neighbour averaging (the paper's)"),
-                    (TargetMethod::Binomial, "Binomial", "(1,2,1)/4 kernel, damps zig-zag"),
-                    (TargetMethod::Fit, "Fit", "Smoothing-spline fit of the curvature"),
-                ] {
-                    ui.selectable_value(&mut self.prefs.fair.method, m, name)
-                        .on_hover_text(tip);
-                }
-            });
-            ui.add(egui::Slider::new(&mut self.prefs.fair.polish_iterations, 0..=MAX_POLISH).text("E polish"))
-                .on_hover_text(
-                    "Gauss–Newton iterations of the E polish after the band search (full fair; a draft \
-                     skips it): more lower the paper's E further inside the band at about 0.2 ms each for \
-                     100 control points; a lower E is not always fewer curvature extrema",
-                );
-            ui.horizontal(|ui| {
-                ui.label("Method:");
-                for (m, name, tip) in [
-                    (
-                        FitMode::Fairway,
-                        "Fairway",
-                        "Integration of the target, fit, polish (default)",
-                    ),
-                    (
-                        FitMode::Smoothing,
-                        "Smoothing spline",
-                        "The reference: knot-keeping penalized least squares, its weight the largest that holds \
-                         the band (what a SciPy smoothing spline with a search on its factor gives)",
-                    ),
-                ] {
-                    ui.selectable_value(&mut self.prefs.fair.mode, m, name)
-                        .on_hover_text(tip);
-                }
-            });
-            ui.horizontal(|ui| {
-                ui.label("Polish:");
-                for (m, name, tip) in [
-                    (
-                        PolishMethod::Variation,
-                        "Variation",
-                        "Lowers the curvature variation ∫(dκ/ds)² over the whole region inside the band, \
-                         following the target a little (default): never more curvature extrema than the \
-                         reference smoothing spline or the original",
-                    ),
-                    (
-                        PolishMethod::LineSearch,
-                        "Line search",
-                        "Stops well short of the lowest E in the band: the previous default",
-                    ),
-                    (
-                        PolishMethod::InteriorPoint,
-                        "Interior point",
-                        "Follows the target as closely as the band allows, in a few iterations: for a target \
-                         you shaped, pinned or typed in",
-                    ),
-                ] {
-                    ui.selectable_value(&mut self.prefs.fair.polish_method, m, name)
-                        .on_hover_text(tip);
-                }
-            });
+    }
+
+    /// The "Advanced" section: integrator, target method, E polish, fit method, polish method.
+    fn advanced_ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            ui.label("Integrator:");
+            for (i, name, tip) in [
+                (Integrator::Euler, "Euler", "Explicit Euler (the paper's first scheme)"),
+                (
+                    Integrator::Rk2,
+                    "RK2",
+                    "Second-order Runge–Kutta (the paper's second scheme)",
+                ),
+                (Integrator::Arc, "Arc", "Exact circular-arc steps (default)"),
+            ] {
+                ui.selectable_value(&mut self.prefs.fair.integrator, i, name)
+                    .on_hover_text(tip);
+            }
         });
-        ui.add_space(4.0);
+        ui.horizontal(|ui| {
+            ui.label("Target:");
+            for (m, name, tip) in [
+                (
+                    TargetMethod::Heat,
+                    "Heat",
+                    "Heat flow of the averaging, implicit: fast at any strength",
+                ),
+                (TargetMethod::Average, "Average", "Neighbour averaging (the paper's)"),
+                (TargetMethod::Binomial, "Binomial", "(1,2,1)/4 kernel, damps zig-zag"),
+                (TargetMethod::Fit, "Fit", "Smoothing-spline fit of the curvature"),
+            ] {
+                ui.selectable_value(&mut self.prefs.fair.method, m, name)
+                    .on_hover_text(tip);
+            }
+        });
+        ui.add(egui::Slider::new(&mut self.prefs.fair.polish_iterations, 0..=MAX_POLISH).text("E polish"))
+            .on_hover_text(
+                "Gauss–Newton iterations of the E polish after the band search (full fair; a draft \
+                 skips it): more lower the paper's E further inside the band at about 0.2 ms each for \
+                 100 control points; a lower E is not always fewer curvature extrema",
+            );
+        ui.horizontal(|ui| {
+            ui.label("Method:");
+            for (m, name, tip) in [
+                (
+                    FitMode::Fairway,
+                    "Fairway",
+                    "Integration of the target, fit, polish (default)",
+                ),
+                (
+                    FitMode::Smoothing,
+                    "Smoothing spline",
+                    "The reference: knot-keeping penalized least squares, its weight the largest that holds \
+                     the band (what a SciPy smoothing spline with a search on its factor gives)",
+                ),
+            ] {
+                ui.selectable_value(&mut self.prefs.fair.mode, m, name)
+                    .on_hover_text(tip);
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("Polish:");
+            for (m, name, tip) in [
+                (
+                    PolishMethod::Variation,
+                    "Variation",
+                    "Lowers the curvature variation ∫(dκ/ds)² over the whole region inside the band, \
+                     following the target a little (default): never more curvature extrema than the \
+                     reference smoothing spline or the original",
+                ),
+                (
+                    PolishMethod::LineSearch,
+                    "Line search",
+                    "Stops well short of the lowest E in the band: the previous default",
+                ),
+                (
+                    PolishMethod::InteriorPoint,
+                    "Interior point",
+                    "Follows the target as closely as the band allows, in a few iterations: for a target \
+                     you shaped, pinned or typed in",
+                ),
+            ] {
+                ui.selectable_value(&mut self.prefs.fair.polish_method, m, name)
+                    .on_hover_text(tip);
+            }
+        });
+    }
+
+    /// Before / after comparison toggles.
+    fn compare_ui(&mut self, ui: &mut egui::Ui) {
         ui.strong("Compare");
         ui.checkbox(&mut self.compare.show_after, "Show result (Space)")
             .on_hover_text("Toggle between before and after (Space)");

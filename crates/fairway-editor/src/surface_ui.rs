@@ -575,6 +575,19 @@ impl SurfaceEditor {
     }
 
     fn controls_ui(&mut self, ui: &mut egui::Ui) {
+        self.display_ui(ui);
+        ui.separator();
+        self.region_ui(ui);
+        ui.separator();
+        self.tolerance_section_ui(ui);
+        ui.separator();
+        self.compare_ui(ui);
+        ui.separator();
+        self.measures_ui(ui);
+    }
+
+    /// The "Display" section: shading mode, stripes, light, curvature range, overlays, mesh density.
+    fn display_ui(&mut self, ui: &mut egui::Ui) {
         ui.heading("Display");
         ui.horizontal_wrapped(|ui| {
             for m in ShadeMode::ALL {
@@ -633,7 +646,10 @@ impl SurfaceEditor {
             self.shading.density = d;
             self.set_surface_changed();
         }
-        ui.separator();
+    }
+
+    /// The "Region" section: uv view, whole / clear, and the region's parameter bounds.
+    fn region_ui(&mut self, ui: &mut egui::Ui) {
         ui.heading("Region");
         self.uv_view_ui(ui);
         let ((du0, du1), (dv0, dv1)) = self.surface().domain();
@@ -680,7 +696,10 @@ impl SurfaceEditor {
         } else {
             ui.weak("No region: drag in the uv view, or Ctrl+drag on the surface.");
         }
-        ui.separator();
+    }
+
+    /// The "Tolerance" section: max deviation and live preview.
+    fn tolerance_section_ui(&mut self, ui: &mut egui::Ui) {
         ui.heading("Tolerance");
         let mut tol = self.tolerance();
         if crate::tolerance_ui(
@@ -693,7 +712,10 @@ impl SurfaceEditor {
         }
         ui.checkbox(&mut self.live, "Live preview")
             .on_hover_text("Re-fair whenever region or tolerance change");
-        ui.separator();
+    }
+
+    /// The "Compare" section: before / after, blend, side by side, preview error and Accept.
+    fn compare_ui(&mut self, ui: &mut egui::Ui) {
         ui.heading("Compare");
         ui.horizontal(|ui| {
             ui.selectable_value(&mut self.compare.show_after, false, "Before")
@@ -715,8 +737,6 @@ impl SurfaceEditor {
         {
             self.push(SurfCommand::Accept);
         }
-        ui.separator();
-        self.measures_ui(ui);
     }
 
     fn measures_ui(&mut self, ui: &mut egui::Ui) {
