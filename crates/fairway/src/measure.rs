@@ -122,6 +122,11 @@ pub struct Measures {
     /// arc-length samples where it is defined, zig-zag pivots beyond 1 % of the largest |moving average|
     /// of the ORIGINAL's torsion at 200 samples); null for 2D. Not a reference key.
     pub n_torsion_extrema: Option<usize>,
+    /// The largest step of the curvature across an interior knot (where the curve is below C2 in the
+    /// parameter: a quadratic's simple knots, a cubic's double knots …), as a fraction of
+    /// [`Self::kappa_max_abs`]; 0 where the curvature is continuous. ∫(dκ/ds)² ds does not see such a
+    /// step, the comb shows it as a break. Not a reference key.
+    pub kappa_step_max: f64,
     /// ∫(dκ/ds)² ds.
     pub E_var: f64,
     /// ∫κ² ds.
@@ -463,6 +468,7 @@ pub fn measure(original: &BSplineCurve, faired: &BSplineCurve) -> Measures {
         n_inflections_fine: n_inf_fine,
         n_inflections_raw: n_inf_raw,
         n_torsion_extrema,
+        kappa_step_max: curvature_step_max(faired) / kappa_max_abs.max(f64::MIN_POSITIVE),
         E_var: e_var,
         E_bend: e_bend,
         E_var_dimless: e_var * length.powi(3),
@@ -482,6 +488,29 @@ pub fn measure(original: &BSplineCurve, faired: &BSplineCurve) -> Measures {
         degree: faired.degree(),
         n_ctrl: faired.n_points(),
     }
+}
+
+/// The largest step |κ⁺ − κ⁻| of the curvature (signed in 2D) across an interior knot of `c` where the curve is
+/// below C2 in the parameter (multiplicity above p − 2); one-sided values from each knot span's own
+/// polynomial. 0 for a curve without such knots.
+pub fn curvature_step_max(c: &BSplineCurve) -> f64 {
+    let p = c.degree();
+    let kv = c.knots();
+    let bps = kv.breakpoints();
+    let mut step = 0.0f64;
+    for w in bps.windows(3) {
+        let u = w[1];
+        if kv.multiplicity(u) + 2 <= p {
+            continue;
+        }
+        let eps = 1e-9 * (w[2] - w[0]);
+        let (l, r) = (c.derivs(u - eps), c.derivs(u + eps));
+        let (kl, kr) = (l.curvature(c.dim()), r.curvature(c.dim()));
+        if kl.is_finite() && kr.is_finite() {
+            step = step.max((kr - kl).abs());
+        }
+    }
+    step
 }
 
 /// Curvature figures of a stretch `[u1, u2]` of `curve` (a region; `u1 > u2` on a closed curve: the

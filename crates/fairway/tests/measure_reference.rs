@@ -71,3 +71,34 @@ fn s_curve_matches_reference() {
 fn conical_spiral_matches_reference() {
     check("conical_spiral");
 }
+
+/// `kappa_step_max` by closed form: a quadratic with knots 0 0 0 1 2 2 2 is two Bézier arcs meeting at
+/// M = (P1 + P2)/2; the curvature at a quadratic Bézier end is h / (2 |leg|²) (h the far point's distance from
+/// the end leg's line), here +1/√2 before the knot and −1/√2 after it: a signed step of √2. The same
+/// curve with a knot inserted twice into a span (a C2 point in the geometry, multiplicity 2 > p − 2) has
+/// no step.
+#[test]
+fn curvature_step_at_a_knot_matches_the_bezier_end_curvatures() {
+    use fairway::DVec2;
+    use fairway::measure::curvature_step_max;
+    let pts = [
+        DVec2::new(0.0, 0.0),
+        DVec2::new(1.0, 0.0),
+        DVec2::new(2.0, 1.0),
+        DVec2::new(3.0, 1.0),
+    ];
+    let c = fairway::BSplineCurve::new_2d(2, vec![0.0, 0.0, 0.0, 1.0, 2.0, 2.0, 2.0], &pts).unwrap();
+    let step = curvature_step_max(&c);
+    assert!((step - 2f64.sqrt()).abs() < 1e-6, "step {step}");
+    let m = measure(&c, &c);
+    assert!((m.kappa_step_max - step / m.kappa_max_abs).abs() < 1e-3 * step / m.kappa_max_abs);
+    let smooth = fairway::BSplineCurve::new_2d(
+        3,
+        vec![0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 2.0, 2.0, 2.0],
+        &[pts[0], pts[1], pts[2], pts[3], DVec2::new(4.0, 0.0)],
+    )
+    .unwrap()
+    .insert_knot(0.5, 2)
+    .unwrap();
+    assert!(curvature_step_max(&smooth) < 1e-6, "{}", curvature_step_max(&smooth));
+}

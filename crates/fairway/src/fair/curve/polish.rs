@@ -611,11 +611,13 @@ impl FairingSetup {
         let fit = (self.best.clone(), dev, e);
         let fit_rank = rank_of(self, &fit.0);
         let (_, _, sdev) = self.search_smoothing(accept, solves)?;
-        let smooth_rank = rank_of(self, &self.best);
+        let smooth = self.best.clone();
+        let smooth_rank = rank_of(self, &smooth);
         let zero = vec![DVec3::ZERO; self.nf];
         let orig_rank = rank_of(self, &zero);
         // the start: the fairest of the smoother's result, the fit's and the original
-        let (dev, e) = if smooth_rank <= fit_rank && smooth_rank <= orig_rank {
+        let from_smoother = smooth_rank <= fit_rank && smooth_rank <= orig_rank;
+        let (dev, e) = if from_smoother {
             (sdev, self.energy_of_update(&self.best))
         } else if fit_rank <= orig_rank {
             self.best = fit.0;
@@ -624,10 +626,25 @@ impl FairingSetup {
             self.best.fill(DVec3::ZERO);
             (0.0, self.original_energy())
         };
-        let (dev, e) = self.polish_variation_torsion(accept, dev, e, solves, obj);
+        let (mut dev, mut e) = self.polish_variation_torsion(accept, dev, e, solves, obj);
+        let mut rank = rank_of(self, &self.best);
+        // at least as fair as the smoother on both counts: where the result has fewer extrema but a larger
+        // E_var than the smoother's (or more extrema), the polish also runs from the smoother's result, whose
+        // iterates never have more extrema or a larger E_var than it; that result is taken unless it has
+        // more extrema than the original
+        if !(from_smoother || (rank.0 <= smooth_rank.0 && rank.1 <= smooth_rank.1)) {
+            let first = (std::mem::replace(&mut self.best, smooth), dev, e);
+            let e_smooth = self.energy_of_update(&self.best);
+            let (dev2, e2) = self.polish_variation_torsion(accept, sdev, e_smooth, solves, obj);
+            let rank2 = rank_of(self, &self.best);
+            if rank2.0 <= orig_rank.0 {
+                (dev, e, rank) = (dev2, e2, rank2);
+            } else {
+                (self.best, dev, e) = first;
+            }
+        }
         // never less fair than the input: a result without fewer curvature extrema or a lower E_var than the
         // original's (a straight line, which the smoother would only re-parametrize) leaves it as it is
-        let rank = rank_of(self, &self.best);
         if rank.0 > orig_rank.0 || (rank.0 == orig_rank.0 && !(rank.1 < orig_rank.1 * (1.0 - 1e-9))) {
             self.best = zero;
             return Ok((0.0, self.original_energy()));
