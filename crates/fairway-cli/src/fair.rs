@@ -222,6 +222,8 @@ pub struct SurfaceReport {
     pub free_v: [usize; 2],
     /// Measures of the result against the input.
     pub measures: SurfaceMeasures,
+    /// What the fair did besides the plain method (C0 knot lines kept, tiles held), also on stderr.
+    pub notes: Vec<String>,
 }
 
 /// The report's `ends_kept`: what the fair kept at the region's start and end.
@@ -520,6 +522,9 @@ fn fair_surface_cmd(a: &Args, surface: &BSplineSurface, curve: FairingOptions, r
     let t0 = Instant::now();
     let result = fair_surface(surface, opts).context("surface fairing")?;
     let solve_ms = t0.elapsed().as_secs_f64() * 1e3;
+    for n in &result.notes {
+        eprintln!("fairway: {}: {n}", a.input.display());
+    }
     let report = a.report.as_ref().map(|_| SurfaceReport {
         kind: "surface",
         method: a.method.clone(),
@@ -533,6 +538,7 @@ fn fair_surface_cmd(a: &Args, surface: &BSplineSurface, curve: FairingOptions, r
         free_u: [result.free_u.start, result.free_u.end],
         free_v: [result.free_v.start, result.free_v.end],
         measures: surface_measures(surface, &result.surface),
+        notes: result.notes.clone(),
     });
     save_result(a, Geometry::Surface(result.surface.clone()), report.as_ref())
 }

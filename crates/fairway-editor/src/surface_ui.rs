@@ -82,6 +82,9 @@ pub struct SurfacePreview {
     pub alpha: f64,
     /// Wall time of `fair_surface` (ms).
     pub fair_ms: f64,
+    /// What the fair did besides the plain method (`SurfaceFairingResult::notes`: C0 knot lines kept,
+    /// tiles held).
+    pub notes: Vec<String>,
     /// Measures against the original (computed when the pointer is up).
     pub measures: Option<SurfaceMeasures>,
     /// Computed while a drag was in progress with one isocurve tolerance level (`iso_levels: 1`,
@@ -404,6 +407,7 @@ impl SurfaceEditor {
                         rounds: r.rounds,
                         alpha: r.alpha,
                         fair_ms,
+                        notes: r.notes,
                         measures: None,
                         key,
                         draft,
@@ -754,6 +758,9 @@ impl SurfaceEditor {
             self.tolerance()
         ));
         ui.label(band_certificate(p.band_bound, self.tolerance()));
+        for n in &p.notes {
+            ui.label(egui::RichText::new(n).small());
+        }
         let (Some(a), Some((_, b))) = (&p.measures, &self.measures_before) else {
             ui.weak("(measures follow when the pointer is released)");
             return;

@@ -235,10 +235,21 @@ pub(crate) const ISO_TARGET_SIGMA_SPANS: f64 = 1.6;
 
 fn span_grid(knots: &KnotVector, a: f64, b: f64, per_span: usize) -> Vec<f64> {
     let bp: Vec<f64> = knots.breakpoints().into_iter().filter(|&t| t >= a && t <= b).collect();
+    let (lo, hi) = knots.domain();
+    // a span next to an interior knot of multiplicity s carries s new control points where a simple knot
+    // brings one (a chain of Bézier patches): it gets s times the samples, so the fit has data for each
+    let mult = |t: f64| {
+        if t > lo && t < hi {
+            knots.multiplicity(t).max(1)
+        } else {
+            1
+        }
+    };
     let mut out = Vec::with_capacity(bp.len() * per_span + 1);
     for w in bp.windows(2) {
-        for k in 0..per_span {
-            out.push(w[0] + (w[1] - w[0]) * k as f64 / per_span as f64);
+        let n = per_span * mult(w[0]).max(mult(w[1]));
+        for k in 0..n {
+            out.push(w[0] + (w[1] - w[0]) * k as f64 / n as f64);
         }
     }
     out.push(b);
@@ -248,7 +259,10 @@ fn span_grid(knots: &KnotVector, a: f64, b: f64, per_span: usize) -> Vec<f64> {
 /// Fair `surface` (see the module docs).
 pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Result<SurfaceFairingResult> {
     let m = opts.tolerance;
-    let mut r = fair_surface_unbounded(surface, opts)?;
+    let mut r = match c0_tiles(surface, &opts) {
+        Some(tiles) => fair_tiles(surface, opts, &tiles)?,
+        None => fair_surface_unbounded(surface, opts)?,
+    };
     // a rational input with equal weights (the only kind the engine takes) is its polynomial form exactly
     let bound = |faired: &BSplineSurface| -> Result<Option<f64>> {
         Ok(super::verify::surface_band_bound(
@@ -275,6 +289,135 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
         r.band_bound = bound(&r.surface)?;
         // the grid's figure was the old surface's; the bound is this one's (and sound)
         r.max_deviation = r.band_bound.unwrap_or(m);
+    }
+    Ok(r)
+}
+
+/// A parameter rectangle `((u1, u2), (v1, v2))`.
+type UvRect = ((f64, f64), (f64, f64));
+
+/// The interior C0 knot lines of a direction (knots of multiplicity ≥ p, p ≥ 2: the joints of a chain of
+/// Bézier patches, a crease or a G1 joint) strictly inside `(a, b)`.
+fn c0_lines(k: &KnotVector, a: f64, b: f64) -> Vec<f64> {
+    let p = k.degree();
+    if p < 2 {
+        return vec![];
+    }
+    k.breakpoints()
+        .into_iter()
+        .filter(|&t| t > a && t < b && k.multiplicity(t) >= p)
+        .collect()
+}
+
+/// Where the region crosses C0 knot lines: the tiles between them (u-stretches × v-stretches), each faired
+/// on its own by [`fair_tiles`]; `None` when it crosses none.
+fn c0_tiles(s: &BSplineSurface, opts: &SurfaceFairingOptions) -> Option<Vec<UvRect>> {
+    let ((u1, u2), (v1, v2)) = opts.region.unwrap_or(s.domain());
+    let (lu, lv) = (c0_lines(s.knots_u(), u1, u2), c0_lines(s.knots_v(), v1, v2));
+    if lu.is_empty() && lv.is_empty() {
+        return None;
+    }
+    let stretches = |a: f64, b: f64, lines: &[f64]| -> Vec<(f64, f64)> {
+        let cuts: Vec<f64> = std::iter::once(a).chain(lines.iter().copied()).chain([b]).collect();
+        cuts.windows(2).map(|w| (w[0], w[1])).collect()
+    };
+    let (su, sv) = (stretches(u1, u2, &lu), stretches(v1, v2, &lv));
+    Some(su.iter().flat_map(|&ru| sv.iter().map(move |&rv| (ru, rv))).collect())
+}
+
+/// A free range next to an interior C0 knot (multiplicity ≥ p, p ≥ 2) loses the row next to it: the
+/// joint row is held already (its support crosses the knot), and with its neighbour on this side held
+/// too, the cross-boundary derivative along the line stays as it was — a G1 joint stays G1, a crease
+/// keeps its angle.
+fn hold_c0_neighbours(k: &KnotVector, mut f: Range<usize>) -> Range<usize> {
+    let (p, t) = (k.degree(), k.values());
+    let (lo, hi) = k.domain();
+    let c0 = |u: f64| p >= 2 && u > lo && u < hi && k.multiplicity(u) >= p;
+    if f.start < f.end && c0(t[f.start]) {
+        f.start += 1;
+    }
+    if f.start < f.end && c0(t[f.end + p]) {
+        f.end -= 1;
+    }
+    f
+}
+
+/// A surface whose region crosses C0 knot lines, faired tile by tile (module docs, step 1): each tile is
+/// a region of its own, the rows next to the lines held, so the lines keep their continuity; a tile with
+/// no movable control row is left as it is and named in the notes. The tiles' free rows have their
+/// supports inside their tiles, so each tile's change is independent of the others'.
+fn fair_tiles(surface: &BSplineSurface, opts: SurfaceFairingOptions, tiles: &[UvRect]) -> Result<SurfaceFairingResult> {
+    let mut work = if surface.is_rational() {
+        surface.to_polynomial()?
+    } else {
+        surface.clone()
+    };
+    let mut out: Option<SurfaceFairingResult> = None;
+    let mut held = vec![];
+    for &(ru, rv) in tiles {
+        let fu = hold_c0_neighbours(work.knots_u(), free_range(work.knots_u(), ru.0, ru.1));
+        let fv = hold_c0_neighbours(work.knots_v(), free_range(work.knots_v(), rv.0, rv.1));
+        let (fu, fv) = hold_poles_and_seams(&work, fu, fv);
+        if fu.is_empty() || fv.is_empty() {
+            held.push(format!(
+                "u ∈ [{:.6}, {:.6}] × v ∈ [{:.6}, {:.6}]",
+                ru.0, ru.1, rv.0, rv.1
+            ));
+            continue;
+        }
+        let r = fair_surface_unbounded(
+            &work,
+            SurfaceFairingOptions {
+                region: Some((ru, rv)),
+                ..opts
+            },
+        )?;
+        work = r.surface.clone();
+        out = Some(match out {
+            None => r,
+            Some(mut acc) => {
+                acc.max_deviation = acc.max_deviation.max(r.max_deviation);
+                acc.iso_tolerance = acc.iso_tolerance.max(r.iso_tolerance);
+                acc.rounds += r.rounds;
+                acc.alpha = acc.alpha.min(r.alpha);
+                acc.free_u = acc.free_u.start.min(r.free_u.start)..acc.free_u.end.max(r.free_u.end);
+                acc.free_v = acc.free_v.start.min(r.free_v.start)..acc.free_v.end.max(r.free_v.end);
+                acc.timings = acc.timings + r.timings;
+                acc.surface = r.surface;
+                acc
+            }
+        });
+    }
+    let Some(mut r) = out else {
+        return Err(Error::InvalidInput(format!(
+            "the region holds no movable control point: the surface's C0 knot lines (creases or joints of \
+             Bézier patches) cut it into {} tile(s), and each is too short to move once the rows next to the \
+             lines are held (a tile needs more than 2 control rows between its lines in each direction)",
+            tiles.len()
+        )));
+    };
+    let lines = |k: &KnotVector, (a, b): (f64, f64)| {
+        c0_lines(k, a, b)
+            .iter()
+            .map(|t| format!("{t:.6}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let region = opts.region.unwrap_or(surface.domain());
+    r.notes.push(format!(
+        "C0 knot lines (u = [{}], v = [{}]): faired tile by tile between them, the control rows on each \
+         side of a line held, so each line keeps its continuity (G1 stays G1, a crease keeps its angle)",
+        lines(surface.knots_u(), region.0),
+        lines(surface.knots_v(), region.1)
+    ));
+    if !held.is_empty() {
+        r.notes.push(format!(
+            "{} of {} tile(s) too short to move (no free control row once the rows next to the lines are \
+             held), left as they were: {}",
+            held.len(),
+            tiles.len(),
+            held.join("; ")
+        ));
     }
     Ok(r)
 }
@@ -340,8 +483,8 @@ fn free_block(surface: &BSplineSurface, opts: &SurfaceFairingOptions) -> Result<
         }
     }
     let (ku, kv) = (s.knots_u(), s.knots_v());
-    let free_u = free_range(ku, u1, u2);
-    let free_v = free_range(kv, v1, v2);
+    let free_u = hold_c0_neighbours(ku, free_range(ku, u1, u2));
+    let free_v = hold_c0_neighbours(kv, free_range(kv, v1, v2));
     let had = !free_u.is_empty() && !free_v.is_empty();
     let (free_u, free_v) = hold_poles_and_seams(&s, free_u, free_v);
     if had && (free_u.is_empty() || free_v.is_empty()) {
@@ -477,6 +620,7 @@ impl<'a> Grids<'a> {
             timings,
             pick: SurfacePick::Isocurves,
             band_bound: None,
+            notes: vec![],
         }
     }
 }
@@ -511,6 +655,7 @@ fn smoothing_only(g: &Grids<'_>, mut tm: SurfaceTimings) -> Result<SurfaceFairin
         timings: tm,
         pick: SurfacePick::Reference,
         band_bound: None,
+        notes: vec![],
     })
 }
 

@@ -102,6 +102,20 @@ pub fn isocurve_setup(
     FairingSetup::with_check_samples(c, fo, 0)
 }
 
+/// The knot spans of `[a, b]` as the isocurve sampling counts them: a span next to an interior knot of
+/// multiplicity s ≥ 1 counts s times (a C0 knot of a chain of Bézier patches brings p control points where a
+/// simple knot brings one), so an isocurve gets enough samples for its control points; with simple knots
+/// it is the number of spans.
+pub(super) fn equivalent_spans(k: &crate::knots::KnotVector, (a, b): (f64, f64)) -> usize {
+    let (lo, hi) = k.domain();
+    let mult = |t: f64| if t > lo && t < hi { k.multiplicity(t).max(1) } else { 1 };
+    k.breakpoints()
+        .windows(2)
+        .filter(|w| w[0] >= a && w[1] <= b)
+        .map(|w| mult(w[0]).max(mult(w[1])))
+        .sum()
+}
+
 /// Isocurves per block of neighbours (warm-started band search, one unit of parallel work).
 pub(crate) const ISO_BLOCK: usize = 8;
 
@@ -161,12 +175,10 @@ impl IsoGrid<'_> {
         let nl = levels.len();
         let mut du = vec![vec![DVec3::ZERO; mu * mv]; nl];
         let mut dv = vec![vec![DVec3::ZERO; mu * mv]; nl];
-        // A direction whose region holds fewer than p + 1 knot spans has no movable isocurve control point for
-        // the curve engine (e.g. a cubic direction with one span): its isocurves stay, Δ = 0.
-        let spans_in = |k: &crate::knots::KnotVector, (a, b): (f64, f64)| {
-            k.breakpoints().windows(2).filter(|w| w[0] >= a && w[1] <= b).count()
-        };
-        let (spans_u, spans_v) = (spans_in(s.knots_u(), ru), spans_in(s.knots_v(), rv));
+        // A direction whose region holds fewer than p + 1 knot spans (a C0 knot's counting p, see
+        // `equivalent_spans`) has no movable isocurve control point for the curve engine (e.g. a cubic
+        // direction with one span): its isocurves stay, Δ = 0.
+        let (spans_u, spans_v) = (equivalent_spans(s.knots_u(), ru), equivalent_spans(s.knots_v(), rv));
         let fair_u = spans_u > s.degree_u();
         let fair_v = spans_v > s.degree_v();
         // The isocurves are independent: fair them in blocks of ISO_BLOCK neighbours (each block warm-starts

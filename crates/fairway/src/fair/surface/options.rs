@@ -174,6 +174,9 @@ pub struct SurfaceFairingResult {
     /// input (equal weights: the engine refuses others) is bounded in its polynomial form, the same
     /// surface. `None` only where the bound cannot apply (different knots: never for this engine's result).
     pub band_bound: Option<f64>,
+    /// What the fair did besides the plain method, in the user's terms: C0 knot lines faired tile by
+    /// tile with the rows next to them held, tiles too short to move left as they were.
+    pub notes: Vec<String>,
 }
 
 /// Wall-clock time of the phases of one [`fair_surface`](super::fair_surface) call (summed over
@@ -196,5 +199,18 @@ impl SurfaceTimings {
     /// Sum of the phases.
     pub fn total(&self) -> Duration {
         self.isocurves + self.combine + self.fit + self.verify + self.reference
+    }
+}
+
+impl std::ops::Add for SurfaceTimings {
+    type Output = Self;
+    fn add(self, o: Self) -> Self {
+        Self {
+            isocurves: self.isocurves + o.isocurves,
+            combine: self.combine + o.combine,
+            fit: self.fit + o.fit,
+            verify: self.verify + o.verify,
+            reference: self.reference + o.reference,
+        }
     }
 }
