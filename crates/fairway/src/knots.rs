@@ -253,6 +253,81 @@ pub fn find_span(knots: &[f64], p: usize, n: usize, u: f64) -> usize {
     low
 }
 
+/// What [`resolve_breaks`] does with one knot of multiplicity above p (a break).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Break {
+    /// The geometry is continuous there (the two control points next to it coincide): one copy of the
+    /// knot and one of the points are dropped, leaving a C0 knot of multiplicity p, the same geometry.
+    Reduced(f64),
+    /// The geometry jumps there (or the knot has more than p + 1 copies): the object is split.
+    Split(f64),
+}
+
+/// One piece of [`resolve_breaks`]: its knots and the indices of the control points (lines of a
+/// surface) it keeps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Piece {
+    /// The piece's knot vector (clamped, interior multiplicities at most p).
+    pub knots: Vec<f64>,
+    /// Indices into the input's control points (rows) that the piece keeps, in order.
+    pub points: Vec<usize>,
+}
+
+/// Knots of multiplicity above `p` inside a clamped knot vector (a break, "C−1", which
+/// [`KnotVector::try_new`] refuses), resolved: where `same(a − 1, a)` says the control points (rows) on the
+/// two sides of the break coincide, the knot is reduced to multiplicity p (same geometry); otherwise the
+/// B-spline is split there into pieces, each a valid clamped B-spline (a knot of s > p + 1 copies also
+/// drops the s − p − 1 control points whose basis functions are zero). Returns the pieces (one when there
+/// is no split) and what was done at each break. Only the structure is checked: counts that do not match
+/// the knots return the input as one piece, for the caller's validation to refuse.
+pub fn resolve_breaks(knots: &[f64], p: usize, same: impl Fn(usize, usize) -> bool) -> (Vec<Piece>, Vec<Break>) {
+    let whole = |kn: &[f64]| Piece {
+        knots: kn.to_vec(),
+        points: (0..kn.len().saturating_sub(p + 1)).collect(),
+    };
+    if p == 0 || knots.len() < 2 * (p + 1) || knots.iter().any(|k| !k.is_finite()) {
+        return (vec![whole(knots)], vec![]);
+    }
+    let n = knots.len() - p - 1;
+    let (lo, hi) = (knots[0], knots[knots.len() - 1]);
+    let mut breaks = vec![];
+    let mut i = 0;
+    while i < knots.len() {
+        let mut s = 1;
+        while i + s < knots.len() && knots[i + s] == knots[i] {
+            s += 1;
+        }
+        if knots[i] > lo && knots[i] < hi && s > p {
+            breaks.push((i, s));
+        }
+        i += s;
+    }
+    if breaks.is_empty() {
+        return (vec![whole(knots)], vec![]);
+    }
+    let (mut kdrop, mut pdrop) = (vec![], vec![]);
+    let mut pieces = vec![];
+    let mut done = vec![];
+    let (mut k0, mut p0) = (0, 0);
+    let piece = |k0: usize, k1: usize, p0: usize, p1: usize, kdrop: &[usize], pdrop: &[usize]| Piece {
+        knots: (k0..k1).filter(|k| !kdrop.contains(k)).map(|k| knots[k]).collect(),
+        points: (p0..p1).filter(|q| !pdrop.contains(q)).collect(),
+    };
+    for (a, s) in breaks {
+        if s == p + 1 && a >= 1 && a < n && same(a - 1, a) {
+            kdrop.push(a + p);
+            pdrop.push(a);
+            done.push(Break::Reduced(knots[a]));
+            continue;
+        }
+        pieces.push(piece(k0, a + p + 1, p0, a.min(n), &kdrop, &pdrop));
+        (k0, p0) = (a + s - p - 1, a + s - p - 1);
+        done.push(Break::Split(knots[a]));
+    }
+    pieces.push(piece(k0, knots.len(), p0, n, &kdrop, &pdrop));
+    (pieces, done)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -308,5 +383,45 @@ mod tests {
         assert_eq!(k.breakpoints(), vec![0., 1., 2., 3., 4.]);
         assert_eq!(k.n_spans(), 4);
         assert_eq!(k.multiplicity(2.0), 2);
+    }
+
+    #[test]
+    fn breaks_split_or_reduce_into_valid_pieces() {
+        // cubic, a break (multiplicity 4) at 1 and a simple knot at 2: points 0..=3 | 4..=8
+        let k = [0., 0., 0., 0., 1., 1., 1., 1., 2., 3., 3., 3., 3.];
+        let (pieces, done) = resolve_breaks(&k, 3, |_, _| false);
+        assert_eq!(done, vec![Break::Split(1.0)]);
+        assert_eq!(pieces.len(), 2);
+        assert_eq!(pieces[0].knots, vec![0., 0., 0., 0., 1., 1., 1., 1.]);
+        assert_eq!(pieces[0].points, vec![0, 1, 2, 3]);
+        assert_eq!(pieces[1].knots, vec![1., 1., 1., 1., 2., 3., 3., 3., 3.]);
+        assert_eq!(pieces[1].points, vec![4, 5, 6, 7, 8]);
+        for pc in &pieces {
+            KnotVector::try_new(pc.knots.clone(), 3, pc.points.len(), "k").unwrap();
+        }
+        // continuous there: one knot and point 4 dropped, a C0 knot of multiplicity 3 left
+        let (pieces, done) = resolve_breaks(&k, 3, |a, b| (a, b) == (3, 4));
+        assert_eq!(done, vec![Break::Reduced(1.0)]);
+        assert_eq!(pieces.len(), 1);
+        assert_eq!(pieces[0].knots, vec![0., 0., 0., 0., 1., 1., 1., 2., 3., 3., 3., 3.]);
+        assert_eq!(pieces[0].points, vec![0, 1, 2, 3, 5, 6, 7, 8]);
+        KnotVector::try_new(pieces[0].knots.clone(), 3, 8, "k").unwrap();
+        // five copies at degree 3: the point whose basis function is zero is dropped
+        let k5 = [0., 0., 0., 0., 1., 1., 1., 1., 1., 2., 2., 2., 2.];
+        let (pieces, _) = resolve_breaks(&k5, 3, |_, _| true);
+        assert_eq!(pieces[0].points, vec![0, 1, 2, 3]);
+        assert_eq!(pieces[1].points, vec![5, 6, 7, 8]);
+        assert_eq!(pieces[1].knots, vec![1., 1., 1., 1., 2., 2., 2., 2.]);
+        // no break: one piece, the input
+        let simple = [0., 0., 0., 1., 2., 2., 2.];
+        let (pieces, done) = resolve_breaks(&simple, 2, |_, _| true);
+        assert!(done.is_empty());
+        assert_eq!(
+            pieces,
+            vec![Piece {
+                knots: simple.to_vec(),
+                points: vec![0, 1, 2, 3]
+            }]
+        );
     }
 }

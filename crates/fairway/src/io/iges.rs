@@ -618,7 +618,7 @@ impl DataSections<'_> {
             let Some(what) = entity_what(e, notices) else {
                 continue;
             };
-            let geom = match self.read_entity(e, &what, &mut budget, notices) {
+            let pieces = match self.read_entity(e, &what, &mut budget, notices) {
                 Ok(g) => g,
                 Err(err) => {
                     let reason = match &err {
@@ -633,18 +633,38 @@ impl DataSections<'_> {
                     continue;
                 }
             };
-            objects.push(geom);
-            infos.push(EntityInfo {
-                entity: e.seq,
-                label: e.label.clone(),
-            });
+            let count = pieces.len();
+            for (k, geom) in pieces.into_iter().enumerate() {
+                objects.push(geom);
+                let piece = if count > 1 {
+                    format!("piece {} of {count}", k + 1)
+                } else {
+                    String::new()
+                };
+                infos.push(EntityInfo {
+                    entity: e.seq,
+                    label: [e.label.as_str(), piece.as_str()]
+                        .iter()
+                        .filter(|t| !t.is_empty())
+                        .copied()
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                });
+            }
         }
         (objects, infos, first_error)
     }
 
     /// One entity: its parameters parsed, its transformation chain and the unit factor applied,
-    /// its coordinates range-checked.
-    fn read_entity(&self, e: &DirEntry, what: &str, budget: &mut usize, notices: &mut Vec<String>) -> Result<Geometry> {
+    /// its coordinates range-checked; several objects where a break (a knot above the degree's
+    /// multiplicity) splits it ([`crate::knots::resolve_breaks`]).
+    fn read_entity(
+        &self,
+        e: &DirEntry,
+        what: &str,
+        budget: &mut usize,
+        notices: &mut Vec<String>,
+    ) -> Result<Vec<Geometry>> {
         let (pd, rd, factor) = (self.pd, self.rd, self.factor);
         let toks = entity_params(self.plines, e, what, pd, rd, budget)?;
         let mut p = Params {
@@ -653,19 +673,23 @@ impl DataSections<'_> {
             what: what.to_string(),
         };
         let xf = transform_chain(self.entries, self.plines, e.transform, pd, rd, budget)?;
-        let mut geom = if e.etype == 126 {
+        let pieces = if e.etype == 126 {
             read_126(&mut p, notices)?
         } else {
             read_128(&mut p, notices)?
         };
-        if let Some(m) = xf {
-            geom = apply(geom, |q| m.apply(q))?;
+        let mut out = Vec::with_capacity(pieces.len());
+        for mut geom in pieces {
+            if let Some(m) = xf {
+                geom = apply(geom, |q| m.apply(q))?;
+            }
+            if factor != 1.0 {
+                geom = apply(geom, |q| q * factor)?;
+            }
+            crate::range::check_geometry(&geom).map_err(|e| perr(format!("{what}: {e}")))?;
+            out.push(geom);
         }
-        if factor != 1.0 {
-            geom = apply(geom, |q| q * factor)?;
-        }
-        crate::range::check_geometry(&geom).map_err(|e| perr(format!("{what}: {e}")))?;
-        Ok(geom)
+        Ok(out)
     }
 }
 
@@ -844,7 +868,7 @@ fn need(p: &Params<'_>, needed: Option<usize>) -> Result<()> {
     }
 }
 
-fn read_126(p: &mut Params<'_>, notices: &mut Vec<String>) -> Result<Geometry> {
+fn read_126(p: &mut Params<'_>, notices: &mut Vec<String>) -> Result<Vec<Geometry>> {
     let k = p.count("K (number of control points − 1)", i64::from(u32::MAX))?;
     let m = p.count("M (degree)", MAX_DEGREE as i64)?;
     if m == 0 {
@@ -912,7 +936,41 @@ fn read_126(p: &mut Params<'_>, notices: &mut Vec<String>) -> Result<Geometry> {
     } else {
         3
     };
-    Ok(Geometry::Curve(BSplineCurve::try_new(m, knots, pts, weights, dim)?))
+    let scale = coordinate_scale(&pts);
+    let same =
+        |a: usize, b: usize| pts[a].distance(pts[b]) <= 1e-9 * scale && weights.as_ref().is_none_or(|w| w[a] == w[b]);
+    let (pieces, breaks) = crate::knots::resolve_breaks(&knots, m, same);
+    note_breaks(notices, &p.what, "", &breaks, pieces.len());
+    pieces
+        .into_iter()
+        .map(|pc| {
+            let w = weights.as_ref().map(|w| pc.points.iter().map(|&i| w[i]).collect());
+            let q = pc.points.iter().map(|&i| pts[i]).collect();
+            Ok(Geometry::Curve(BSplineCurve::try_new(m, pc.knots, q, w, dim)?))
+        })
+        .collect()
+}
+
+/// The largest coordinate magnitude of `pts` (at least 1e-300): the scale of "coincide" at a break.
+fn coordinate_scale(pts: &[DVec3]) -> f64 {
+    pts.iter().map(|q| q.abs().max_element()).fold(1e-300, f64::max)
+}
+
+/// One notice per break resolved by [`crate::knots::resolve_breaks`] (`dir` names the direction of a
+/// surface, empty for a curve).
+fn note_breaks(notices: &mut Vec<String>, what: &str, dir: &str, breaks: &[crate::knots::Break], pieces: usize) {
+    for b in breaks {
+        notices.push(match b {
+            crate::knots::Break::Reduced(u) => format!(
+                "{what}: knot {dir}{u} has multiplicity above the degree but the geometry is continuous there: \
+                 reduced to a C0 knot (same shape)"
+            ),
+            crate::knots::Break::Split(u) => format!(
+                "{what}: the geometry breaks at knot {dir}{u} (multiplicity above the degree): split there, \
+                 {pieces} pieces in all"
+            ),
+        });
+    }
 }
 
 fn check_weights(w: &[f64], rational: bool, what: &str) -> Result<()> {
@@ -926,7 +984,7 @@ fn check_weights(w: &[f64], rational: bool, what: &str) -> Result<()> {
     Ok(())
 }
 
-fn read_128(p: &mut Params<'_>, notices: &mut Vec<String>) -> Result<Geometry> {
+fn read_128(p: &mut Params<'_>, notices: &mut Vec<String>) -> Result<Vec<Geometry>> {
     let h = read_128_header(p)?;
     let (nu, nv, total, rational) = (h.nu, h.nv, h.nu * h.nv, h.polynomial == 0);
     let (ku, kv, w, pts, (u0, u1, v0, v1)) = read_128_values(p, &h)?;
@@ -963,16 +1021,61 @@ fn read_128(p: &mut Params<'_>, notices: &mut Vec<String>) -> Result<Geometry> {
             rational.then(|| flat.iter().map(|h| h.w).collect()),
         )
     };
-    Ok(Geometry::Surface(BSplineSurface::try_new(
-        h.m1,
-        h.m2,
-        new_ku.unwrap_or(ku),
-        new_kv.unwrap_or(kv),
-        nu2,
-        nv2,
-        points,
-        weights,
-    )?))
+    let (ku, kv) = (new_ku.unwrap_or(ku), new_kv.unwrap_or(kv));
+    if points.len() != nu2 * nv2 {
+        return Ok(vec![Geometry::Surface(BSplineSurface::try_new(
+            h.m1, h.m2, ku, kv, nu2, nv2, points, weights,
+        )?)]);
+    }
+    surface_pieces(&p.what, notices, (h.m1, h.m2), (ku, kv), nv2, points, weights)
+}
+
+/// A surface read from a file, its breaks (knots above the degree's multiplicity) resolved in u, then in
+/// v on each u-piece ([`crate::knots::resolve_breaks`]): reduced where the rows coincide, split otherwise.
+fn surface_pieces(
+    what: &str,
+    notices: &mut Vec<String>,
+    (pu, pv): (usize, usize),
+    (ku, kv): (Vec<f64>, Vec<f64>),
+    nv: usize,
+    points: Vec<DVec3>,
+    weights: Option<Vec<f64>>,
+) -> Result<Vec<Geometry>> {
+    let scale = coordinate_scale(&points);
+    let at = |i: usize, j: usize| i * nv + j;
+    let same_pt = |a: usize, b: usize| {
+        points[a].distance(points[b]) <= 1e-9 * scale && weights.as_ref().is_none_or(|w| w[a] == w[b])
+    };
+    let (u_pieces, u_breaks) =
+        crate::knots::resolve_breaks(&ku, pu, |a, b| (0..nv).all(|j| same_pt(at(a, j), at(b, j))));
+    let mut all = vec![];
+    let mut v_notes = vec![];
+    for up in &u_pieces {
+        let (v_pieces, v_breaks) =
+            crate::knots::resolve_breaks(&kv, pv, |a, b| up.points.iter().all(|&i| same_pt(at(i, a), at(i, b))));
+        v_notes.extend(v_breaks);
+        for vp in v_pieces {
+            let idx: Vec<usize> = up
+                .points
+                .iter()
+                .flat_map(|&i| vp.points.iter().map(move |&j| at(i, j)))
+                .collect();
+            all.push(Geometry::Surface(BSplineSurface::try_new(
+                pu,
+                pv,
+                up.knots.clone(),
+                vp.knots,
+                up.points.len(),
+                vp.points.len(),
+                idx.iter().map(|&k| points[k]).collect(),
+                weights.as_ref().map(|w| idx.iter().map(|&k| w[k]).collect()),
+            )?));
+        }
+    }
+    note_breaks(notices, what, "u = ", &u_breaks, all.len());
+    v_notes.dedup();
+    note_breaks(notices, what, "v = ", &v_notes, all.len());
+    Ok(all)
 }
 
 /// The counts and flags heading an entity 128's parameters.
