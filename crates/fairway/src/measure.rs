@@ -401,6 +401,16 @@ pub fn paper_energy(curve: &BSplineCurve, target: &[f64]) -> Option<f64> {
     Some(e)
 }
 
+/// [`Measures::n_curv_extrema`] of `faired` alone (the dead band from `original`), without the deviation
+/// and the other figures: the count the engine's guards compare.
+pub fn curvature_extrema(original: &BSplineCurve, faired: &BSplineCurve) -> usize {
+    let (_, g_orig) = reference_target(original);
+    let delta = REL_THRESHOLD * g_orig.iter().fold(0.0f64, |m, g| m.max(g.abs()));
+    let us = arc_params(faired, curv_samples(faired));
+    let kk: Vec<f64> = us.iter().map(|&u| faired.derivs(u).curvature(faired.dim())).collect();
+    zigzag_extrema(&kk, delta)
+}
+
 /// All measures of `faired` against `original`.
 pub fn measure(original: &BSplineCurve, faired: &BSplineCurve) -> Measures {
     let n_dev = dev_samples(original);

@@ -476,7 +476,39 @@ impl CurveFairing {
             } => {
                 let energy_before = setup.original_energy();
                 let result = match pass {
-                    Pass::Full if *whole_loop && !edited => closed::fair_closed(input, opts)?,
+                    Pass::Full if *whole_loop && !edited => {
+                        // the seam pass has no extrema guard of its own (the single pass's polish has):
+                        // a result with more curvature extrema than the input falls back to the single
+                        // pass with the seam held
+                        let r = closed::fair_closed(input, opts)?;
+                        let extrema = |c: &BSplineCurve| crate::measure::curvature_extrema(input, c);
+                        let before = extrema(input);
+                        let after = extrema(&r.curve);
+                        if after <= before {
+                            r
+                        } else {
+                            let mut held = run(setup)?;
+                            let held_after = extrema(&held.curve);
+                            if held_after <= before {
+                                held.notes.push(format!(
+                                    "faired with the seam held: across the seam the fair ended with more \
+                                     curvature extrema than the input ({before} → {after})"
+                                ));
+                            } else {
+                                // never less fair than the input: it stays as it is
+                                held.notes.push(format!(
+                                    "left as it was: the fair ended with more curvature extrema than the \
+                                     input ({before} → {})",
+                                    after.min(held_after)
+                                ));
+                                held.curve = input.clone();
+                                held.max_deviation = 0.0;
+                                held.alpha = 0.0;
+                                held.energy = setup.original_energy();
+                            }
+                            held
+                        }
+                    }
                     Pass::Iterative(o) if *whole_loop && !edited => closed::fair_closed_iterative(input, opts, o)?,
                     _ => run(setup)?,
                 };
