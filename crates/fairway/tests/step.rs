@@ -224,8 +224,8 @@ fn a_file_as_a_cad_system_writes_it_is_read_with_known_values() {
     assert_eq!(s.point_at(1, 1), DVec3::new(5., 5., 0.25));
     assert_eq!(s.point_at(0, 1), DVec3::new(0., 5., 1.));
     assert!(s.weights().is_none());
-    // the p-curve and the line and plane are listed, nothing else
-    assert_eq!(f.notices.len(), 2, "{:?}", f.notices);
+    // the p-curve, the line and plane, and the trims not applied are listed, nothing else
+    assert_eq!(f.notices.len(), 3, "{:?}", f.notices);
     assert_eq!(
         f.notices[0],
         "#33 (B_SPLINE_CURVE_WITH_KNOTS) skipped: a curve in a surface's parameter space"
@@ -233,6 +233,11 @@ fn a_file_as_a_cad_system_writes_it_is_read_with_known_values() {
     assert_eq!(
         f.notices[1],
         "2 other curves and surfaces skipped (only B-splines are read): 1 LINE, 1 PLANE"
+    );
+    assert_eq!(
+        f.notices[2],
+        "trims and placements not applied (1 ADVANCED_FACE, 1 EDGE_CURVE, 1 TRIMMED_CURVE): the B-splines are \
+         read whole, in their own coordinates"
     );
 }
 
@@ -269,6 +274,11 @@ fn one_broken_b_spline_is_skipped_with_its_reason_and_the_others_are_read() {
             "weight 1 is -1, weights must be positive",
         ),
         ("(0.0,0.25,", "(0.0,0.3,0.25,", "4 knot multiplicities for 5 knots"),
+        (
+            "B_SPLINE_CURVE_WITH_KNOTS((4,1,1,4),(0.0,",
+            "B_SPLINE_CURVE_WITH_KNOTS((4,1,1,4),(0.5,",
+            "knots must increase: knot 2 (0.25) is not above knot 1 (0.5)",
+        ),
     ];
     let single = step::write(&[rational_3d().into()], &opts(Unit::Millimeter));
     for (from, to, why) in cases {
@@ -323,6 +333,17 @@ fn units_are_detected_and_converted_on_request() {
              #2=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT($,.METRE.));#3=MEASURE_WITH_UNIT(LENGTH_MEASURE(0.3048),#2);",
             Some(Unit::Foot),
         ),
+        (
+            // the factor decides, not the name
+            "#1=(CONVERSION_BASED_UNIT('INCH',#3)LENGTH_UNIT()NAMED_UNIT(*));\
+             #2=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));#3=MEASURE_WITH_UNIT(LENGTH_MEASURE(304.8),#2);",
+            Some(Unit::Foot),
+        ),
+        (
+            // no factor to follow: the name
+            "#1=(CONVERSION_BASED_UNIT('inch',$)LENGTH_UNIT()NAMED_UNIT(*));",
+            Some(Unit::Inch),
+        ),
         ("#1=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.NANO.,.METRE.));", None),
     ];
     for (units, expected) in cases {
@@ -342,7 +363,7 @@ fn units_are_detected_and_converted_on_request() {
     .unwrap();
     assert_eq!(f.objects[0].as_curve().unwrap().points()[1], DVec3::new(25.4, 50.8, 0.));
     // an unknown unit cannot be converted
-    let text = unit_file(cases[5].0);
+    let text = unit_file(cases.last().unwrap().0);
     let e = step::read_all_with(
         text.as_bytes(),
         ReadOptions {
@@ -421,5 +442,32 @@ proptest! {
                 prop_assert!(fairway::range::check_geometry(g).is_ok());
             }
         }
+    }
+}
+
+#[test]
+fn a_rational_surface_with_a_short_or_long_row_of_weights_is_skipped_with_its_reason() {
+    let text = step::write(
+        &[wavy_rational().into(), twisted_cubic().into()],
+        &opts(Unit::Millimeter),
+    );
+    let s = wavy_rational();
+    for (to, why) in [
+        (
+            "RATIONAL_B_SPLINE_SURFACE(((2.0,",
+            format!("weights row 1 has {} weights for {} control points", s.nv() + 1, s.nv()),
+        ),
+        (
+            "RATIONAL_B_SPLINE_SURFACE(((2.0),(",
+            format!("{} rows of weights for {} rows of control points", s.nu() + 1, s.nu()),
+        ),
+    ] {
+        let bad = text.replacen("RATIONAL_B_SPLINE_SURFACE(((", to, 1);
+        assert_ne!(bad, text);
+        let f = step::read_all(bad.as_bytes()).unwrap();
+        assert_eq!(f.objects.len(), 1, "{:?}", f.notices);
+        assert_bits_equal(&f.objects[0], &twisted_cubic().into());
+        assert_eq!(f.notices.len(), 1, "{:?}", f.notices);
+        assert!(f.notices[0].ends_with(&format!("skipped: {why}")), "{:?}", f.notices);
     }
 }

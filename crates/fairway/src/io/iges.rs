@@ -1129,6 +1129,12 @@ fn wrap(tokens: &[String], width: usize) -> Vec<String> {
 }
 
 pub(crate) fn now_stamp() -> String {
+    let [y, m, d, h, n, s] = now_utc();
+    format!("{y:04}{m:02}{d:02}.{h:02}{n:02}{s:02}")
+}
+
+/// The time now (UTC) as [year, month, day, hour, minute, second].
+pub(crate) fn now_utc() -> [i64; 6] {
     let secs = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs()) as i64;
@@ -1144,12 +1150,7 @@ pub(crate) fn now_stamp() -> String {
     let d = doy - (153 * mp + 2) / 5 + 1;
     let m = if mp < 10 { mp + 3 } else { mp - 9 };
     let y = yoe + era * 400 + if m <= 2 { 1 } else { 0 };
-    format!(
-        "{y:04}{m:02}{d:02}.{:02}{:02}{:02}",
-        rem / 3600,
-        (rem / 60) % 60,
-        rem % 60
-    )
+    [y, m, d, rem / 3600, (rem / 60) % 60, rem % 60]
 }
 
 fn curve_params(c: &BSplineCurve) -> Vec<String> {

@@ -131,6 +131,9 @@ enum Tok {
     Semi,
     Equals,
     Eof,
+    /// Bytes the lexer could not read, with the reason: an error when the parser reaches it, so a bad
+    /// byte costs only the instance it is in.
+    Bad(String),
 }
 
 fn describe(t: &Tok) -> String {
@@ -149,6 +152,7 @@ fn describe(t: &Tok) -> String {
         Tok::Semi => "';'".into(),
         Tok::Equals => "'='".into(),
         Tok::Eof => "the end of the file".into(),
+        Tok::Bad(why) => why.clone(),
     }
 }
 
@@ -198,7 +202,13 @@ impl<'a> Lexer<'a> {
         &self.s[start..self.pos]
     }
 
-    fn next(&mut self) -> Result<Tok, String> {
+    /// The next token; what cannot be read comes as [`Tok::Bad`] (always past at least one byte, so
+    /// reading on never loops).
+    fn next(&mut self) -> Tok {
+        self.token().unwrap_or_else(Tok::Bad)
+    }
+
+    fn token(&mut self) -> Result<Tok, String> {
         self.skip_blanks()?;
         let Some(&c) = self.s.get(self.pos) else {
             return Ok(Tok::Eof);
@@ -366,23 +376,29 @@ struct Parser<'a> {
 }
 
 impl<'a> Parser<'a> {
-    fn new(s: &'a [u8]) -> Result<Self, String> {
+    fn new(s: &'a [u8]) -> Self {
         let mut lex = Lexer { s, pos: 0, line: 1 };
-        let tok = lex.next()?;
+        let tok = lex.next();
         let line = lex.line;
-        Ok(Self { lex, tok, line })
+        Self { lex, tok, line }
     }
 
+    /// Take the current token and read the next; a [`Tok::Bad`] taken is its error.
     fn bump(&mut self) -> Result<Tok, String> {
-        let next = self.lex.next()?;
+        let next = self.lex.next();
         self.line = self.lex.line;
-        Ok(std::mem::replace(&mut self.tok, next))
+        match std::mem::replace(&mut self.tok, next) {
+            Tok::Bad(why) => Err(why),
+            t => Ok(t),
+        }
     }
 
     fn expect(&mut self, t: Tok) -> Result<(), String> {
         if self.tok == t {
             self.bump()?;
             Ok(())
+        } else if let Tok::Bad(why) = &self.tok {
+            Err(why.clone())
         } else {
             Err(format!("expected {} but found {}", describe(&t), describe(&self.tok)))
         }
@@ -479,25 +495,14 @@ impl<'a> Parser<'a> {
 
     /// Skip to just past the next `;` (or to the end).
     fn recover(&mut self) {
-        loop {
-            match self.bump() {
-                Ok(Tok::Semi) | Ok(Tok::Eof) => return,
-                Ok(_) => {}
-                // the lexer moved past the bad bytes: go on
-                Err(_) if self.lex.pos < self.lex.s.len() => {}
-                Err(_) => {
-                    self.tok = Tok::Eof;
-                    return;
-                }
-            }
-        }
+        while !matches!(self.bump(), Ok(Tok::Semi) | Ok(Tok::Eof)) {}
     }
 }
 
 /// Parse an exchange file. `Err` only when it is not Part 21 (no `ISO-10303-21;` at its start).
 pub fn parse(bytes: &[u8]) -> Result<Exchange, String> {
     let not_step = |why: String| format!("not a STEP (ISO 10303-21) file: {why}");
-    let mut p = Parser::new(bytes).map_err(not_step)?;
+    let mut p = Parser::new(bytes);
     match p.bump().map_err(not_step)? {
         Tok::Keyword(k) if k == "ISO-10303-21" => {}
         t => return Err(not_step(format!("it begins with {}, not ISO-10303-21;", describe(&t)))),
@@ -520,6 +525,12 @@ pub fn parse(bytes: &[u8]) -> Result<Exchange, String> {
                 ex.header.push(r);
                 p.expect(Tok::Semi)
             }),
+            Tok::Bad(why) => {
+                // between instances: report the bad bytes and go on with the next token
+                ex.errors.push(format!("line {line}: {why}"));
+                let _ = p.bump();
+                continue;
+            }
             t => Err(format!("unexpected {}", describe(t))),
         };
         if let Err(e) = step {
@@ -619,6 +630,22 @@ mod tests {
         assert!(ex.errors[1].contains("#2 is defined twice"));
         assert!(ex.errors[2].contains("unexpected character '%'"));
         assert!(ex.errors[3].contains("ends without END-ISO-10303-21"));
+    }
+
+    #[test]
+    fn a_bad_byte_between_instances_costs_no_instance() {
+        let ex = parse_ok("ISO-10303-21;DATA;#1=A(1);%#2=B(2);\n@ #3=C(3);ENDSEC;END-ISO-10303-21;");
+        assert_eq!(ex.instances.iter().map(|i| i.id).collect::<Vec<_>>(), [1, 2, 3]);
+        assert_eq!(
+            ex.errors,
+            ["line 1: unexpected character '%'", "line 2: unexpected character '@'"]
+        );
+        // an unclosed string or comment runs to the end: what came before is kept
+        for tail in ["#3=C('open);", "/* #3=C(3);"] {
+            let ex = parse_ok(&format!("ISO-10303-21;DATA;#1=A(1);#2=B(2);{tail}"));
+            assert_eq!(ex.instances.len(), 2, "{tail}");
+            assert!(ex.errors[0].contains("never closed"), "{:?}", ex.errors);
+        }
     }
 
     #[test]

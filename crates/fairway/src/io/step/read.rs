@@ -35,6 +35,16 @@ const OTHER_GEOMETRY: &[&str] = &[
     "OFFSET_SURFACE",
 ];
 
+/// Entities that trim or place the B-splines: not applied (the B-splines are read whole, in their own
+/// coordinates), counted in one notice.
+const NOT_APPLIED: &[&str] = &[
+    "ADVANCED_FACE",
+    "FACE_SURFACE",
+    "EDGE_CURVE",
+    "TRIMMED_CURVE",
+    "ITEM_DEFINED_TRANSFORMATION",
+];
+
 /// What a B-spline instance is, from its record names.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Kind {
@@ -317,13 +327,30 @@ fn knots_of(p: &Parts<'_>, mults: usize, knots: usize, degree: usize, n: usize, 
     }
 }
 
-fn weights(p: &Parts<'_>, expected: usize, nested: bool) -> Result<Option<Vec<f64>>> {
+/// The weights of a rational B-spline: a list for a curve, for a surface a list of `rows` rows of
+/// `expected / rows` weights each (as its control points).
+fn weights(p: &Parts<'_>, expected: usize, rows: Option<usize>) -> Result<Option<Vec<f64>>> {
     let Some(w) = p.weights else { return Ok(None) };
-    let w = if nested {
+    let w = if let Some(nu) = rows {
+        let nv = expected / nu.max(1);
         let rows = list(w, "weights")?;
-        let mut v = Vec::new();
+        if rows.len() != nu {
+            return Err(perr(format!(
+                "{} rows of weights for {nu} rows of control points",
+                rows.len()
+            )));
+        }
+        let mut v = Vec::with_capacity(expected);
         for (i, r) in rows.iter().enumerate() {
-            v.extend(reals(r, &format!("weights row {}", i + 1))?);
+            let r = reals(r, &format!("weights row {}", i + 1))?;
+            if r.len() != nv {
+                return Err(perr(format!(
+                    "weights row {} has {} weights for {nv} control points",
+                    i + 1,
+                    r.len()
+                )));
+            }
+            v.extend(r);
         }
         v
     } else {
@@ -351,7 +378,7 @@ fn read_curve(ex: &Exchange, p: &Parts<'_>) -> Result<Geometry> {
     let mut dim = 0;
     let pts = points(ex, refs, 0, &mut dim)?;
     let knots = knots_of(p, 0, 1, degree, pts.len(), "")?;
-    let w = weights(p, pts.len(), false)?;
+    let w = weights(p, pts.len(), None)?;
     Ok(BSplineCurve::try_new(degree, knots, pts, w, dim)?.into())
 }
 
@@ -386,7 +413,7 @@ fn read_surface(ex: &Exchange, p: &Parts<'_>) -> Result<Geometry> {
     }
     let ku = knots_of(p, 0, 2, du, nu, "u ")?;
     let kv = knots_of(p, 1, 3, dv, nv, "v ")?;
-    let w = weights(p, nu * nv, true)?;
+    let w = weights(p, nu * nv, Some(nu))?;
     Ok(BSplineSurface::try_new(du, dv, ku, kv, nu, nv, pts, w)?.into())
 }
 
@@ -450,10 +477,14 @@ pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile
     let (mut objects, mut entities) = (Vec::new(), Vec::new());
     let mut first_error = None;
     let mut others: BTreeMap<&str, usize> = BTreeMap::new();
+    let mut not_applied: BTreeMap<&str, usize> = BTreeMap::new();
     for inst in &ex.instances {
         let Some((kind, form, entity)) = bspline_form(inst) else {
             if let Some(r) = inst.records.iter().find(|r| OTHER_GEOMETRY.contains(&r.name.as_str())) {
                 *others.entry(r.name.as_str()).or_default() += 1;
+            }
+            if let Some(r) = inst.records.iter().find(|r| NOT_APPLIED.contains(&r.name.as_str())) {
+                *not_applied.entry(r.name.as_str()).or_default() += 1;
             }
             continue;
         };
@@ -482,6 +513,13 @@ pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile
         notices.push(format!(
             "{} other curves and surfaces skipped (only B-splines are read): {}",
             others.values().sum::<usize>(),
+            list.join(", ")
+        ));
+    }
+    if !not_applied.is_empty() && !objects.is_empty() {
+        let list: Vec<String> = not_applied.iter().map(|(k, n)| format!("{n} {k}")).collect();
+        notices.push(format!(
+            "trims and placements not applied ({}): the B-splines are read whole, in their own coordinates",
             list.join(", ")
         ));
     }

@@ -70,27 +70,36 @@ fn unit_mm(ex: &Exchange, inst: &Instance, depth: usize) -> Option<f64> {
         return from_prefix(si.params.first()?).map(Unit::in_mm);
     }
     let conv = inst.record("CONVERSION_BASED_UNIT")?;
-    if let Some(Param::Str(name)) = conv.params.first()
-        && let Some(u) = ALL.into_iter().find(|&u| {
-            conversion_name(u).eq_ignore_ascii_case(name.trim()) || u.name().eq_ignore_ascii_case(name.trim())
-        })
-    {
-        return Some(u.in_mm());
-    }
-    if depth > 4 {
-        return None;
-    }
-    // the conversion factor: a MEASURE_WITH_UNIT(value, unit)
-    let Some(Param::Ref(m)) = conv.params.get(1) else {
-        return None;
+    // the conversion factor, a MEASURE_WITH_UNIT(value, unit), says what the unit is; the name only
+    // where the factor cannot be followed
+    let factor = || -> Option<f64> {
+        if depth > 4 {
+            return None;
+        }
+        let Some(Param::Ref(m)) = conv.params.get(1) else {
+            return None;
+        };
+        let rec = ex
+            .get(*m)?
+            .records
+            .iter()
+            .find(|r| r.name.ends_with("MEASURE_WITH_UNIT"))?;
+        let value = rec.params.first()?.real()?;
+        let Some(Param::Ref(base)) = rec.params.get(1) else {
+            return None;
+        };
+        let mm = value * unit_mm(ex, ex.get(*base)?, depth + 1)?;
+        (mm.is_finite() && mm > 0.0).then_some(mm)
     };
-    let measure = ex.get(*m)?;
-    let rec = measure.records.iter().find(|r| r.name.ends_with("MEASURE_WITH_UNIT"))?;
-    let value = rec.params.first()?.real()?;
-    let Some(Param::Ref(base)) = rec.params.get(1) else {
-        return None;
-    };
-    Some(value * unit_mm(ex, ex.get(*base)?, depth + 1)?)
+    factor().or_else(|| {
+        let Some(Param::Str(name)) = conv.params.first() else {
+            return None;
+        };
+        let name = name.trim();
+        ALL.into_iter()
+            .find(|&u| conversion_name(u).eq_ignore_ascii_case(name) || u.name().eq_ignore_ascii_case(name))
+            .map(Unit::in_mm)
+    })
 }
 
 /// The file's length unit: the `LENGTH_UNIT` assigned by the representation contexts. Contexts

@@ -243,17 +243,8 @@ fn representation(d: &mut Data, opts: &WriteOptions, shape: u64, items: &[u64], 
 /// The whole file; see [`super::write`].
 pub fn write(objects: &[Geometry], opts: &WriteOptions) -> String {
     let stamp = opts.date.clone().unwrap_or_else(|| {
-        let s = crate::io::iges::now_stamp();
-        // YYYYMMDD.HHNNSS → ISO 8601
-        format!(
-            "{}-{}-{}T{}:{}:{}",
-            &s[0..4],
-            &s[4..6],
-            &s[6..8],
-            &s[9..11],
-            &s[11..13],
-            &s[13..15]
-        )
+        let [y, m, d, h, n, s] = crate::io::iges::now_utc();
+        format!("{y:04}-{m:02}-{d:02}T{h:02}:{n:02}:{s:02}")
     });
     let stem = std::path::Path::new(&opts.file_name)
         .file_stem()
