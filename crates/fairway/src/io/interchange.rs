@@ -62,6 +62,44 @@ impl Unit {
         }
     }
 
+    /// The unit's symbol, as shown next to a length: `mm`, `in`, `µm`, ...
+    pub fn symbol(self) -> &'static str {
+        match self {
+            Unit::Inch => "in",
+            Unit::Millimeter => "mm",
+            Unit::Foot => "ft",
+            Unit::Mile => "mi",
+            Unit::Meter => "m",
+            Unit::Kilometer => "km",
+            Unit::Mil => "mil",
+            Unit::Micron => "µm",
+            Unit::Centimeter => "cm",
+            Unit::Microinch => "µin",
+        }
+    }
+
+    /// The unit of a symbol or name (`mm`, `in`, `inch`, `um`, `µm`, `MM`, ...), case-insensitive.
+    pub fn parse(s: &str) -> Option<Unit> {
+        let t = s.trim();
+        Unit::from_name(t).or_else(|| {
+            let l = t.to_lowercase().replace('µ', "u");
+            [
+                Unit::Inch,
+                Unit::Millimeter,
+                Unit::Foot,
+                Unit::Mile,
+                Unit::Meter,
+                Unit::Kilometer,
+                Unit::Mil,
+                Unit::Micron,
+                Unit::Centimeter,
+                Unit::Microinch,
+            ]
+            .into_iter()
+            .find(|u| u.symbol().replace('µ', "u") == l)
+        })
+    }
+
     /// Length of one unit in millimetres.
     pub fn in_mm(self) -> f64 {
         match self {

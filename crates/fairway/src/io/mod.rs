@@ -26,7 +26,7 @@ use crate::error::{Error, Result};
 use crate::geometry::Geometry;
 
 pub use document::{Document, DocumentSettings};
-pub use interchange::InterchangeFile;
+pub use interchange::{InterchangeFile, Unit};
 
 /// A file format known by its extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -223,13 +223,31 @@ pub fn load(path: &Path) -> Result<Document> {
     Ok(Document::new(geometry))
 }
 
+/// Read every curve and surface of an IGES or STEP file (by its extension), bounded as
+/// [`read_bytes`]; `Ok(None)` for another format.
+pub fn read_interchange(path: &Path) -> Result<Option<InterchangeFile>> {
+    match Format::from_path(path)? {
+        Format::Iges => iges::read_all(&read_bytes(path)?).map(Some),
+        Format::Step => step::read_all(&read_bytes(path)?).map(Some),
+        _ => Ok(None),
+    }
+}
+
 /// Read only the geometry of a file.
 pub fn load_geometry(path: &Path) -> Result<Geometry> {
     Ok(load(path)?.geometry)
 }
 
-/// Write a document in the format of the path's extension, atomically.
+/// Write a document in the format of the path's extension, atomically. IGES and STEP files declare
+/// millimetres (see [`save_in`]).
 pub fn save(path: &Path, doc: &Document) -> Result<()> {
+    save_in(path, doc, None)
+}
+
+/// [`save`], an IGES or STEP file declaring `unit` (millimetres if `None`): the unit the coordinates
+/// are in, e.g. that of the file they were read from. Other formats are unitless and ignore it.
+pub fn save_in(path: &Path, doc: &Document, unit: Option<interchange::Unit>) -> Result<()> {
+    let unit = unit.unwrap_or(interchange::Unit::Millimeter);
     let text = match Format::from_path(path)? {
         Format::Json => json::to_string(&doc.geometry),
         Format::Ron => doc.to_ron()?,
@@ -239,6 +257,7 @@ pub fn save(path: &Path, doc: &Document) -> Result<()> {
                 file_name: path
                     .file_name()
                     .map_or("fairway.igs".into(), |n| n.to_string_lossy().into_owned()),
+                unit,
                 ..Default::default()
             },
         ),
@@ -248,6 +267,7 @@ pub fn save(path: &Path, doc: &Document) -> Result<()> {
                 file_name: path
                     .file_name()
                     .map_or("fairway.stp".into(), |n| n.to_string_lossy().into_owned()),
+                unit,
                 ..Default::default()
             },
         ),
