@@ -97,13 +97,30 @@ fn curves_round_trip_bit_exact() {
     let f = step::read_all(text.as_bytes()).unwrap();
     assert!(f.notices.is_empty(), "{:?}", f.notices);
     assert_eq!(f.unit, Some(Unit::Millimeter));
-    // the 2D curves are in a representation of their own, but the curves are read in file order
+    // the 2D curves are written with z = 0 and named so: read back as 2D curves
     assert_eq!(f.objects.len(), objects.len());
     for (a, b) in objects.iter().zip(&f.objects) {
         assert_bits_equal(a, b);
     }
     // each object is labelled with its instance number and name
-    assert!(f.entities.iter().all(|e| e.entity > 0 && e.label.starts_with("curve ")));
+    assert!(
+        f.entities
+            .iter()
+            .all(|e| e.entity > 0 && (e.label.starts_with("curve ") || e.label.starts_with("2D curve ")))
+    );
+    // every point has three coordinates (a 2D context is ignored by other systems)
+    assert!(!text.contains("CARTESIAN_POINT('',(0.0,0.0))"));
+    assert!(
+        text.lines()
+            .filter(|l| l.contains("CARTESIAN_POINT"))
+            .all(|l| l.matches(',').count() >= 3)
+    );
+    assert!(!text.contains("GEOMETRIC_REPRESENTATION_CONTEXT(2)"));
+    // a 3D curve in the plane z = 0 under another name stays 3D
+    let flat3 = curve(&mut rng, 3, &[], 2, false);
+    let flat3 = BSplineCurve::try_new(3, flat3.knots().values().to_vec(), flat3.points().to_vec(), None, 3).unwrap();
+    let back = step::read_first(step::to_string(&flat3.into()).as_bytes()).unwrap();
+    assert_eq!(back.as_curve().unwrap().dim(), 3);
 }
 
 #[test]

@@ -53,6 +53,10 @@ use crate::error::{Error, Result};
 use crate::geometry::Geometry;
 pub use crate::io::interchange::{EntityInfo, InterchangeFile, ReadOptions, Unit};
 
+/// The name that marks a 2D curve written with z = 0 (`'2D curve 3'`): read back as a 2D curve when
+/// all its z coordinates are 0.
+pub(crate) const PLANAR_NAME: &str = "2D curve";
+
 fn perr(message: impl Into<String>) -> Error {
     Error::Parse {
         format: "STEP".into(),

@@ -320,11 +320,21 @@ fn implied_knots(form: KnotForm, degree: usize, n_points: usize, dir: &str) -> R
 }
 
 fn knots_of(p: &Parts<'_>, mults: usize, knots: usize, degree: usize, n: usize, dir: &str) -> Result<Vec<f64>> {
-    if p.form == KnotForm::WithKnots {
-        expand_knots(&p.knots[mults], &p.knots[knots], degree, n, dir)
+    let k = if p.form == KnotForm::WithKnots {
+        expand_knots(&p.knots[mults], &p.knots[knots], degree, n, dir)?
     } else {
-        implied_knots(p.form, degree, n, dir)
+        implied_knots(p.form, degree, n, dir)?
+    };
+    let clamped = |ends: &[f64]| ends.iter().all(|&u| u == ends[0]);
+    if !clamped(&k[..=degree]) || !clamped(&k[k.len() - degree - 1..]) {
+        return Err(perr(format!(
+            "{dir}knots: an unclamped B-spline (periodic, such as a full circle, or uniform): its end knots are \
+             not repeated degree + 1 = {} times; Fairway reads clamped B-splines only (in the CAD system, split \
+             the closed curve or surface, or convert it to a non-periodic B-spline)",
+            degree + 1
+        )));
     }
+    Ok(k)
 }
 
 /// The weights of a rational B-spline: a list for a curve, for a surface a list of `rows` rows of
@@ -440,6 +450,23 @@ fn read_instance(ex: &Exchange, p: &Parts<'_>, factor: f64) -> Result<Geometry> 
         Kind::Curve => read_curve(ex, p)?,
         Kind::Surface => read_surface(ex, p)?,
     };
+    // a 2D curve as Fairway writes it: named so, z = 0
+    let g = match g {
+        Geometry::Curve(c)
+            if c.dim() == 3 && p.name.starts_with(super::PLANAR_NAME) && c.points().iter().all(|q| q.z == 0.0) =>
+        {
+            let pts = c.points().iter().map(|q| DVec3::new(q.x, q.y, 0.0)).collect();
+            BSplineCurve::try_new(
+                c.degree(),
+                c.knots().values().to_vec(),
+                pts,
+                c.weights().map(<[f64]>::to_vec),
+                2,
+            )?
+            .into()
+        }
+        g => g,
+    };
     let g = if factor == 1.0 { g } else { scale(g, factor)? };
     crate::range::check_geometry(&g)?;
     Ok(g)
@@ -480,6 +507,9 @@ pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile
     let mut not_applied: BTreeMap<&str, usize> = BTreeMap::new();
     for inst in &ex.instances {
         let Some((kind, form, entity)) = bspline_form(inst) else {
+            if pcurves.contains(&inst.id) {
+                continue; // a p-curve that is a line, a circle, ...: part of a face's trim, not an object
+            }
             if let Some(r) = inst.records.iter().find(|r| OTHER_GEOMETRY.contains(&r.name.as_str())) {
                 *others.entry(r.name.as_str()).or_default() += 1;
             }

@@ -5,8 +5,8 @@
 
 use glam::DVec3;
 
-use super::WriteOptions;
 use super::units::{conversion_name, si_prefix};
+use super::{PLANAR_NAME, WriteOptions};
 use crate::curve::BSplineCurve;
 use crate::geometry::Geometry;
 use crate::surface::BSplineSurface;
@@ -94,17 +94,12 @@ impl Data {
         id
     }
 
-    fn point(&mut self, q: DVec3, dim: usize) -> u64 {
-        let c = if dim == 2 {
-            reals([q.x, q.y])
-        } else {
-            reals([q.x, q.y, q.z])
-        };
-        self.add(&format!("CARTESIAN_POINT('',{c})"))
+    fn point(&mut self, q: DVec3) -> u64 {
+        self.add(&format!("CARTESIAN_POINT('',{})", reals([q.x, q.y, q.z])))
     }
 
     fn curve(&mut self, c: &BSplineCurve, name: &str) -> u64 {
-        let pts: Vec<u64> = c.points().iter().map(|&q| self.point(q, c.dim())).collect();
+        let pts: Vec<u64> = c.points().iter().map(|&q| self.point(q)).collect();
         let (mults, knots) = knot_lists(c.knots().values());
         let closed = logical(c.points().first() == c.points().last());
         let base = format!("{},{},.UNSPECIFIED.,{closed},.F.", c.degree(), refs(&pts));
@@ -127,7 +122,7 @@ impl Data {
         let (nu, nv) = (s.nu(), s.nv());
         let mut rows = Vec::with_capacity(nu);
         for i in 0..nu {
-            let row: Vec<u64> = (0..nv).map(|j| self.point(s.point_at(i, j), 3)).collect();
+            let row: Vec<u64> = (0..nv).map(|j| self.point(s.point_at(i, j))).collect();
             rows.push(refs(&row));
         }
         let (mu, ku) = knot_lists(s.knots_u().values());
@@ -158,8 +153,8 @@ impl Data {
         self.add(&body)
     }
 
-    /// The length unit and a representation context of `dim` dimensions using it.
-    fn context(&mut self, opts: &WriteOptions, dim: usize) -> u64 {
+    /// The length unit and a 3D representation context using it.
+    fn context(&mut self, opts: &WriteOptions) -> u64 {
         let length = match si_prefix(opts.unit) {
             Some(prefix) => self.add(&format!("(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT({prefix},.METRE.))")),
             None => {
@@ -181,8 +176,8 @@ impl Data {
             "UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.0E-7),#{length},'distance_accuracy_value','confusion accuracy')"
         ));
         self.add(&format!(
-            "(GEOMETRIC_REPRESENTATION_CONTEXT({dim})GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#{unc}))\
-             GLOBAL_UNIT_ASSIGNED_CONTEXT((#{length},#{angle},#{solid}))REPRESENTATION_CONTEXT('{dim}D','{dim}D context'))"
+            "(GEOMETRIC_REPRESENTATION_CONTEXT(3)GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#{unc}))\
+             GLOBAL_UNIT_ASSIGNED_CONTEXT((#{length},#{angle},#{solid}))REPRESENTATION_CONTEXT('3D','3D context'))"
         ))
     }
 }
@@ -223,10 +218,10 @@ fn product(d: &mut Data, name: &str) -> u64 {
     d.add(&format!("PRODUCT_DEFINITION_SHAPE('','',#{pd})"))
 }
 
-/// One shape representation of `items` in a context of `dim` dimensions: a wireframe one with a
+/// One shape representation of `items` in a 3D context: a wireframe one with a
 /// `GEOMETRIC_CURVE_SET` when all are curves, else a surface one with a `GEOMETRIC_SET`.
-fn representation(d: &mut Data, opts: &WriteOptions, shape: u64, items: &[u64], curves_only: bool, dim: usize) {
-    let ctx = d.context(opts, dim);
+fn representation(d: &mut Data, opts: &WriteOptions, shape: u64, items: &[u64], curves_only: bool) {
+    let ctx = d.context(opts);
     let (set, rep) = if curves_only {
         (
             "GEOMETRIC_CURVE_SET",
@@ -254,20 +249,20 @@ pub fn write(objects: &[Geometry], opts: &WriteOptions) -> String {
         next: 1,
     };
     let shape = product(&mut d, &stem);
-    let (mut flat, mut space) = (Vec::new(), Vec::new());
-    for (k, g) in objects.iter().enumerate() {
-        match g {
-            Geometry::Curve(c) if c.dim() == 2 => flat.push(d.curve(c, &format!("curve {}", k + 1))),
-            Geometry::Curve(c) => space.push(d.curve(c, &format!("curve {}", k + 1))),
-            Geometry::Surface(s) => space.push(d.surface(s, &format!("surface {}", k + 1))),
-        }
-    }
+    // 2D curves go in the 3D representation with z = 0, as every CAD system reads them (OpenCASCADE
+    // ignores a 2D context), named "2D curve k" so Fairway reads them back as 2D curves
+    let items: Vec<u64> = objects
+        .iter()
+        .enumerate()
+        .map(|(k, g)| match g {
+            Geometry::Curve(c) if c.dim() == 2 => d.curve(c, &format!("{PLANAR_NAME} {}", k + 1)),
+            Geometry::Curve(c) => d.curve(c, &format!("curve {}", k + 1)),
+            Geometry::Surface(s) => d.surface(s, &format!("surface {}", k + 1)),
+        })
+        .collect();
     let curves_only = objects.iter().all(|g| matches!(g, Geometry::Curve(_)));
-    if !space.is_empty() {
-        representation(&mut d, opts, shape, &space, curves_only, 3);
-    }
-    if !flat.is_empty() {
-        representation(&mut d, opts, shape, &flat, true, 2);
+    if !items.is_empty() {
+        representation(&mut d, opts, shape, &items, curves_only);
     }
     format!(
         "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('Fairway export: B-spline curves and surfaces'),'2;1');\n\
