@@ -488,3 +488,23 @@ fn a_rational_surface_with_a_short_or_long_row_of_weights_is_skipped_with_its_re
         assert!(f.notices[0].ends_with(&format!("skipped: {why}")), "{:?}", f.notices);
     }
 }
+
+#[test]
+fn unclamped_b_splines_are_skipped_with_a_reason_in_user_terms() {
+    let text = unit_file("#1=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));")
+        .replace("(2,2),(0.,1.)", "(1,1,1,1),(0.,1.,2.,3.)");
+    let e = step::read_all(text.as_bytes()).unwrap_err().to_string();
+    assert!(
+        e.starts_with("STEP: #12 (B_SPLINE_CURVE_WITH_KNOTS): knots: an unclamped B-spline (periodic"),
+        "{e}"
+    );
+    let uniform = unit_file("#1=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));").replace(
+        "B_SPLINE_CURVE_WITH_KNOTS('',1,(#10,#11),.UNSPECIFIED.,.F.,.F.,(2,2),(0.,1.),.UNSPECIFIED.)",
+        "UNIFORM_CURVE('',1,(#10,#11),.UNSPECIFIED.,.F.,.F.)",
+    );
+    let e = step::read_all(uniform.as_bytes()).unwrap_err().to_string();
+    assert!(
+        e.contains("#12 (UNIFORM_CURVE): uniform (unclamped) B-splines are not read"),
+        "{e}"
+    );
+}
