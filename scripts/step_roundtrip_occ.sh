@@ -3,7 +3,7 @@
 # package cadquery-ocp in a throw-away venv. Not part of CI (the package is large and slow to install).
 #
 #   OCC → Fairway: OCC writes B-spline curves (as edges: non-rational, rational circle arcs, random
-#   weights, multiple knots, a periodic one) and surfaces (as faces: non-rational, a rational sphere
+#   weights, multiple knots, a periodic full circle, which Fairway reads clamped) and surfaces (as faces: non-rational, a rational sphere
 #   patch, random weights) to STEP, in mm and in inch; `fairway info --json` must list them with the
 #   file's unit, `fairway convert --index k` extracts each to JSON, and the curve or surface Fairway read
 #   is evaluated (by OCC, and by `fairway eval`) against OCC's original at sample parameters.
@@ -297,7 +297,7 @@ for k, (name, geom, unit) in enumerate(cases):
         if ("degree_u" in g) == surface:
             found = (out, g)
             break
-    notes = [l for l in info.stderr.splitlines() if "skipped" in l or "not applied" in l]
+    notes = [l for l in info.stderr.splitlines() if "skipped" in l or "not applied" in l or "clamped" in l]
     if found is None:
         failures.append(f"{name}: not read")
         print(f"  {name:<28} NOT READ ({meta['objects']} objects, unit {meta['unit']}): {' | '.join(notes)}")
@@ -310,14 +310,14 @@ for k, (name, geom, unit) in enumerate(cases):
 
 print("Fairway → OCC (fairway convert writes STEP, OCC reads it in mm)")
 for k, (name, geom, unit) in enumerate(cases):
-    if geom.IsKind("Geom_BSplineCurve") and geom.IsPeriodic():
-        continue  # Fairway stores clamped B-splines; see the read case above
     surface = isinstance(geom, Geom_BSplineSurface)
-    if unit == "MM":
+    periodic = not surface and geom.IsPeriodic()
+    if unit == "MM" and not periodic:
         src = os.path.join(WORK, f"fw{k}.json")
         json.dump(to_json(geom), open(src, "w"))
     else:
-        src = os.path.join(WORK, f"occ{k}.stp")  # OCC's inch file: STEP → STEP keeps the inch unit
+        # OCC's file, STEP → STEP: keeps the inch unit; a periodic curve is written clamped
+        src = os.path.join(WORK, f"occ{k}.stp")
     stp = os.path.join(WORK, f"fw{k}.stp")
     r = fairway("convert", src, stp, "--index", "0") if src.endswith(".stp") else fairway("convert", src, stp)
     if r.returncode != 0:

@@ -489,22 +489,129 @@ fn a_rational_surface_with_a_short_or_long_row_of_weights_is_skipped_with_its_re
     }
 }
 
+/// The uniform quadratic B-spline basis on a span, at t ∈ [0, 1]: the weights of its three control points.
+fn uniform_quadratic(t: f64) -> [f64; 3] {
+    [
+        (1.0 - t).powi(2) / 2.0,
+        (-2.0 * t * t + 2.0 * t + 1.0) / 2.0,
+        t * t / 2.0,
+    ]
+}
+
+/// Control point `k` of the unclamped test curves and surfaces.
+fn unclamped_point(i: usize, j: usize) -> DVec3 {
+    DVec3::new(
+        i as f64 * 3.0 + (j as f64).sin(),
+        j as f64 * 2.0 + (i as f64).cos(),
+        ((i * 7 + j * 3) % 5) as f64,
+    )
+}
+
+fn unclamped_file(curve_knots: &str, surface_form: &str) -> String {
+    let mut t = String::from("ISO-10303-21;HEADER;ENDSEC;DATA;\n");
+    for i in 0..4 {
+        for j in 0..5 {
+            let q = unclamped_point(i, j);
+            t += &format!(
+                "#{}=CARTESIAN_POINT('',({:?},{:?},{:?}));\n",
+                100 + i * 10 + j,
+                q.x,
+                q.y,
+                q.z
+            );
+        }
+    }
+    let row = |i: usize| {
+        (0..5)
+            .map(|j| format!("#{}", 100 + i * 10 + j))
+            .collect::<Vec<_>>()
+            .join(",")
+    };
+    let weights: Vec<String> = (0..4)
+        .map(|i| {
+            format!(
+                "({})",
+                (0..5)
+                    .map(|j| format!("{:?}", 0.5 + ((i + j) % 3) as f64 * 0.5))
+                    .collect::<Vec<_>>()
+                    .join(",")
+            )
+        })
+        .collect();
+    t += &format!(
+        "#1=B_SPLINE_CURVE_WITH_KNOTS('',2,({}),.UNSPECIFIED.,.F.,.F.,{curve_knots},.UNSPECIFIED.);\n",
+        row(0)
+    );
+    let rows: Vec<String> = (0..4).map(|i| format!("({})", row(i))).collect();
+    t += &format!(
+        "#2=(BOUNDED_SURFACE()B_SPLINE_SURFACE(2,2,({}),.UNSPECIFIED.,.F.,.F.,.F.){surface_form}\
+         GEOMETRIC_REPRESENTATION_ITEM()RATIONAL_B_SPLINE_SURFACE(({}))REPRESENTATION_ITEM('')SURFACE());\n",
+        rows.join(","),
+        weights.join(",")
+    );
+    t + "ENDSEC;END-ISO-10303-21;"
+}
+
 #[test]
-fn unclamped_b_splines_are_skipped_with_a_reason_in_user_terms() {
-    let text = unit_file("#1=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));")
-        .replace("(2,2),(0.,1.)", "(1,1,1,1),(0.,1.,2.,3.)");
-    let e = step::read_all(text.as_bytes()).unwrap_err().to_string();
+fn unclamped_b_splines_are_clamped_exactly_and_said() {
+    // the uniform knots 0..7 (written as multiplicities), and the UNIFORM_SURFACE form (knots -2..6)
+    let text = unclamped_file("(1,1,1,1,1,1,1,1),(0.,1.,2.,3.,4.,5.,6.,7.)", "UNIFORM_SURFACE()");
+    let f = step::read_all(text.as_bytes()).unwrap();
+    assert_eq!(f.objects.len(), 2, "{:?}", f.notices);
+    assert_eq!(f.notices.len(), 2, "{:?}", f.notices);
     assert!(
-        e.starts_with("STEP: #12 (B_SPLINE_CURVE_WITH_KNOTS): knots: an unclamped B-spline (periodic"),
-        "{e}"
+        f.notices[0].starts_with("#1 (B_SPLINE_CURVE_WITH_KNOTS): unclamped knots"),
+        "{:?}",
+        f.notices
     );
-    let uniform = unit_file("#1=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));").replace(
-        "B_SPLINE_CURVE_WITH_KNOTS('',1,(#10,#11),.UNSPECIFIED.,.F.,.F.,(2,2),(0.,1.),.UNSPECIFIED.)",
-        "UNIFORM_CURVE('',1,(#10,#11),.UNSPECIFIED.,.F.,.F.)",
-    );
-    let e = step::read_all(uniform.as_bytes()).unwrap_err().to_string();
     assert!(
-        e.contains("#12 (UNIFORM_CURVE): uniform (unclamped) B-splines are not read"),
-        "{e}"
+        f.notices[1].starts_with("#2 (UNIFORM_SURFACE): unclamped knots"),
+        "{:?}",
+        f.notices
+    );
+    // the curve: domain [2, 5], on [2 + s, 3 + s) the uniform basis of points s, s + 1, s + 2
+    let c = f.objects[0].as_curve().unwrap();
+    assert_eq!(c.domain(), (2.0, 5.0));
+    assert!(c.weights().is_none());
+    for k in 0..=60 {
+        let u = 2.0 + 3.0 * k as f64 / 60.0;
+        let span = ((u - 2.0).floor() as usize).min(2);
+        let b = uniform_quadratic(u - 2.0 - span as f64);
+        let want: DVec3 = (0..3).map(|r| unclamped_point(0, span + r) * b[r]).sum();
+        assert!(
+            (c.point(u) - want).length() < 1e-12,
+            "u = {u}: {} vs {want}",
+            c.point(u)
+        );
+    }
+    // the rational surface: knots -2..5 (u, 4 points) and -2..6 (v, 5 points): domain [0, 2] × [0, 3]
+    let s = f.objects[1].as_surface().unwrap();
+    assert_eq!(s.domain(), ((0.0, 2.0), (0.0, 3.0)));
+    let w = |i: usize, j: usize| 0.5 + ((i + j) % 3) as f64 * 0.5;
+    for a in 0..=10 {
+        for b in 0..=10 {
+            let (u, v) = (2.0 * a as f64 / 10.0, 3.0 * b as f64 / 10.0);
+            let (su, sv) = ((u.floor() as usize).min(1), (v.floor() as usize).min(2));
+            let (bu, bv) = (uniform_quadratic(u - su as f64), uniform_quadratic(v - sv as f64));
+            let (mut num, mut den) = (DVec3::ZERO, 0.0);
+            for r in 0..3 {
+                for q in 0..3 {
+                    let k = bu[r] * bv[q] * w(su + r, sv + q);
+                    num += unclamped_point(su + r, sv + q) * k;
+                    den += k;
+                }
+            }
+            let got = s.point(u, v);
+            assert!((got - num / den).length() < 1e-12, "({u}, {v}): {got} vs {}", num / den);
+        }
+    }
+    // a knot vector with an empty domain is still refused
+    let text = unclamped_file("(1,1,6),(0.,1.,2.)", "UNIFORM_SURFACE()");
+    let f = step::read_all(text.as_bytes()).unwrap();
+    assert_eq!(f.objects.len(), 1);
+    assert!(
+        f.notices[0].starts_with("#1 (B_SPLINE_CURVE_WITH_KNOTS) on line"),
+        "{:?}",
+        f.notices
     );
 }

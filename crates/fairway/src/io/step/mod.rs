@@ -5,16 +5,18 @@
 //! `B_SPLINE_SURFACE_WITH_KNOTS`, their rational complex forms
 //! (`(BOUNDED_CURVE() B_SPLINE_CURVE(..) B_SPLINE_CURVE_WITH_KNOTS(..) ..
 //! RATIONAL_B_SPLINE_CURVE((w..)) REPRESENTATION_ITEM('name'))`, weights kept),
-//! and the Bézier and quasi-uniform forms (their knots implied by ISO
-//! 10303-42), in file order, each once however many edges, faces or
+//! and the Bézier, quasi-uniform and uniform forms (their knots implied by
+//! ISO 10303-42), in file order, each once however many edges, faces or
 //! trimmed curves refer to it, labelled with its instance number and name
 //! ([`EntityInfo`]). Knot multiplicities are expanded into a full knot
 //! vector. Skipped, each listed in [`InterchangeFile::notices`] with its
 //! reason: a malformed instance, a B-spline that fails validation (degree,
-//! counts, increasing knots, finite numbers, positive weights, clamped
-//! ends), uniform (unclamped) B-splines, and curves in a surface's
+//! counts, increasing knots, finite numbers, positive weights), and curves in a surface's
 //! parameter space (items of a `DEFINITIONAL_REPRESENTATION`); other curves
 //! and surfaces (lines, planes, cylinders, ...) are counted in one notice.
+//! Unclamped B-splines (periodic ones such as a full circle, the uniform
+//! form) are made clamped by knot insertion at their domain ends (the same
+//! shape on the same domain), with a notice.
 //! Coordinates stay in the file's length unit (the `LENGTH_UNIT` of the
 //! `GLOBAL_UNIT_ASSIGNED_CONTEXT`: `SI_UNIT` with a prefix or a
 //! `CONVERSION_BASED_UNIT` such as `'INCH'`), reported in

@@ -3,7 +3,7 @@
 
 use std::collections::{BTreeMap, HashSet};
 
-use glam::DVec3;
+use glam::{DVec3, DVec4};
 
 use super::parse::{Exchange, Instance, Param, Record};
 use super::perr;
@@ -310,11 +310,11 @@ fn implied_knots(form: KnotForm, degree: usize, n_points: usize, dir: &str) -> R
             out.extend((1..spans).map(|s| s as f64));
             out.extend(std::iter::repeat_n(spans as f64, degree + 1));
         }
-        KnotForm::Uniform | KnotForm::WithKnots => {
-            return Err(perr(
-                "uniform (unclamped) B-splines are not read; convert them to B-splines with knots in the CAD system",
-            ));
+        KnotForm::Uniform => {
+            // -p, ..., n: the domain [0, n - p]; clamped by the caller
+            return Ok((0..n_points + degree + 1).map(|i| i as f64 - degree as f64).collect());
         }
+        KnotForm::WithKnots => unreachable!("explicit knots are not implied"),
     }
     Ok(out)
 }
@@ -325,15 +325,6 @@ fn knots_of(p: &Parts<'_>, mults: usize, knots: usize, degree: usize, n: usize, 
     } else {
         implied_knots(p.form, degree, n, dir)?
     };
-    let clamped = |ends: &[f64]| ends.iter().all(|&u| u == ends[0]);
-    if !clamped(&k[..=degree]) || !clamped(&k[k.len() - degree - 1..]) {
-        return Err(perr(format!(
-            "{dir}knots: an unclamped B-spline (periodic, such as a full circle, or uniform): its end knots are \
-             not repeated degree + 1 = {} times; Fairway reads clamped B-splines only (in the CAD system, split \
-             the closed curve or surface, or convert it to a non-periodic B-spline)",
-            degree + 1
-        )));
-    }
     Ok(k)
 }
 
@@ -375,7 +366,82 @@ fn weights(p: &Parts<'_>, expected: usize, rows: Option<usize>) -> Result<Option
     Ok(Some(w))
 }
 
-fn read_curve(ex: &Exchange, p: &Parts<'_>) -> Result<Geometry> {
+/// Whether the end knots are each repeated degree + 1 times.
+fn is_clamped(knots: &[f64], p: usize) -> bool {
+    let same = |ends: &[f64]| ends.iter().all(|&u| u == ends[0]);
+    same(&knots[..=p]) && same(&knots[knots.len() - p - 1..])
+}
+
+/// An unclamped B-spline (periodic, uniform) made clamped by knot insertion (Boehm, The NURBS Book
+/// A5.1) at both ends of its domain [U[p], U[n]]: the same curve on the same domain, its end knots
+/// repeated p + 1 times. `pts` are homogeneous (x·w, y·w, z·w, w).
+fn clamp(p: usize, knots: &[f64], pts: &[DVec4]) -> Result<(Vec<f64>, Vec<DVec4>)> {
+    let (k, q) = clamp_start(p, knots.to_vec(), pts.to_vec())?;
+    // the end: the start of the reversed curve
+    let rk = k.iter().rev().map(|u| -u).collect();
+    let (rk, rq) = clamp_start(p, rk, q.into_iter().rev().collect())?;
+    Ok((rk.iter().rev().map(|u| -u).collect(), rq.into_iter().rev().collect()))
+}
+
+/// [`clamp`] at the start of the domain only.
+fn clamp_start(p: usize, mut u: Vec<f64>, mut pts: Vec<DVec4>) -> Result<(Vec<f64>, Vec<DVec4>)> {
+    let a = u[p];
+    if u[..=p].iter().all(|&x| x == a) {
+        return Ok((u, pts));
+    }
+    if u[pts.len()] <= a {
+        return Err(perr(format!("knots: the domain [{a}, {}] is empty", u[pts.len()])));
+    }
+    // insert a until its multiplicity is p: the curve then passes through a control point there
+    while u.iter().filter(|&&x| x == a).count() < p {
+        // the last knot equal to a: k ≥ p, and u[k + 1] > a as the domain is not empty
+        let k = u.iter().rposition(|&x| x == a).expect("u[p] = a");
+        let mut q = Vec::with_capacity(pts.len() + 1);
+        q.extend_from_slice(&pts[..=k - p]);
+        for i in k - p + 1..=k {
+            let alpha = (a - u[i]) / (u[i + p] - u[i]);
+            q.push(pts[i] * alpha + pts[i - 1] * (1.0 - alpha));
+        }
+        q.extend_from_slice(&pts[k..]);
+        u.insert(k + 1, a);
+        pts = q;
+    }
+    // the basis functions on [a, ..) do not depend on the knots before the run of a: drop them and
+    // the control points that only they weigh
+    let last = u.iter().rposition(|&x| x == a).expect("u[p] = a");
+    let after = u.len() - last - 1;
+    let mut k = vec![a; p + 1];
+    k.extend_from_slice(&u[last + 1..]);
+    Ok((k, pts[pts.len() - after..].to_vec()))
+}
+
+fn homogeneous(pts: &[DVec3], w: Option<&[f64]>) -> Vec<DVec4> {
+    pts.iter()
+        .enumerate()
+        .map(|(i, q)| {
+            let w = w.map_or(1.0, |w| w[i]);
+            (*q * w).extend(w)
+        })
+        .collect()
+}
+
+/// Points and (for a rational B-spline) weights from homogeneous points.
+fn cartesian(h: &[DVec4], rational: bool) -> (Vec<DVec3>, Option<Vec<f64>>) {
+    if rational {
+        (
+            h.iter().map(|q| q.truncate() / q.w).collect(),
+            Some(h.iter().map(|q| q.w).collect()),
+        )
+    } else {
+        (h.iter().map(|q| q.truncate()).collect(), None)
+    }
+}
+
+/// Why an object was converted on reading, if it was (unclamped knots clamped).
+const CLAMPED: &str = "unclamped knots (a periodic or uniform B-spline) made clamped by knot insertion: the same \
+                       shape on the same domain";
+
+fn read_curve(ex: &Exchange, p: &Parts<'_>) -> Result<(Geometry, bool)> {
     let degree = degree(&p.base[0], "degree")?;
     let refs = list(&p.base[1], "control points")?;
     if refs.len() < degree + 1 {
@@ -389,10 +455,15 @@ fn read_curve(ex: &Exchange, p: &Parts<'_>) -> Result<Geometry> {
     let pts = points(ex, refs, 0, &mut dim)?;
     let knots = knots_of(p, 0, 1, degree, pts.len(), "")?;
     let w = weights(p, pts.len(), None)?;
-    Ok(BSplineCurve::try_new(degree, knots, pts, w, dim)?.into())
+    if is_clamped(&knots, degree) {
+        return Ok((BSplineCurve::try_new(degree, knots, pts, w, dim)?.into(), false));
+    }
+    let (knots, h) = clamp(degree, &knots, &homogeneous(&pts, w.as_deref()))?;
+    let (pts, w) = cartesian(&h, w.is_some());
+    Ok((BSplineCurve::try_new(degree, knots, pts, w, dim)?.into(), true))
 }
 
-fn read_surface(ex: &Exchange, p: &Parts<'_>) -> Result<Geometry> {
+fn read_surface(ex: &Exchange, p: &Parts<'_>) -> Result<(Geometry, bool)> {
     let du = degree(&p.base[0], "u degree")?;
     let dv = degree(&p.base[1], "v degree")?;
     let rows = list(&p.base[2], "control points")?;
@@ -424,7 +495,32 @@ fn read_surface(ex: &Exchange, p: &Parts<'_>) -> Result<Geometry> {
     let ku = knots_of(p, 0, 2, du, nu, "u ")?;
     let kv = knots_of(p, 1, 3, dv, nv, "v ")?;
     let w = weights(p, nu * nv, Some(nu))?;
-    Ok(BSplineSurface::try_new(du, dv, ku, kv, nu, nv, pts, w)?.into())
+    if is_clamped(&ku, du) && is_clamped(&kv, dv) {
+        return Ok((BSplineSurface::try_new(du, dv, ku, kv, nu, nv, pts, w)?.into(), false));
+    }
+    // rows (fixed i) in v, then columns (fixed j) in u
+    let h = homogeneous(&pts, w.as_deref());
+    let (mut kv2, mut rows) = (kv.clone(), Vec::with_capacity(nu));
+    for i in 0..nu {
+        let (k, r) = clamp(dv, &kv, &h[i * nv..(i + 1) * nv])?;
+        kv2 = k;
+        rows.push(r);
+    }
+    let nv2 = rows[0].len();
+    let (mut ku2, mut cols) = (ku.clone(), Vec::with_capacity(nv2));
+    for j in 0..nv2 {
+        let col: Vec<DVec4> = rows.iter().map(|r| r[j]).collect();
+        let (k, c) = clamp(du, &ku, &col)?;
+        ku2 = k;
+        cols.push(c);
+    }
+    let nu2 = cols[0].len();
+    let h: Vec<DVec4> = (0..nu2).flat_map(|i| cols.iter().map(move |c| c[i])).collect();
+    let (pts, w) = cartesian(&h, w.is_some());
+    Ok((
+        BSplineSurface::try_new(du, dv, ku2, kv2, nu2, nv2, pts, w)?.into(),
+        true,
+    ))
 }
 
 /// The instances that are items of a `DEFINITIONAL_REPRESENTATION`: curves in a surface's parameter
@@ -445,8 +541,8 @@ fn parameter_space_items(ex: &Exchange) -> HashSet<u64> {
 }
 
 /// One B-spline instance as geometry, the unit factor applied and the coordinates range-checked.
-fn read_instance(ex: &Exchange, p: &Parts<'_>, factor: f64) -> Result<Geometry> {
-    let g = match p.kind {
+fn read_instance(ex: &Exchange, p: &Parts<'_>, factor: f64) -> Result<(Geometry, bool)> {
+    let (g, clamped) = match p.kind {
         Kind::Curve => read_curve(ex, p)?,
         Kind::Surface => read_surface(ex, p)?,
     };
@@ -469,7 +565,7 @@ fn read_instance(ex: &Exchange, p: &Parts<'_>, factor: f64) -> Result<Geometry> 
     };
     let g = if factor == 1.0 { g } else { scale(g, factor)? };
     crate::range::check_geometry(&g)?;
-    Ok(g)
+    Ok((g, clamped))
 }
 
 fn scale(g: Geometry, f: f64) -> Result<Geometry> {
@@ -525,7 +621,10 @@ pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile
         }
         let read = parts(inst, kind, form, entity).and_then(|p| Ok((read_instance(ex, &p, factor)?, p.name)));
         match read {
-            Ok((g, name)) => {
+            Ok(((g, clamped), name)) => {
+                if clamped {
+                    notices.push(format!("{what}: {CLAMPED}"));
+                }
                 objects.push(g);
                 entities.push(EntityInfo {
                     entity: inst.id as usize,
