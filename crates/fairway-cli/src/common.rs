@@ -49,6 +49,62 @@ pub fn load_document(path: &Path) -> Result<fairway::io::Document> {
     })
 }
 
+/// An input read by a subcommand, and what the file says about it when it is IGES or STEP.
+pub struct Input {
+    /// The document (an IGES or STEP object as a new document).
+    pub doc: fairway::io::Document,
+    /// IGES / STEP: the file's length unit, if it declares one Fairway knows.
+    pub unit: Option<fairway::io::Unit>,
+    /// IGES / STEP: which object was taken (0-based) of how many.
+    pub object: Option<(usize, usize)>,
+}
+
+/// Load an input file. IGES and STEP: object `index` (default the first), the file's notices (skipped
+/// entities, trims not applied) and, when it holds several objects, which one was taken, on stderr.
+/// `index` on another format is refused. Errors name the file and the problem.
+pub fn load_input(path: &Path, index: Option<usize>) -> Result<Input> {
+    let name = path.display();
+    let with_path = |e: fairway::Error| match e {
+        e @ fairway::Error::Io { .. } => anyhow!("{e}"),
+        e => anyhow!("{name}: {e}"),
+    };
+    let Some(f) = fairway::io::read_interchange(path).map_err(with_path)? else {
+        if let Some(k) = index {
+            bail!("--index {k}: {name} holds one document; --index picks an object of an IGES or STEP file");
+        }
+        return Ok(Input {
+            doc: load_document(path)?,
+            unit: None,
+            object: None,
+        });
+    };
+    for n in &f.notices {
+        eprintln!("fairway: {name}: {n}");
+    }
+    let count = f.objects.len();
+    if count == 0 {
+        bail!("{name}: no B-spline curve or surface in the file");
+    }
+    let k = index.unwrap_or(0);
+    if count > 1 && index.is_none() {
+        eprintln!(
+            "fairway: {name}: {count} objects, using number {k} (choose with --index, 0 to {})",
+            count - 1
+        );
+    }
+    let g = f.objects.into_iter().nth(k).ok_or_else(|| {
+        anyhow!(
+            "{name}: --index {k} but the file holds {count} objects (0 to {})",
+            count - 1
+        )
+    })?;
+    Ok(Input {
+        doc: fairway::io::Document::new(g),
+        unit: f.unit,
+        object: Some((k, count)),
+    })
+}
+
 /// The file a path names, links resolved: the path itself if it exists, else its folder resolved and its
 /// name (a file still to be written).
 pub fn resolved(path: &Path) -> std::path::PathBuf {

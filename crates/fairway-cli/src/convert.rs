@@ -1,24 +1,26 @@
 //! `fairway convert IN OUT`: convert geometry between formats, chosen by
 //! extension: JSON (`.json`), Fairway document (`.ron`, `.fairway`), IGES
-//! (`.igs`, `.iges`), point lists (`.csv`, `.txt`, `.xyz`, input only:
+//! (`.igs`, `.iges`), STEP (`.stp`, `.step`), point lists (`.csv`, `.txt`, `.xyz`, input only:
 //! fitted by a B-spline), SVG (`.svg`, output only: curve, control polygon,
 //! curvature comb).
 //!
-//! An IGES input with several objects converts the first one unless
-//! `--index` picks another; skipped entities are listed on stderr.
+//! An IGES or STEP input with several objects converts the first one unless
+//! `--index` picks another; skipped entities are listed on stderr. An IGES
+//! or STEP output declares the unit of an IGES or STEP input (millimetres
+//! otherwise): coordinates are copied, never scaled.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::{Result, anyhow, bail};
 use fairway::Geometry;
-use fairway::io::{self, Document, iges, points, svg};
+use fairway::io::{self, Document, points, svg};
 
 /// Arguments of `fairway convert`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Input file (.json, .ron, .fairway, .igs, .iges, .csv, .txt, .xyz).
+    /// Input file (.json, .ron, .fairway, .igs, .iges, .stp, .step, .csv, .txt, .xyz).
     pub input: PathBuf,
-    /// Output file (.json, .ron, .fairway, .igs, .iges, .svg).
+    /// Output file (.json, .ron, .fairway, .igs, .iges, .stp, .step, .svg).
     pub output: PathBuf,
     /// Point input: number of control points of the fitted curve (default: half the points, 4 to 40).
     #[arg(long)]
@@ -29,9 +31,9 @@ pub struct Args {
     /// Point input: parametrisation, `chord` or `centripetal`.
     #[arg(long, default_value = "chord")]
     pub param: String,
-    /// IGES input: which object to convert (0 = the first).
-    #[arg(long, default_value_t = 0)]
-    pub index: usize,
+    /// IGES or STEP input: which object to convert (0 = the first, the default).
+    #[arg(long)]
+    pub index: Option<usize>,
     /// SVG output: also draw the tolerance band of this half-width (model units).
     #[arg(long)]
     pub band: Option<f64>,
@@ -51,39 +53,10 @@ fn with_path(path: &Path, e: fairway::Error) -> anyhow::Error {
     }
 }
 
-/// Read the input as a document.
-pub fn read_input(a: &Args) -> Result<Document> {
+/// Read the input: a document, and the unit of an IGES or STEP file.
+pub fn read_input(a: &Args) -> Result<crate::common::Input> {
     let path = &a.input;
     match ext(path).as_str() {
-        "igs" | "iges" => {
-            let bytes = io::read_bytes(path).map_err(|e| with_path(path, e))?;
-            let f = iges::read_all(&bytes).map_err(|e| with_path(path, e))?;
-            for n in &f.notices {
-                eprintln!("fairway: {}: {n}", path.display());
-            }
-            let count = f.objects.len();
-            if count == 0 {
-                bail!(
-                    "{}: no B-spline curve (126) or surface (128) in the file",
-                    path.display()
-                );
-            }
-            if count > 1 {
-                eprintln!(
-                    "fairway: {}: {count} objects, converting number {} (choose with --index)",
-                    path.display(),
-                    a.index
-                );
-            }
-            let g = f.objects.into_iter().nth(a.index).ok_or_else(|| {
-                anyhow!(
-                    "{}: --index {} but the file holds {count} objects",
-                    path.display(),
-                    a.index
-                )
-            })?;
-            Ok(Document::new(g))
-        }
         "csv" | "txt" | "xyz" => {
             let text = io::read_text(path).map_err(|e| with_path(path, e))?;
             let set = points::parse(&text).map_err(|e| with_path(path, e))?;
@@ -92,10 +65,20 @@ pub fn read_input(a: &Args) -> Result<Document> {
                 degree: a.degree,
                 param: a.param.parse().map_err(|e| anyhow!("--param: {e}"))?,
             };
+            if let Some(k) = a.index {
+                bail!(
+                    "--index {k}: {} is a point list; --index picks an object of an IGES or STEP file",
+                    path.display()
+                );
+            }
             let c = points::fit_points(&set, &opts).map_err(|e| with_path(path, e))?;
-            Ok(Document::new(c.into()))
+            Ok(crate::common::Input {
+                doc: Document::new(c.into()),
+                unit: None,
+                object: None,
+            })
         }
-        _ => io::load(path).map_err(|e| with_path(path, e)),
+        _ => Ok(crate::common::load_input(path, a.index)?),
     }
 }
 
@@ -111,7 +94,8 @@ pub fn run(a: &Args) -> Result<()> {
     }
     // the output must be another file than the input (links resolved), or the input would be lost
     crate::common::refuse_same_files(&a.input, &a.output, None)?;
-    let doc = read_input(a)?;
+    let input = read_input(a)?;
+    let doc = input.doc;
     match ext(&a.output).as_str() {
         "svg" => {
             let Geometry::Curve(c) = &doc.geometry else {
@@ -127,6 +111,7 @@ pub fn run(a: &Args) -> Result<()> {
             let text = svg::try_curve_svg(c, None, &opts).map_err(|e| with_path(&a.output, e))?;
             io::write_atomic(&a.output, text.as_bytes()).map_err(|e| with_path(&a.output, e))
         }
-        _ => io::save(&a.output, &doc).map_err(|e| with_path(&a.output, e)),
+        // an IGES or STEP output declares the input's unit (the coordinates are not scaled)
+        _ => io::save_in(&a.output, &doc, input.unit).map_err(|e| with_path(&a.output, e)),
     }
 }

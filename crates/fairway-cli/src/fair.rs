@@ -19,16 +19,26 @@ use fairway::measure_surface::{SurfaceMeasures, surface_measures};
 use fairway::{BSplineCurve, BSplineSurface};
 use serde::Serialize;
 
-use crate::common::{load_document, refuse_non_finite, refuse_same_files};
+use crate::common::{load_input, refuse_non_finite, refuse_same_files};
 
 /// Arguments of `fairway fair`.
-#[derive(clap::Args, Debug)]
+#[derive(clap::Args, Debug, Clone)]
 pub struct Args {
-    /// Input curve or surface (.json geometry, .ron document, .igs, ...).
+    /// Input curve or surface (.json geometry, .ron document, .igs/.iges, .stp/.step, ...).
     pub input: PathBuf,
-    /// Tolerance m: max deviation from the input (same units as the points).
-    #[arg(long, allow_hyphen_values = true)]
+    /// IGES or STEP input: which object to fair (0 = the first, the default).
+    #[arg(long)]
+    pub index: Option<usize>,
+    /// Tolerance m: max deviation from the input, in the coordinates' units (`0.05`), or with a unit
+    /// (`0.05mm`, `0.002in`, `20um`) for an IGES or STEP input that declares its unit: converted to it.
+    #[arg(long = "tolerance", value_name = "M", allow_hyphen_values = true, value_parser = parse_length)]
+    pub tolerance_given: Length,
+    /// The tolerance in the coordinates' units (set from `--tolerance` once the input is read).
+    #[arg(skip)]
     pub tolerance: f64,
+    /// The input's length unit (IGES / STEP), declared by an IGES or STEP output (set once read).
+    #[arg(skip)]
+    pub unit: Option<fairway::io::Unit>,
     /// Region to fair: `u1,u2` for a curve, `u1,u2,v1,v2` for a surface (default: everything). On a closed
     /// curve `u1 > u2` is the stretch across the seam ([u1, end] then [start, u2]).
     #[arg(long, value_parser = parse_region, allow_hyphen_values = true)]
@@ -92,12 +102,67 @@ pub struct Args {
     /// isocurve time) instead of scaling the correction of the pass at m (default).
     #[arg(long)]
     pub refair_levels: bool,
-    /// Output file (.json or .ron).
+    /// Output file (.json, .ron, .igs/.iges or .stp/.step).
     #[arg(short = 'o', long = "output")]
     pub output: PathBuf,
     /// Write a JSON report (measures, solve time) here.
     #[arg(long)]
     pub report: Option<PathBuf>,
+}
+
+/// A length as given on the command line: a number and an optional unit (`0.05`, `0.05mm`, `2e-3 in`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Length {
+    /// The number.
+    pub value: f64,
+    /// The unit written after it, if any.
+    pub unit: Option<fairway::io::Unit>,
+}
+
+impl Length {
+    /// The length in `to` (the input's unit): the number itself without a unit; refused with a unit when
+    /// the input declares none.
+    fn resolve(self, to: Option<fairway::io::Unit>, input: &std::path::Path) -> Result<f64> {
+        match (self.unit, to) {
+            (None, _) => Ok(self.value),
+            (Some(u), Some(to)) => Ok(self.value * (u.in_mm() / to.in_mm())),
+            (Some(u), None) => bail!(
+                "--tolerance {}{}: {} declares no length unit, so a tolerance in {} cannot be converted; give a \
+                 plain number, in the coordinates' units",
+                self.value,
+                u.symbol(),
+                input.display(),
+                u.symbol()
+            ),
+        }
+    }
+}
+
+fn parse_length(s: &str) -> std::result::Result<Length, String> {
+    let t = s.trim();
+    if let Ok(value) = t.parse::<f64>() {
+        // a plain number (also nan, inf: refused by `run` with the usual message)
+        return Ok(Length { value, unit: None });
+    }
+    let split = t
+        .char_indices()
+        .rev()
+        .take_while(|(_, c)| c.is_alphabetic())
+        .last()
+        .map_or(t.len(), |(i, _)| i);
+    let (number, unit) = (t[..split].trim(), &t[split..]);
+    let value = number
+        .parse::<f64>()
+        .map_err(|_| format!("{s:?} is not a number, or a number and a unit (0.05, 0.05mm, 0.002in)"))?;
+    if unit.is_empty() {
+        return Ok(Length { value, unit: None });
+    }
+    let unit = fairway::io::Unit::parse(unit)
+        .ok_or_else(|| format!("{unit:?} is not a length unit (mm, cm, m, km, um, in, ft, mi, mil, uin)"))?;
+    Ok(Length {
+        value,
+        unit: Some(unit),
+    })
 }
 
 /// A region as given on the command line: 2 (curve) or 4 (surface) parameters.
@@ -257,9 +322,44 @@ fn polish_name(a: &Args) -> Option<&'static str> {
 
 /// Run `fairway fair`.
 pub fn run(a: &Args) -> Result<()> {
-    if !(a.tolerance.is_finite() && a.tolerance > 0.0) {
-        bail!("--tolerance must be a positive finite number, got {}", a.tolerance);
+    let t = a.tolerance_given.value;
+    if !(t.is_finite() && t > 0.0) {
+        bail!("--tolerance must be a positive finite number, got {t}");
     }
+    // the input, the output and the report must be three different files (links resolved), or one
+    // would overwrite another: refused before any work
+    refuse_same_files(&a.input, &a.output, a.report.as_deref())?;
+    // the destinations' folders first: a missing folder is found before any work, and never after the
+    // output was written
+    for (what, path) in [("output", Some(&a.output)), ("report", a.report.as_ref())] {
+        if let Some(path) = path {
+            let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
+            if let Some(dir) = dir.filter(|d| !d.is_dir()) {
+                bail!(
+                    "cannot write the {what} {}: folder {} does not exist",
+                    path.display(),
+                    dir.display()
+                );
+            }
+        }
+    }
+    let input = load_input(&a.input, a.index)?;
+    let mut a = a.clone();
+    a.tolerance = a.tolerance_given.resolve(input.unit, &a.input)?;
+    a.unit = input.unit;
+    if let Some(u) = input.unit {
+        eprintln!(
+            "fairway: {}: coordinates in {u}: tolerance {} {u}",
+            a.input.display(),
+            a.tolerance,
+            u = u.symbol()
+        );
+    }
+    run_loaded(&a, input.doc)
+}
+
+/// [`run`] once the input is read and the tolerance is in its units.
+fn run_loaded(a: &Args, doc: Document) -> Result<()> {
     let mode = match a.method.as_str() {
         "fast" | "iterative" => FitMode::Fairway,
         "paper" => FitMode::Paper,
@@ -299,24 +399,6 @@ pub fn run(a: &Args) -> Result<()> {
             opts.target_weight
         );
     }
-    // the input, the output and the report must be three different files (links resolved), or one
-    // would overwrite another: refused before any work
-    refuse_same_files(&a.input, &a.output, a.report.as_deref())?;
-    // the destinations' folders first: a missing folder is found before any work, and never after the
-    // output was written
-    for (what, path) in [("output", Some(&a.output)), ("report", a.report.as_ref())] {
-        if let Some(path) = path {
-            let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
-            if let Some(dir) = dir.filter(|d| !d.is_dir()) {
-                bail!(
-                    "cannot write the {what} {}: folder {} does not exist",
-                    path.display(),
-                    dir.display()
-                );
-            }
-        }
-    }
-    let doc = load_document(&a.input)?;
     // a tolerance below the precision of the coordinates cannot be verified: the same message for curves
     // and surfaces
     fairway::range::check_tolerance(a.tolerance, &doc.geometry).map_err(|e| anyhow!("--{e}"))?;
@@ -479,7 +561,8 @@ fn save_result<T: Serialize>(a: &Args, result: Geometry, report: Option<&T>) -> 
     if let Some(r) = report {
         refuse_non_finite("the report", r)?;
     }
-    fairway::io::save(&a.output, &Document::new(result))?;
+    // an IGES or STEP output declares the input's unit
+    fairway::io::save_in(&a.output, &Document::new(result), a.unit)?;
     if let (Some(path), Some(r)) = (&a.report, report) {
         write_report(path, r, &a.output)?;
     }
@@ -576,5 +659,48 @@ mod tests {
         assert!(
             Cmd::try_parse_from(["fair", "in.json", "--tolerance", "1", "-o", "o.json", "--combine", "x"]).is_err()
         );
+    }
+
+    #[test]
+    fn tolerances_with_units_parse_and_convert_exactly() {
+        use fairway::io::Unit;
+        let l = |s: &str| parse_length(s);
+        assert_eq!(
+            l("0.05").unwrap(),
+            Length {
+                value: 0.05,
+                unit: None
+            }
+        );
+        assert_eq!(
+            l("1e-3mm").unwrap(),
+            Length {
+                value: 1e-3,
+                unit: Some(Unit::Millimeter)
+            }
+        );
+        assert_eq!(
+            l(" 2 in").unwrap(),
+            Length {
+                value: 2.0,
+                unit: Some(Unit::Inch)
+            }
+        );
+        assert_eq!(l("20µm").unwrap().unit, Some(Unit::Micron));
+        assert_eq!(l("20um").unwrap().unit, Some(Unit::Micron));
+        assert!(l("nan").unwrap().value.is_nan());
+        assert!(l("0.05 parsec").unwrap_err().contains("not a length unit"));
+        assert!(l("mm").unwrap_err().contains("not a number"));
+        let p = std::path::Path::new("a.stp");
+        // 0.254 mm in an inch file: 0.01 in, exactly as 0.254 / 25.4 rounds
+        let x = l("0.254mm").unwrap().resolve(Some(Unit::Inch), p).unwrap();
+        assert!((x - 0.01).abs() <= 2e-18, "{x}");
+        assert_eq!(
+            l("0.1in").unwrap().resolve(Some(Unit::Millimeter), p).unwrap(),
+            0.1 * 25.4
+        );
+        assert_eq!(l("0.1").unwrap().resolve(Some(Unit::Inch), p).unwrap(), 0.1);
+        let e = l("0.1mm").unwrap().resolve(None, p).unwrap_err().to_string();
+        assert!(e.contains("a.stp declares no length unit"), "{e}");
     }
 }

@@ -16,7 +16,7 @@ use anyhow::Result;
 use fairway::{BSplineCurve, BSplineSurface, Geometry};
 use serde::Serialize;
 
-use crate::common::{load_geometry, print_json, refuse_non_finite};
+use crate::common::{Input, load_input, print_json, refuse_non_finite};
 
 /// Samples per knot span for the curvature ranges.
 pub const SAMPLES_PER_SPAN: usize = 32;
@@ -24,11 +24,26 @@ pub const SAMPLES_PER_SPAN: usize = 32;
 /// Arguments of `fairway info`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Geometry file (.json geometry or .ron/.fairway document).
+    /// Geometry file (.json geometry, .ron/.fairway document, .igs/.iges, .stp/.step).
     pub file: PathBuf,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
+    /// IGES or STEP file: which object to summarize (0 = the first, the default).
+    #[arg(long)]
+    pub index: Option<usize>,
+}
+
+/// What an IGES or STEP file says about the object summarized.
+#[derive(Serialize, Debug, Default)]
+pub struct FileInfo {
+    /// The file's length unit (`mm`, `in`, ...); `null` if it declares none Fairway knows. Lengths and
+    /// curvatures are in this unit (curvatures per unit).
+    pub unit: Option<&'static str>,
+    /// The object summarized (0-based, as `--index`).
+    pub index: usize,
+    /// How many curves and surfaces the file holds.
+    pub objects: usize,
 }
 
 /// Summary of a curve.
@@ -58,6 +73,9 @@ pub struct CurveInfo {
     pub n_inflections: usize,
     /// Parameters of the inflections (2D).
     pub inflections: Vec<f64>,
+    /// IGES / STEP input: its unit and which object this is (absent for other formats).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub file: Option<FileInfo>,
 }
 
 /// Summary of a surface.
@@ -93,6 +111,9 @@ pub struct SurfaceInfo {
     pub mean_range: Option<[f64; 2]>,
     /// Range of the Gaussian curvature.
     pub gauss_range: Option<[f64; 2]>,
+    /// IGES / STEP input: its unit and which object this is (absent for other formats).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub file: Option<FileInfo>,
 }
 
 /// Call `f` at `m` uniform parameters in each span, then at the domain end (without storing them: a curve of
@@ -155,6 +176,7 @@ pub fn curve_info(c: &BSplineCurve) -> CurveInfo {
         curvature_max: kmax,
         n_inflections: inflections.len(),
         inflections,
+        file: None,
     }
 }
 
@@ -189,20 +211,25 @@ pub fn surface_info(s: &BSplineSurface) -> SurfaceInfo {
         k_min_range: kn.get(),
         mean_range: h.get(),
         gauss_range: g.get(),
+        file: None,
     }
 }
 
 /// Run `fairway info`.
 pub fn run(args: &Args) -> Result<()> {
     let name = args.file.display();
-    match load_geometry(&args.file)? {
+    let input = load_input(&args.file, args.index)?;
+    let file = file_info(&input);
+    match input.doc.geometry {
         Geometry::Curve(c) => {
-            let i = curve_info(&c);
+            let mut i = curve_info(&c);
+            i.file = file;
             refuse_non_finite("the summary", &i)?;
             if args.json {
                 return print_json(&i);
             }
             println!("{name}: {}D curve", i.dimension);
+            print_file_info(i.file.as_ref());
             println!("  degree          {}", i.degree);
             println!(
                 "  control points  {}{}",
@@ -221,12 +248,14 @@ pub fn run(args: &Args) -> Result<()> {
             }
         }
         Geometry::Surface(s) => {
-            let i = surface_info(&s);
+            let mut i = surface_info(&s);
+            i.file = file;
             refuse_non_finite("the summary", &i)?;
             if args.json {
                 return print_json(&i);
             }
             println!("{name}: surface");
+            print_file_info(i.file.as_ref());
             println!("  degrees         {} × {}", i.degree_u, i.degree_v);
             println!(
                 "  control points  {} × {}{}",
@@ -247,6 +276,29 @@ pub fn run(args: &Args) -> Result<()> {
         }
     }
     Ok(())
+}
+
+fn file_info(input: &Input) -> Option<FileInfo> {
+    input.object.map(|(index, objects)| FileInfo {
+        unit: input.unit.map(fairway::io::Unit::symbol),
+        index,
+        objects,
+    })
+}
+
+/// The object and unit lines of an IGES or STEP input.
+fn print_file_info(f: Option<&FileInfo>) {
+    let Some(f) = f else { return };
+    println!(
+        "  object          {} of {} (--index {})",
+        f.index + 1,
+        f.objects,
+        f.index
+    );
+    match f.unit {
+        Some(u) => println!("  unit            {u} (lengths in {u}, curvatures in 1/{u})"),
+        None => println!("  unit            not declared (or not known): lengths in the file's units"),
+    }
 }
 
 /// Inflections to print: all of them up to [`LISTED_INFLECTIONS`], else the count with the first and last

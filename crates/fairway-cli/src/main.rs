@@ -36,7 +36,7 @@ enum Command {
     Fair(fair::Args),
     /// Measure a faired curve against its original (deviation, extrema, inflections, energies).
     Measure(measure::Args),
-    /// Convert between formats by extension: JSON, RON, IGES, point lists (input), SVG (output).
+    /// Convert between formats by extension: JSON, RON, IGES, STEP, point lists (input), SVG (output).
     Convert(convert::Args),
 }
 

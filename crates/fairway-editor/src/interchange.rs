@@ -1,7 +1,7 @@
 //! The editor's side of interchange and hardening: autosave and crash
-//! recovery, SVG / PNG export, and the object picker for IGES files that
-//! hold several curves or surfaces. The file formats and the autosave
-//! bookkeeping live in the core (`fairway::io::{autosave, svg, iges}`); this
+//! recovery, SVG / PNG export, and the object picker for IGES and STEP files
+//! that hold several curves or surfaces. The file formats and the autosave
+//! bookkeeping live in the core (`fairway::io::{autosave, svg, iges, step}`); this
 //! module only wires them into the app (commands, a modal, a window, the
 //! File menu's export entries).
 
@@ -13,9 +13,9 @@ use crate::autosave::{self, Autosave};
 use eframe::egui;
 use egui::ColorImage;
 use fairway::Geometry;
-use fairway::io::Document;
-use fairway::io::iges::{self, EntityInfo, IgesFile};
+use fairway::io::interchange::EntityInfo;
 use fairway::io::svg::{SvgOptions, try_curve_svg};
+use fairway::io::{Document, Format, InterchangeFile, Unit};
 
 use crate::{App, Command};
 
@@ -37,22 +37,27 @@ pub fn autosave_dir() -> Option<PathBuf> {
         .or_else(autosave::default_dir)
 }
 
-/// Whether `path` names an IGES file (by its extension).
-pub fn is_iges(path: &Path) -> bool {
-    fairway::io::Format::from_path(path).is_ok_and(|f| f == fairway::io::Format::Iges)
+/// Whether `path` names an IGES or STEP file (by its extension).
+pub fn is_interchange(path: &Path) -> bool {
+    Format::from_path(path).is_ok_and(|f| matches!(f, Format::Iges | Format::Step))
 }
 
-/// An IGES file with several objects, shown in the picker.
+/// An IGES or STEP file with several objects, shown in the picker.
 #[derive(Debug, Clone)]
-pub struct IgesPick {
+pub struct ObjectPick {
     /// The file.
     pub path: PathBuf,
     /// What the core read from it.
-    pub file: IgesFile,
+    pub file: InterchangeFile,
 }
 
-/// One line describing object `k` of an IGES file: kind, degree, control
-/// points, weights, directory entry and label.
+/// ` (unit mm)`, or nothing when the file declares no unit Fairway knows.
+fn unit_note(unit: Option<Unit>) -> String {
+    unit.map_or(String::new(), |u| format!(" (unit {})", u.symbol()))
+}
+
+/// One line describing object `k` of an IGES or STEP file: kind, degree, control
+/// points, weights, entity (IGES directory entry, STEP instance `#n`) and label.
 pub fn describe_object(g: &Geometry, info: Option<&EntityInfo>) -> String {
     let mut s = match g {
         Geometry::Curve(c) => format!(
@@ -256,23 +261,23 @@ impl App {
         });
     }
 
-    /// Open an IGES file: one object opens directly, several show the picker.
-    pub(crate) fn open_iges(&mut self, path: &Path) {
-        let read = std::fs::read(path)
-            .map_err(|e| e.to_string())
-            .and_then(|b| iges::read_all(&b).map_err(|e| e.to_string()));
-        let file = match read {
-            Ok(f) => f,
+    /// Open an IGES or STEP file: one object opens directly, several show the picker.
+    pub(crate) fn open_interchange(&mut self, path: &Path) {
+        let file = match fairway::io::read_interchange(path) {
+            Ok(Some(f)) => f,
+            Ok(None) => {
+                return self.report_error(format!("Could not open {}: not an IGES or STEP file", path.display()));
+            }
             Err(e) => return self.report_error(format!("Could not open {}: {e}", path.display())),
         };
         match file.objects.len() {
             0 => self.report_error(format!(
-                "Could not open {}: no B-spline curve (126) or surface (128) in it{}",
+                "Could not open {}: no B-spline curve or surface in it{}",
                 path.display(),
                 if file.notices.is_empty() {
                     String::new()
                 } else {
-                    format!("; {} other entities skipped", file.notices.len())
+                    format!(" ({})", file.notices.join("; "))
                 }
             )),
             1 => {
@@ -280,7 +285,8 @@ impl App {
                 // keep the path only if saving back loses nothing else of the file
                 let keep = file.notices.is_empty();
                 self.set_document(doc.clone(), keep.then(|| path.to_path_buf()), Some(doc));
-                let mut msg = format!("Opened {}", path.display());
+                self.set_unit(file.unit);
+                let mut msg = format!("Opened {}{}", path.display(), unit_note(file.unit));
                 if !keep {
                     msg.push_str(&format!(
                         " ({} notices, e.g. {}; Save As to keep it)",
@@ -292,7 +298,7 @@ impl App {
                 self.push_recent(path.to_path_buf());
             }
             _ => {
-                self.iges_pick = Some(IgesPick {
+                self.object_pick = Some(ObjectPick {
                     path: path.to_path_buf(),
                     file,
                 })
@@ -300,26 +306,36 @@ impl App {
         }
     }
 
-    pub(crate) fn open_iges_object(&mut self, k: usize) {
-        let Some(pick) = self.iges_pick.take() else { return };
+    /// The unit of the document just opened, on the curve editor or the surface workspace.
+    fn set_unit(&mut self, unit: Option<Unit>) {
+        match self.surface.as_mut() {
+            Some(s) => s.unit = unit,
+            None => self.unit = unit,
+        }
+    }
+
+    pub(crate) fn open_picked_object(&mut self, k: usize) {
+        let Some(pick) = self.object_pick.take() else { return };
         let Some(g) = pick.file.objects.get(k).cloned() else {
             return;
         };
         let doc = Document::new(g);
-        // untitled: saving over the IGES file would drop its other objects
+        // untitled: saving over the file would drop its other objects
         self.set_document(doc.clone(), None, Some(doc));
+        self.set_unit(pick.file.unit);
         self.report_status(format!(
-            "Imported object {} of {} from {} (untitled: Save As to keep it)",
+            "Imported object {} of {} from {}{} (untitled: Save As to keep it)",
             k + 1,
             pick.file.objects.len(),
-            pick.path.display()
+            pick.path.display(),
+            unit_note(pick.file.unit)
         ));
         self.push_recent(pick.path);
     }
 
-    /// The IGES object picker window.
-    pub(crate) fn iges_picker_ui(&mut self, ui: &mut egui::Ui) {
-        let Some(pick) = &self.iges_pick else { return };
+    /// The object picker window of an IGES or STEP file.
+    pub(crate) fn object_picker_ui(&mut self, ui: &mut egui::Ui) {
+        let Some(pick) = &self.object_pick else { return };
         let mut chosen = None;
         let mut cancel = false;
         let name = pick
@@ -334,7 +350,7 @@ impl App {
                 ui.label(format!(
                     "{name} holds {} curves and surfaces{}:",
                     f.objects.len(),
-                    f.unit.map_or(String::new(), |u| format!(" (unit {})", u.name()))
+                    unit_note(f.unit)
                 ));
                 egui::Grid::new("iges_objects").striped(true).show(ui, |ui| {
                     for (k, g) in f.objects.iter().enumerate() {
@@ -369,9 +385,9 @@ impl App {
                 }
             });
         if let Some(k) = chosen {
-            self.push(Command::OpenIgesObject(k));
+            self.push(Command::OpenPickedObject(k));
         } else if cancel {
-            self.iges_pick = None;
+            self.object_pick = None;
         }
     }
 

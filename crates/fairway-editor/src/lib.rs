@@ -112,8 +112,8 @@ pub enum Command {
     ExportSvg(PathBuf),
     /// Write the current view (canvas or 3D view) as PNG (a screenshot, taken a frame later).
     ExportPng(PathBuf),
-    /// Open object `k` of the IGES file in the picker.
-    OpenIgesObject(usize),
+    /// Open object `k` of the IGES or STEP file in the picker.
+    OpenPickedObject(usize),
     /// Load the autosave found at start-up as an unsaved document.
     RestoreAutosave,
     /// Delete the autosave found at start-up.
@@ -228,8 +228,11 @@ pub struct App {
     autosaved: bool,
     /// An autosave found at start-up, waiting for Restore / Discard.
     pub recovery: Option<crate::autosave::Recovery>,
-    /// An IGES file with several objects, waiting for the user's choice.
-    pub iges_pick: Option<interchange::IgesPick>,
+    /// An IGES or STEP file with several objects, waiting for the user's choice.
+    pub object_pick: Option<interchange::ObjectPick>,
+    /// The length unit of the open curve's file (IGES / STEP), shown beside lengths and declared when
+    /// saving as IGES or STEP; `None`: unitless (saved as mm).
+    pub unit: Option<fairway::io::Unit>,
     /// A PNG export in progress (waiting for the screenshot).
     pub png_export: Option<interchange::PngExport>,
     /// The central panel's content area (canvas or 3D view) of the last frame, in points.
@@ -289,7 +292,8 @@ impl App {
             autosave: None,
             autosaved: false,
             recovery: None,
-            iges_pick: None,
+            object_pick: None,
+            unit: None,
             png_export: None,
             view_rect: egui::Rect::NOTHING,
             export_then_quit: None,
@@ -373,8 +377,8 @@ impl App {
     /// Load `path` now, replacing the document (no unsaved check). Errors go
     /// to [`App::error`] and leave the open document untouched.
     pub fn open_now(&mut self, path: &Path) {
-        if interchange::is_iges(path) {
-            self.open_iges(path);
+        if interchange::is_interchange(path) {
+            self.open_interchange(path);
             return;
         }
         match fairway::io::load(path) {
@@ -393,6 +397,8 @@ impl App {
     pub fn set_document(&mut self, mut doc: Document, path: Option<PathBuf>, saved: Option<Document>) {
         // absolute, so an autosave's source still names the file after a restart elsewhere
         let path = path.map(|p| std::path::absolute(&p).unwrap_or(p));
+        // a new document is unitless until its opener says otherwise (open_interchange)
+        self.unit = None;
         if doc_curve(&doc).is_none() {
             match surface_ui::SurfaceEditor::new(doc, path) {
                 Ok(mut s) => {
@@ -446,7 +452,7 @@ impl App {
     }
 
     fn save_now(&mut self, path: &Path) {
-        match fairway::io::save(path, &self.doc) {
+        match fairway::io::save_in(path, &self.doc, self.unit) {
             Ok(()) => {
                 self.saved = Some(self.doc.clone());
                 self.path = Some(std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf()));
@@ -488,9 +494,11 @@ impl App {
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_else(|| "curve.ron".into());
         let filter: &[&str] = if save {
-            &["ron", "fairway", "json", "igs", "iges"]
+            &["ron", "fairway", "json", "igs", "iges", "stp", "step"]
         } else {
-            &["ron", "fairway", "json", "igs", "iges", "csv", "txt", "xyz"]
+            &[
+                "ron", "fairway", "json", "igs", "iges", "stp", "step", "csv", "txt", "xyz",
+            ]
         };
         self.pick_path(
             save.then_some(default_name.as_str()),
@@ -597,7 +605,7 @@ impl App {
             }
             Command::ExportSvg(p) => self.export_svg(&p),
             Command::ExportPng(p) => self.start_png_export(p),
-            Command::OpenIgesObject(k) => self.open_iges_object(k),
+            Command::OpenPickedObject(k) => self.open_picked_object(k),
             Command::RestoreAutosave => self.restore_autosave(),
             Command::DiscardAutosave => self.discard_autosave(),
         }
@@ -615,7 +623,7 @@ impl App {
     /// Draw the whole editor into `ui` and apply the frame's commands.
     pub fn show(&mut self, ui: &mut egui::Ui) {
         self.recovery_ui(ui);
-        self.iges_picker_ui(ui);
+        self.object_picker_ui(ui);
         if self.surface_show(ui) {
             self.apply_commands();
             self.after_frame(ui);
@@ -774,7 +782,7 @@ impl App {
                 if ui
                     .button("Open…")
                     .on_hover_text(
-                        "Open a .ron document, a .json curve or surface, an IGES file or a point list (Ctrl+O)",
+                        "Open a .ron document, a .json curve or surface, an IGES or STEP file or a point list (Ctrl+O)",
                     )
                     .clicked()
                 {
@@ -900,12 +908,17 @@ impl App {
             }
             let c = self.curve();
             ui.label(format!(
-                "{}D, degree {}, {} control points, length {:.4}",
+                "{}D, degree {}, {} control points, length {:.4}{}",
                 c.dim(),
                 c.degree(),
                 c.n_points(),
-                self.view.sampled.length
+                self.view.sampled.length,
+                self.unit.map_or(String::new(), |u| format!(" {}", u.symbol()))
             ));
+            if let Some(u) = self.unit {
+                ui.label(format!("unit {}", u.symbol()))
+                    .on_hover_text("The length unit of the file this curve came from (IGES / STEP)");
+            }
             ui.separator();
             if self.status.is_empty() {
                 ui.weak(
@@ -983,13 +996,13 @@ impl App {
             });
         }
         ui.separator();
-        ui.heading("Tolerance");
+        ui.heading(crate::tolerance_heading(self.unit));
         let mut tol = self.tolerance();
         if tolerance_ui(
             ui,
             &mut tol,
             self.view.diag,
-            "Tolerance band width m, model units (log scale). The faired curve stays within m.",
+            "Tolerance band width m, in the model's units (log scale). The faired curve stays within m.",
         ) {
             self.push(Command::SetTolerance(tol));
         }
@@ -1213,9 +1226,19 @@ pub fn typed_path_ui(ui: &mut egui::Ui, path_input: &mut String, hint: &str, tip
     out
 }
 
+/// The tolerance panel's heading: `Tolerance (mm)` when the file's unit is known.
+pub fn tolerance_heading(unit: Option<fairway::io::Unit>) -> String {
+    match unit {
+        Some(u) => format!("Tolerance ({})", u.symbol()),
+        None => "Tolerance".into(),
+    }
+}
+
 /// The tolerance controls shared by the curve and surface screens: a log
 /// slider over [1e-6, 0.05] × the model diagonal `diag` and an exact field
 /// (both labelled "Tolerance…" for accessibility). Returns whether `tol` changed.
+///
+/// The heading above it is [`tolerance_heading`].
 pub fn tolerance_ui(ui: &mut egui::Ui, tol: &mut f64, diag: f64, hint: &str) -> bool {
     let r1 = ui
         .add(

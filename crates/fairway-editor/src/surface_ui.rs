@@ -107,6 +107,9 @@ pub struct SurfaceEditor {
     pub doc: Document,
     /// Where it lives on disk.
     pub path: Option<PathBuf>,
+    /// The length unit of its file (IGES / STEP), shown beside lengths and declared when saving as IGES
+    /// or STEP; `None`: unitless (saved as mm).
+    pub unit: Option<fairway::io::Unit>,
     saved: Option<Document>,
     /// Undo history.
     pub history: History,
@@ -135,7 +138,7 @@ pub struct SurfaceEditor {
     /// Path field.
     pub path_input: String,
     /// A file for the app to open: a curve (the app switches back to the
-    /// curve editor) or an IGES file (which may need the object picker).
+    /// curve editor) or an IGES or STEP file (which may need the object picker).
     pub open_curve: Option<PathBuf>,
     commands: Vec<SurfCommand>,
     uv_drag: Option<DVec2>,
@@ -180,6 +183,7 @@ impl SurfaceEditor {
             saved: Some(saved),
             path_input: path.as_ref().map(|p| p.display().to_string()).unwrap_or_default(),
             path,
+            unit: None,
             doc,
             history: History::default(),
             rev: 1,
@@ -306,7 +310,7 @@ impl SurfaceEditor {
                 }
             }
             SurfCommand::Open(p) => self.open_now(&p),
-            SurfCommand::SaveTo(p) => match fairway::io::save(&p, &self.doc) {
+            SurfCommand::SaveTo(p) => match fairway::io::save_in(&p, &self.doc, self.unit) {
                 Ok(()) => {
                     self.saved = Some(self.doc.clone());
                     self.path_input = p.display().to_string();
@@ -327,7 +331,7 @@ impl SurfaceEditor {
     }
 
     fn open_now(&mut self, p: &Path) {
-        if crate::interchange::is_iges(p) {
+        if crate::interchange::is_interchange(p) {
             self.open_curve = Some(p.to_path_buf());
             return;
         }
@@ -556,6 +560,11 @@ impl SurfaceEditor {
                 s.degree_u(),
                 s.degree_v()
             ));
+            if let Some(u) = self.unit {
+                ui.separator();
+                ui.label(format!("unit {}", u.symbol()))
+                    .on_hover_text("The length unit of the file this surface came from (IGES / STEP)");
+            }
             if let Some((uv, val)) = self.hover {
                 ui.separator();
                 ui.label(format!("u = {:.4}, v = {:.4}, {} = {val:.4e}", uv.x, uv.y, self.value_name()));
@@ -704,13 +713,13 @@ impl SurfaceEditor {
 
     /// The "Tolerance" section: max deviation and live preview.
     fn tolerance_section_ui(&mut self, ui: &mut egui::Ui) {
-        ui.heading("Tolerance");
+        ui.heading(crate::tolerance_heading(self.unit));
         let mut tol = self.tolerance();
         if crate::tolerance_ui(
             ui,
             &mut tol,
             self.diag(),
-            "Max deviation m of the faired surface from the original (model units)",
+            "Max deviation m of the faired surface from the original (in the model's units)",
         ) {
             self.push(SurfCommand::SetTolerance(tol));
         }

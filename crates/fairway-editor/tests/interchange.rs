@@ -319,7 +319,7 @@ fn iges_with_several_objects_opens_a_picker_and_one_object_opens_directly() {
     let mut h = harness(App::default());
     let before = h.state().doc.clone();
     path_action(&mut h, &multi, "Open path");
-    assert!(h.state().iges_pick.is_some(), "{:?}", h.state().error);
+    assert!(h.state().object_pick.is_some(), "{:?}", h.state().error);
     assert_eq!(h.state().doc, before, "nothing opened before the choice");
     h.get_by_label("Choose an object");
     h.get_by_label_contains("curve 2D, degree 3, 9 control points");
@@ -327,7 +327,7 @@ fn iges_with_several_objects_opens_a_picker_and_one_object_opens_directly() {
     h.get_by_label_contains("curve 3D, degree 2, 4 control points, rational");
     h.get_by_role_and_label(Role::Button, "Open object 3").click();
     h.run();
-    assert!(h.state().iges_pick.is_none());
+    assert!(h.state().object_pick.is_none());
     assert!(h.state().surface.is_none());
     assert_eq!(h.state().doc.geometry, objects[2], "exact");
     assert_eq!(
@@ -350,14 +350,14 @@ fn iges_with_several_objects_opens_a_picker_and_one_object_opens_directly() {
     path_action(&mut h, &multi, "Open path");
     h.get_by_role_and_label(Role::Button, "Cancel import").click();
     h.run();
-    assert!(h.state().iges_pick.is_none());
+    assert!(h.state().object_pick.is_none());
     assert_eq!(h.state().doc.geometry, objects[2]);
 
     // a file with one object opens directly, keeping its path
     let single = dir.join("single.iges");
     std::fs::write(&single, fairway::io::iges::write(&objects[..1], &Default::default())).unwrap();
     path_action(&mut h, &single, "Open path");
-    assert!(h.state().iges_pick.is_none());
+    assert!(h.state().object_pick.is_none());
     assert_eq!(h.state().doc.geometry, objects[0]);
     assert_eq!(h.state().path.as_deref(), Some(single.as_path()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -515,7 +515,7 @@ fn the_iges_picker_also_opens_from_the_surface_workspace() {
     assert!(h.state().surface.is_some());
     path_action(&mut h, &multi, "Open path");
     assert!(
-        h.state().iges_pick.is_some(),
+        h.state().object_pick.is_some(),
         "{:?}",
         h.state().surface.as_ref().unwrap().error
     );
@@ -552,5 +552,99 @@ fn svg_export_of_a_curve_too_large_to_draw_writes_nothing() {
         "{err:?}"
     );
     assert_eq!(std::fs::read_to_string(&out).unwrap(), "kept");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A STEP file opens through the same picker as IGES: its unit is shown in the picker, the status bar and
+/// the tolerance heading, a broken entity is listed with its reason, and saving as STEP declares the
+/// file's unit (the coordinates untouched).
+#[test]
+fn step_with_several_objects_opens_the_picker_with_its_unit_and_saves_in_that_unit() {
+    use fairway::io::{Unit, step};
+    let dir = temp_dir("step");
+    let c2 = fairway_editor::demo_curve_n(9);
+    let objects: Vec<Geometry> = vec![c2.clone().into(), test_surface().into(), test_curve_3d().into()];
+    let opts = step::WriteOptions {
+        unit: Unit::Inch,
+        ..Default::default()
+    };
+    let text = step::write(&objects, &opts);
+    // one more curve, broken: its weights list is one too long
+    let extra = step::write(&[test_curve_3d().into()], &opts);
+    let broken = extra.replacen("RATIONAL_B_SPLINE_CURVE((", "RATIONAL_B_SPLINE_CURVE((1.0,", 1);
+    // the broken curve's instances, renumbered after the first file's
+    let body = |t: &str| -> String {
+        let a = t.find("DATA;\n").unwrap() + 6;
+        let b = t.find("ENDSEC;\nEND-ISO").unwrap();
+        t[a..b].to_string()
+    };
+    let shifted = body(&broken).replace('#', "#9");
+    let merged = text.replace("ENDSEC;\nEND-ISO", &format!("{shifted}ENDSEC;\nEND-ISO"));
+    let multi = dir.join("multi.stp");
+    std::fs::write(&multi, merged).unwrap();
+
+    let mut h = harness(App::default());
+    let before = h.state().doc.clone();
+    path_action(&mut h, &multi, "Open path");
+    assert!(h.state().object_pick.is_some(), "{:?}", h.state().error);
+    assert_eq!(h.state().doc, before, "nothing opened before the choice");
+    h.get_by_label("Choose an object");
+    h.get_by_label("multi.stp holds 3 curves and surfaces (unit in):");
+    h.get_by_label_contains("curve 2D, degree 3, 9 control points, entity");
+    h.get_by_label_contains("surface, degree 3x2, 4x3 control points, entity");
+    h.get_by_label_contains("curve 3D, degree 2, 4 control points, rational, entity");
+    h.get_by_label_contains("skipped: 5 weights for 4 control points");
+    h.get_by_role_and_label(Role::Button, "Open object 2").click();
+    h.run();
+    assert!(h.state().object_pick.is_none());
+    let s = h.state().surface.as_ref().expect("surface workspace");
+    assert_eq!(s.doc.geometry, objects[1], "exact");
+    assert_eq!(s.unit, Some(Unit::Inch));
+    assert_eq!(s.path, None, "untitled: saving must not overwrite the STEP file");
+    h.get_by_label("unit in");
+    h.get_by_label("Tolerance (in)");
+    // saved as STEP: declares inch, the surface exact
+    let out = dir.join("surface.step");
+    path_action(&mut h, &out, "Save to path");
+    let f = step::read_all(&std::fs::read(&out).unwrap()).unwrap();
+    assert_eq!((f.unit, f.objects.as_slice()), (Some(Unit::Inch), &objects[1..2]));
+
+    // the 2D curve, to the curve editor: the unit in the status bar and beside the tolerance
+    path_action(&mut h, &multi, "Open path");
+    h.get_by_role_and_label(Role::Button, "Open object 1").click();
+    h.run();
+    assert!(h.state().surface.is_none());
+    assert_eq!(h.state().doc.geometry, objects[0]);
+    assert_eq!(h.state().unit, Some(Unit::Inch));
+    h.get_by_label("Tolerance (in)");
+    h.get_by_label("unit in");
+    assert!(h.state().status.contains("(unit in)"), "{}", h.state().status);
+    let out = dir.join("curve.stp");
+    path_action(&mut h, &out, "Save to path");
+    let f = step::read_all(&std::fs::read(&out).unwrap()).unwrap();
+    assert_eq!((f.unit, f.objects.as_slice()), (Some(Unit::Inch), &objects[..1]));
+
+    // a file of Fairway's own with one object opens directly, keeping its path and unit
+    path_action(&mut h, &out, "Open path");
+    assert!(h.state().object_pick.is_none());
+    assert_eq!(h.state().path.as_deref(), Some(out.as_path()));
+    assert_eq!(h.state().unit, Some(Unit::Inch));
+    // a JSON file has no unit
+    let json = dir.join("c.json");
+    fairway::io::save(&json, &Document::new(objects[2].clone())).unwrap();
+    path_action(&mut h, &json, "Open path");
+    assert_eq!(h.state().unit, None);
+    assert!(h.query_by_label("unit in").is_none());
+
+    // a file that is not STEP: an error in user terms, the document kept
+    let bad = dir.join("bad.stp");
+    std::fs::write(&bad, "solid cube\nendsolid\n").unwrap();
+    path_action(&mut h, &bad, "Open path");
+    let e = h.state().error.clone().unwrap_or_default();
+    assert!(
+        e.contains("bad.stp") && e.contains("not a STEP (ISO 10303-21) file"),
+        "{e}"
+    );
+    assert_eq!(h.state().doc.geometry, objects[2]);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -46,157 +46,16 @@ use crate::geometry::Geometry;
 use crate::knots::MAX_DEGREE;
 use crate::surface::BSplineSurface;
 
+pub use super::interchange::{EntityInfo, ReadOptions, Unit};
+
+/// Everything read from an IGES file: the shared [`InterchangeFile`](super::interchange::InterchangeFile).
+pub type IgesFile = super::interchange::InterchangeFile;
+
 fn perr(message: impl Into<String>) -> Error {
     Error::Parse {
         format: "IGES".into(),
         message: message.into(),
     }
-}
-
-/// A length unit of the IGES global section (field G14).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Unit {
-    /// Inch (flag 1).
-    Inch,
-    /// Millimetre (flag 2).
-    Millimeter,
-    /// Foot (flag 4).
-    Foot,
-    /// Mile (flag 5).
-    Mile,
-    /// Metre (flag 6).
-    Meter,
-    /// Kilometre (flag 7).
-    Kilometer,
-    /// Mil, 0.001 inch (flag 8).
-    Mil,
-    /// Micron (flag 9).
-    Micron,
-    /// Centimetre (flag 10).
-    Centimeter,
-    /// Microinch (flag 11).
-    Microinch,
-}
-
-impl Unit {
-    /// The IGES unit flag (G14).
-    pub fn flag(self) -> i64 {
-        match self {
-            Unit::Inch => 1,
-            Unit::Millimeter => 2,
-            Unit::Foot => 4,
-            Unit::Mile => 5,
-            Unit::Meter => 6,
-            Unit::Kilometer => 7,
-            Unit::Mil => 8,
-            Unit::Micron => 9,
-            Unit::Centimeter => 10,
-            Unit::Microinch => 11,
-        }
-    }
-
-    /// The IGES unit name (G15).
-    pub fn name(self) -> &'static str {
-        match self {
-            Unit::Inch => "INCH",
-            Unit::Millimeter => "MM",
-            Unit::Foot => "FT",
-            Unit::Mile => "MI",
-            Unit::Meter => "M",
-            Unit::Kilometer => "KM",
-            Unit::Mil => "MIL",
-            Unit::Micron => "UM",
-            Unit::Centimeter => "CM",
-            Unit::Microinch => "UIN",
-        }
-    }
-
-    /// Length of one unit in millimetres.
-    pub fn in_mm(self) -> f64 {
-        match self {
-            Unit::Inch => 25.4,
-            Unit::Millimeter => 1.0,
-            Unit::Foot => 304.8,
-            Unit::Mile => 1_609_344.0,
-            Unit::Meter => 1000.0,
-            Unit::Kilometer => 1.0e6,
-            Unit::Mil => 0.0254,
-            Unit::Micron => 0.001,
-            Unit::Centimeter => 10.0,
-            Unit::Microinch => 2.54e-5,
-        }
-    }
-
-    /// The unit of a flag, or (flag 3) of a name.
-    pub fn from_flag(flag: i64, name: &str) -> Option<Unit> {
-        Some(match flag {
-            1 => Unit::Inch,
-            2 => Unit::Millimeter,
-            4 => Unit::Foot,
-            5 => Unit::Mile,
-            6 => Unit::Meter,
-            7 => Unit::Kilometer,
-            8 => Unit::Mil,
-            9 => Unit::Micron,
-            10 => Unit::Centimeter,
-            11 => Unit::Microinch,
-            3 => return Unit::from_name(name),
-            _ => return None,
-        })
-    }
-
-    /// The unit of a G15 name (`MM`, `IN`, `INCH`, `M`, ...), case-insensitive.
-    pub fn from_name(name: &str) -> Option<Unit> {
-        let n = name.trim().to_ascii_uppercase();
-        Some(match n.as_str() {
-            "IN" | "INCH" => Unit::Inch,
-            "MM" => Unit::Millimeter,
-            "FT" => Unit::Foot,
-            "MI" => Unit::Mile,
-            "M" => Unit::Meter,
-            "KM" => Unit::Kilometer,
-            "MIL" => Unit::Mil,
-            "UM" => Unit::Micron,
-            "CM" => Unit::Centimeter,
-            "UIN" => Unit::Microinch,
-            _ => return None,
-        })
-    }
-}
-
-/// Options of [`read_all_with`].
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct ReadOptions {
-    /// Convert coordinates to this unit (real-world size: file coordinates
-    /// divided by the model-space scale G13, times the unit ratio). `None`
-    /// keeps the file's coordinates untouched.
-    pub unit: Option<Unit>,
-}
-
-/// Everything read from an IGES file.
-#[derive(Debug, Clone, PartialEq)]
-pub struct IgesFile {
-    /// The curves (126) and surfaces (128), in directory order.
-    pub objects: Vec<Geometry>,
-    /// The file's unit (G14/G15), if recognised.
-    pub unit: Option<Unit>,
-    /// The model-space scale (G13), 1 if absent.
-    pub scale: f64,
-    /// Skipped entities and conversions made, one message each.
-    pub notices: Vec<String>,
-    /// Where each of `objects` came from (same order and length).
-    pub entities: Vec<EntityInfo>,
-}
-
-/// The directory entry an object of [`IgesFile::objects`] was read from.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct EntityInfo {
-    /// Sequence number of the entry's first `D` record (odd, 1-based), as
-    /// other entities and the notices refer to it.
-    pub entity: usize,
-    /// The entity label (directory field 18, 8 characters, trimmed) and,
-    /// when non-zero, its subscript (field 19) in parentheses; empty if none.
-    pub label: String,
 }
 
 /// Options of [`write()`].
@@ -1372,7 +1231,13 @@ fn wrap(tokens: &[String], width: usize) -> Vec<String> {
     lines
 }
 
-fn now_stamp() -> String {
+pub(crate) fn now_stamp() -> String {
+    let [y, m, d, h, n, s] = now_utc();
+    format!("{y:04}{m:02}{d:02}.{h:02}{n:02}{s:02}")
+}
+
+/// The time now (UTC) as [year, month, day, hour, minute, second].
+pub(crate) fn now_utc() -> [i64; 6] {
     let secs = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs()) as i64;
@@ -1388,12 +1253,7 @@ fn now_stamp() -> String {
     let d = doy - (153 * mp + 2) / 5 + 1;
     let m = if mp < 10 { mp + 3 } else { mp - 9 };
     let y = yoe + era * 400 + if m <= 2 { 1 } else { 0 };
-    format!(
-        "{y:04}{m:02}{d:02}.{:02}{:02}{:02}",
-        rem / 3600,
-        (rem / 60) % 60,
-        rem % 60
-    )
+    [y, m, d, rem / 3600, (rem / 60) % 60, rem % 60]
 }
 
 fn curve_params(c: &BSplineCurve) -> Vec<String> {

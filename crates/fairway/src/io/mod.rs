@@ -1,19 +1,22 @@
 //! File formats: plain geometry JSON, Fairway's RON document, IGES 5.3
-//! (curves 126, surfaces 128), point lists (CSV / text, import only), SVG
+//! (curves 126, surfaces 128), STEP (ISO 10303-21: B-spline curves and
+//! surfaces), point lists (CSV / text, import only), SVG
 //! (export only), and file helpers (format by extension, atomic writes).
 //!
-//! [`load`] and [`save`] pick the format from the extension. An IGES file
-//! may hold several objects: [`load`] returns the first one, and
-//! [`iges::read_all`] returns all of them with the list of skipped
-//! entities. A point file is fitted by [`points::fit_points`] with
+//! [`load`] and [`save`] pick the format from the extension. An IGES or
+//! STEP file may hold several objects: [`load`] returns the first one, and
+//! [`iges::read_all`] / [`step::read_all`] return all of them with the list
+//! of skipped entities ([`InterchangeFile`]). A point file is fitted by [`points::fit_points`] with
 //! [`points::FitOptions::default`]; call it directly to choose the number of
 //! control points, the degree and the parametrisation.
 
 pub mod document;
 pub mod iges;
+pub mod interchange;
 pub mod json;
 pub mod points;
 pub mod record;
+pub mod step;
 pub mod svg;
 
 use std::io::Write;
@@ -23,6 +26,7 @@ use crate::error::{Error, Result};
 use crate::geometry::Geometry;
 
 pub use document::{Document, DocumentSettings};
+pub use interchange::{InterchangeFile, Unit};
 
 /// A file format known by its extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -33,6 +37,8 @@ pub enum Format {
     Ron,
     /// IGES 5.3 fixed format (`.igs`, `.iges`).
     Iges,
+    /// STEP, ISO 10303-21 (`.stp`, `.step`).
+    Step,
     /// Points, one per line (`.csv`, `.txt`, `.xyz`); import only.
     Points,
 }
@@ -48,11 +54,12 @@ impl Format {
             Some("json") => Ok(Format::Json),
             Some("ron") | Some("fairway") => Ok(Format::Ron),
             Some("igs") | Some("iges") => Ok(Format::Iges),
+            Some("stp") | Some("step") => Ok(Format::Step),
             Some("csv") | Some("txt") | Some("xyz") => Ok(Format::Points),
             other => Err(Error::Parse {
                 format: "file".into(),
                 message: format!(
-                    "{}: unknown extension {:?}; expected .json, .ron, .fairway, .igs, .iges, .csv, .txt or .xyz",
+                    "{}: unknown extension {:?}; expected .json, .ron, .fairway, .igs, .iges, .stp, .step, .csv, .txt or .xyz",
                     path.display(),
                     other.unwrap_or("")
                 ),
@@ -197,8 +204,8 @@ pub fn blank_text_message(bytes: &[u8]) -> Option<&'static str> {
 }
 
 /// Read a document from a file, the format from the extension: JSON
-/// geometry, RON document, IGES (the first curve or surface; see
-/// [`iges::read_all`] for all), or a point list (fitted with
+/// geometry, RON document, IGES or STEP (the first curve or surface; see
+/// [`iges::read_all`], [`step::read_all`] for all), or a point list (fitted with
 /// [`points::FitOptions::default`]).
 pub fn load(path: &Path) -> Result<Document> {
     let geometry = match Format::from_path(path)? {
@@ -206,6 +213,7 @@ pub fn load(path: &Path) -> Result<Document> {
             let bytes = read_bytes(path)?;
             iges::read_first(&bytes)?
         }
+        Format::Step => step::read_first(&read_bytes(path)?)?,
         Format::Json => json::from_str(&read_text(path)?)?,
         Format::Ron => return Document::from_ron(&read_text(path)?),
         Format::Points => {
@@ -215,13 +223,31 @@ pub fn load(path: &Path) -> Result<Document> {
     Ok(Document::new(geometry))
 }
 
+/// Read every curve and surface of an IGES or STEP file (by its extension), bounded as
+/// [`read_bytes`]; `Ok(None)` for another format.
+pub fn read_interchange(path: &Path) -> Result<Option<InterchangeFile>> {
+    match Format::from_path(path)? {
+        Format::Iges => iges::read_all(&read_bytes(path)?).map(Some),
+        Format::Step => step::read_all(&read_bytes(path)?).map(Some),
+        _ => Ok(None),
+    }
+}
+
 /// Read only the geometry of a file.
 pub fn load_geometry(path: &Path) -> Result<Geometry> {
     Ok(load(path)?.geometry)
 }
 
-/// Write a document in the format of the path's extension, atomically.
+/// Write a document in the format of the path's extension, atomically. IGES and STEP files declare
+/// millimetres (see [`save_in`]).
 pub fn save(path: &Path, doc: &Document) -> Result<()> {
+    save_in(path, doc, None)
+}
+
+/// [`save`], an IGES or STEP file declaring `unit` (millimetres if `None`): the unit the coordinates
+/// are in, e.g. that of the file they were read from. Other formats are unitless and ignore it.
+pub fn save_in(path: &Path, doc: &Document, unit: Option<interchange::Unit>) -> Result<()> {
+    let unit = unit.unwrap_or(interchange::Unit::Millimeter);
     let text = match Format::from_path(path)? {
         Format::Json => json::to_string(&doc.geometry),
         Format::Ron => doc.to_ron()?,
@@ -231,12 +257,23 @@ pub fn save(path: &Path, doc: &Document) -> Result<()> {
                 file_name: path
                     .file_name()
                     .map_or("fairway.igs".into(), |n| n.to_string_lossy().into_owned()),
+                unit,
+                ..Default::default()
+            },
+        ),
+        Format::Step => step::write(
+            std::slice::from_ref(&doc.geometry),
+            &step::WriteOptions {
+                file_name: path
+                    .file_name()
+                    .map_or("fairway.stp".into(), |n| n.to_string_lossy().into_owned()),
+                unit,
                 ..Default::default()
             },
         ),
         Format::Points => {
             return Err(Error::InvalidInput(format!(
-                "{}: point files (.csv, .txt, .xyz) are import only; save as .json, .ron or .igs",
+                "{}: point files (.csv, .txt, .xyz) are import only; save as .json, .ron, .igs or .stp",
                 path.display()
             )));
         }

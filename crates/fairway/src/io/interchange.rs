@@ -1,0 +1,192 @@
+//! What the interchange readers (IGES, STEP) return: the objects read, where
+//! each came from, the notices (skipped entities, conversions), and the
+//! file's length unit.
+
+use crate::geometry::Geometry;
+
+/// A length unit: the IGES global section's (field G14) or a STEP file's length unit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Unit {
+    /// Inch (flag 1).
+    Inch,
+    /// Millimetre (flag 2).
+    Millimeter,
+    /// Foot (flag 4).
+    Foot,
+    /// Mile (flag 5).
+    Mile,
+    /// Metre (flag 6).
+    Meter,
+    /// Kilometre (flag 7).
+    Kilometer,
+    /// Mil, 0.001 inch (flag 8).
+    Mil,
+    /// Micron (flag 9).
+    Micron,
+    /// Centimetre (flag 10).
+    Centimeter,
+    /// Microinch (flag 11).
+    Microinch,
+}
+
+impl Unit {
+    /// The IGES unit flag (G14).
+    pub fn flag(self) -> i64 {
+        match self {
+            Unit::Inch => 1,
+            Unit::Millimeter => 2,
+            Unit::Foot => 4,
+            Unit::Mile => 5,
+            Unit::Meter => 6,
+            Unit::Kilometer => 7,
+            Unit::Mil => 8,
+            Unit::Micron => 9,
+            Unit::Centimeter => 10,
+            Unit::Microinch => 11,
+        }
+    }
+
+    /// The IGES unit name (G15).
+    pub fn name(self) -> &'static str {
+        match self {
+            Unit::Inch => "INCH",
+            Unit::Millimeter => "MM",
+            Unit::Foot => "FT",
+            Unit::Mile => "MI",
+            Unit::Meter => "M",
+            Unit::Kilometer => "KM",
+            Unit::Mil => "MIL",
+            Unit::Micron => "UM",
+            Unit::Centimeter => "CM",
+            Unit::Microinch => "UIN",
+        }
+    }
+
+    /// The unit's symbol, as shown next to a length: `mm`, `in`, `µm`, ...
+    pub fn symbol(self) -> &'static str {
+        match self {
+            Unit::Inch => "in",
+            Unit::Millimeter => "mm",
+            Unit::Foot => "ft",
+            Unit::Mile => "mi",
+            Unit::Meter => "m",
+            Unit::Kilometer => "km",
+            Unit::Mil => "mil",
+            Unit::Micron => "µm",
+            Unit::Centimeter => "cm",
+            Unit::Microinch => "µin",
+        }
+    }
+
+    /// The unit of a symbol or name (`mm`, `in`, `inch`, `um`, `µm`, `MM`, ...), case-insensitive.
+    pub fn parse(s: &str) -> Option<Unit> {
+        let t = s.trim();
+        Unit::from_name(t).or_else(|| {
+            let l = t.to_lowercase().replace('µ', "u");
+            [
+                Unit::Inch,
+                Unit::Millimeter,
+                Unit::Foot,
+                Unit::Mile,
+                Unit::Meter,
+                Unit::Kilometer,
+                Unit::Mil,
+                Unit::Micron,
+                Unit::Centimeter,
+                Unit::Microinch,
+            ]
+            .into_iter()
+            .find(|u| u.symbol().replace('µ', "u") == l)
+        })
+    }
+
+    /// Length of one unit in millimetres.
+    pub fn in_mm(self) -> f64 {
+        match self {
+            Unit::Inch => 25.4,
+            Unit::Millimeter => 1.0,
+            Unit::Foot => 304.8,
+            Unit::Mile => 1_609_344.0,
+            Unit::Meter => 1000.0,
+            Unit::Kilometer => 1.0e6,
+            Unit::Mil => 0.0254,
+            Unit::Micron => 0.001,
+            Unit::Centimeter => 10.0,
+            Unit::Microinch => 2.54e-5,
+        }
+    }
+
+    /// The unit of a flag, or (flag 3) of a name.
+    pub fn from_flag(flag: i64, name: &str) -> Option<Unit> {
+        Some(match flag {
+            1 => Unit::Inch,
+            2 => Unit::Millimeter,
+            4 => Unit::Foot,
+            5 => Unit::Mile,
+            6 => Unit::Meter,
+            7 => Unit::Kilometer,
+            8 => Unit::Mil,
+            9 => Unit::Micron,
+            10 => Unit::Centimeter,
+            11 => Unit::Microinch,
+            3 => return Unit::from_name(name),
+            _ => return None,
+        })
+    }
+
+    /// The unit of a G15 name (`MM`, `IN`, `INCH`, `M`, ...), case-insensitive.
+    pub fn from_name(name: &str) -> Option<Unit> {
+        let n = name.trim().to_ascii_uppercase();
+        Some(match n.as_str() {
+            "IN" | "INCH" => Unit::Inch,
+            "MM" => Unit::Millimeter,
+            "FT" => Unit::Foot,
+            "MI" => Unit::Mile,
+            "M" => Unit::Meter,
+            "KM" => Unit::Kilometer,
+            "MIL" => Unit::Mil,
+            "UM" => Unit::Micron,
+            "CM" => Unit::Centimeter,
+            "UIN" => Unit::Microinch,
+            _ => return None,
+        })
+    }
+}
+
+/// Options of [`iges::read_all_with`](super::iges::read_all_with) and
+/// [`step::read_all_with`](super::step::read_all_with).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ReadOptions {
+    /// Convert coordinates to this unit (real-world size: file coordinates
+    /// divided by the model-space scale G13, times the unit ratio). `None`
+    /// keeps the file's coordinates untouched.
+    pub unit: Option<Unit>,
+}
+
+/// Everything read from an interchange file (IGES or STEP).
+#[derive(Debug, Clone, PartialEq)]
+pub struct InterchangeFile {
+    /// The curves and surfaces (IGES 126 and 128, STEP B-spline entities), in file order.
+    pub objects: Vec<Geometry>,
+    /// The file's length unit (IGES G14/G15, STEP `LENGTH_UNIT` of the representation context), if
+    /// recognised.
+    pub unit: Option<Unit>,
+    /// The IGES model-space scale (G13), 1 if absent (always 1 for STEP).
+    pub scale: f64,
+    /// Skipped entities and conversions made, one message each.
+    pub notices: Vec<String>,
+    /// Where each of `objects` came from (same order and length).
+    pub entities: Vec<EntityInfo>,
+}
+
+/// The entity an object of [`InterchangeFile::objects`] was read from.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct EntityInfo {
+    /// IGES: sequence number of the entry's first `D` record (odd, 1-based);
+    /// STEP: the instance number (`#n`); as the notices refer to it.
+    pub entity: usize,
+    /// IGES: the entity label (directory field 18, 8 characters, trimmed)
+    /// and, when non-zero, its subscript (field 19) in parentheses; STEP: the
+    /// entity's name; empty if none.
+    pub label: String,
+}

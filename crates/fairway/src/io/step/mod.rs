@@ -1,0 +1,128 @@
+//! STEP (ISO 10303-21 exchange files, AP203/AP214/AP242): B-spline curves
+//! and surfaces read and written.
+//!
+//! **Reading** ([`read_all`]) returns every `B_SPLINE_CURVE_WITH_KNOTS` and
+//! `B_SPLINE_SURFACE_WITH_KNOTS`, their rational complex forms
+//! (`(BOUNDED_CURVE() B_SPLINE_CURVE(..) B_SPLINE_CURVE_WITH_KNOTS(..) ..
+//! RATIONAL_B_SPLINE_CURVE((w..)) REPRESENTATION_ITEM('name'))`, weights kept),
+//! and the Bézier, quasi-uniform and uniform forms (their knots implied by
+//! ISO 10303-42), in file order, each once however many edges, faces or
+//! trimmed curves refer to it, labelled with its instance number and name
+//! ([`EntityInfo`]). Knot multiplicities are expanded into a full knot
+//! vector. Skipped, each listed in [`InterchangeFile::notices`] with its
+//! reason: a malformed instance, a B-spline that fails validation (degree,
+//! counts, increasing knots, finite numbers, positive weights), and curves in a surface's
+//! parameter space (items of a `DEFINITIONAL_REPRESENTATION`); other curves
+//! and surfaces (lines, planes, cylinders, ...) are counted in one notice.
+//! Unclamped B-splines (periodic ones such as a full circle, the uniform
+//! form) are made clamped by knot insertion at their domain ends (the same
+//! shape on the same domain), with a notice.
+//! Coordinates stay in the file's length unit (the `LENGTH_UNIT` of the
+//! `GLOBAL_UNIT_ASSIGNED_CONTEXT`: `SI_UNIT` with a prefix or a
+//! `CONVERSION_BASED_UNIT` such as `'INCH'`), reported in
+//! [`InterchangeFile::unit`], unless [`ReadOptions::unit`] asks for a
+//! conversion. Trims (of `TRIMMED_CURVE`, face bounds) and placements of
+//! assemblies are not applied: the underlying B-spline is returned.
+//!
+//! The Part 21 parser ([`parse`]) is written here rather than taken from a
+//! crate: `ruststep` 0.4 (Apache-2.0) parses complex instances but comes
+//! with nom, serde and derive macros, builds its schema structs from
+//! generated code, and gives no control over error recovery per instance;
+//! `truck-stepio` 0.3 pulls in the whole truck modelling kernel. The parser
+//! here is small, skips a bad instance up to its `;` (one bad entity skips
+//! that entity, not the file), bounds nesting, and allocates only as it
+//! reads tokens.
+//!
+//! **Writing** ([`write()`]) produces an AP214 (`AUTOMOTIVE_DESIGN`) file:
+//! a product with one shape, a representation context with the length unit
+//! of [`WriteOptions::unit`], the 3D objects in a
+//! `GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION` (curves only) or
+//! a `GEOMETRICALLY_BOUNDED_SURFACE_SHAPE_REPRESENTATION` (a
+//! `GEOMETRIC_SET` of curves and surfaces), 2D curves (points with two
+//! coordinates) in a wireframe representation of their own with a 2D
+//! context. Knots are written as distinct values with multiplicities,
+//! rational B-splines as complex instances, and every real as its shortest
+//! round-trip decimal, so Fairway → STEP → Fairway is exact.
+
+pub mod parse;
+mod read;
+mod units;
+mod write;
+
+pub use write::format_real;
+
+use crate::error::{Error, Result};
+use crate::geometry::Geometry;
+pub use crate::io::interchange::{EntityInfo, InterchangeFile, ReadOptions, Unit};
+
+/// The name that marks a 2D curve written with z = 0 (`'2D curve 3'`): read back as a 2D curve when
+/// all its z coordinates are 0.
+pub(crate) const PLANAR_NAME: &str = "2D curve";
+
+fn perr(message: impl Into<String>) -> Error {
+    Error::Parse {
+        format: "STEP".into(),
+        message: message.into(),
+    }
+}
+
+/// Options of [`write()`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct WriteOptions {
+    /// Length unit of the representation context (Fairway documents are unitless; default mm).
+    pub unit: Unit,
+    /// File name written to `FILE_NAME`; its stem names the product.
+    pub file_name: String,
+    /// Time stamp written to `FILE_NAME` (ISO 8601, `2026-01-31T12:00:00`); `None` = now (UTC).
+    pub date: Option<String>,
+}
+
+impl Default for WriteOptions {
+    fn default() -> Self {
+        Self {
+            unit: Unit::Millimeter,
+            file_name: "fairway.stp".into(),
+            date: None,
+        }
+    }
+}
+
+/// Read every B-spline curve and surface of a STEP file, coordinates in the file's unit. Other
+/// entities are skipped; skipped curves and surfaces are listed in `notices`.
+pub fn read_all(bytes: &[u8]) -> Result<InterchangeFile> {
+    read_all_with(bytes, ReadOptions::default())
+}
+
+/// [`read_all`] with options (unit conversion).
+pub fn read_all_with(bytes: &[u8], opts: ReadOptions) -> Result<InterchangeFile> {
+    if let Some(m) = super::blank_text_message(bytes) {
+        return Err(perr(m));
+    }
+    let ex = parse::parse(bytes).map_err(perr)?;
+    read::read_exchange(&ex, opts)
+}
+
+/// Read the first curve or surface of a STEP file.
+pub fn read_first(bytes: &[u8]) -> Result<Geometry> {
+    let f = read_all(bytes)?;
+    f.objects.into_iter().next().ok_or_else(|| {
+        perr(format!(
+            "no B-spline curve or surface in the file{}",
+            if f.notices.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", f.notices.join("; "))
+            }
+        ))
+    })
+}
+
+/// Write curves and surfaces as a STEP AP214 file.
+pub fn write(objects: &[Geometry], opts: &WriteOptions) -> String {
+    write::write(objects, opts)
+}
+
+/// One geometry as STEP text with default options.
+pub fn to_string(g: &Geometry) -> String {
+    write(std::slice::from_ref(g), &WriteOptions::default())
+}
