@@ -59,8 +59,9 @@ pub struct Input {
     pub object: Option<(usize, usize)>,
 }
 
-/// Load an input file. IGES and STEP: object `index` (default the first), the file's notices (skipped
-/// entities, trims not applied) and, when it holds several objects, which one was taken, on stderr.
+/// Load an input file. IGES, STEP and RON documents with several objects: object `index` (default the
+/// first), the file's notices (skipped entities, trims not applied) and, when it holds several objects,
+/// which one was taken, on stderr.
 /// `index` on another format is refused. Errors name the file and the problem.
 pub fn load_input(path: &Path, index: Option<usize>) -> Result<Input> {
     let name = path.display();
@@ -68,6 +69,21 @@ pub fn load_input(path: &Path, index: Option<usize>) -> Result<Input> {
         e @ fairway::Error::Io { .. } => anyhow!("{e}"),
         e => anyhow!("{name}: {e}"),
     };
+    let ron = matches!(fairway::io::Format::from_path(path), Ok(fairway::io::Format::Ron));
+    if let Some((scene, _)) = if ron { load_scene_input(path)? } else { None }.filter(|(s, _)| s.objects.len() > 1) {
+        // a document with several objects (RON version 2): picked like an object of an IGES or STEP file
+        let count = scene.objects.len();
+        let k = pick(path, index, count)?;
+        let o = scene.objects.into_iter().nth(k).expect("k < count");
+        return Ok(Input {
+            doc: fairway::io::Document {
+                geometry: o.geometry,
+                settings: o.settings,
+            },
+            unit: scene.unit,
+            object: Some((k, count)),
+        });
+    }
     let Some(f) = fairway::io::read_interchange(path).map_err(with_path)? else {
         if let Some(k) = index {
             bail!("--index {k}: {name} holds one document; --index picks an object of an IGES or STEP file");
@@ -85,6 +101,19 @@ pub fn load_input(path: &Path, index: Option<usize>) -> Result<Input> {
     if count == 0 {
         bail!("{name}: no B-spline curve or surface in the file");
     }
+    let k = pick(path, index, count)?;
+    let g = f.objects.into_iter().nth(k).expect("k < count");
+    Ok(Input {
+        doc: fairway::io::Document::new(g),
+        unit: f.unit,
+        object: Some((k, count)),
+    })
+}
+
+/// The object `index` picks of `count` (default the first; when there are several, which one was taken
+/// on stderr), or the error naming the file and the count.
+fn pick(path: &Path, index: Option<usize>, count: usize) -> Result<usize> {
+    let name = path.display();
     let k = index.unwrap_or(0);
     if count > 1 && index.is_none() {
         eprintln!(
@@ -92,16 +121,25 @@ pub fn load_input(path: &Path, index: Option<usize>) -> Result<Input> {
             count - 1
         );
     }
-    let g = f.objects.into_iter().nth(k).ok_or_else(|| {
-        anyhow!(
+    if k >= count {
+        bail!(
             "{name}: --index {k} but the file holds {count} objects (0 to {})",
             count - 1
-        )
-    })?;
-    Ok(Input {
-        doc: fairway::io::Document::new(g),
-        unit: f.unit,
-        object: Some((k, count)),
+        );
+    }
+    Ok(k)
+}
+
+/// Every object of an IGES, STEP or RON file (`None` for another format) and the reader's notices.
+/// Errors name the file and the problem.
+pub fn load_scene_input(path: &Path) -> Result<Option<(fairway::io::Scene, Vec<String>)>> {
+    use fairway::io::Format;
+    if !matches!(Format::from_path(path), Ok(Format::Ron | Format::Iges | Format::Step)) {
+        return Ok(None);
+    }
+    fairway::io::load_scene(path).map(Some).map_err(|e| match e {
+        e @ fairway::Error::Io { .. } => anyhow!("{e}"),
+        e => anyhow!("{}: {e}", path.display()),
     })
 }
 

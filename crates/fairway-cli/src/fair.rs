@@ -26,9 +26,14 @@ use crate::common::{load_input, refuse_non_finite, refuse_same_files};
 pub struct Args {
     /// Input curve or surface (.json geometry, .ron document, .igs/.iges, .stp/.step, ...).
     pub input: PathBuf,
-    /// IGES or STEP input: which object to fair (0 = the first, the default).
+    /// IGES or STEP input (or a document with several objects): fair this one object alone and write it
+    /// alone (0 = the first). Without it, a file with several objects is faired whole, keeping its joins.
     #[arg(long)]
     pub index: Option<usize>,
+    /// A file with several objects: fair this object (its 0-based index or its name; repeat for more),
+    /// keeping its joins; the others are written back unchanged. Default: every object.
+    #[arg(long = "object", value_name = "N|NAME", conflicts_with = "index")]
+    pub objects: Vec<String>,
     /// Tolerance m: max deviation from the input, in the coordinates' units (`0.05`), or with a unit
     /// (`0.05mm`, `0.002in`, `20um`) for an IGES or STEP input that declares its unit: converted to it.
     #[arg(long = "tolerance", value_name = "M", allow_hyphen_values = true, value_parser = parse_length)]
@@ -122,7 +127,7 @@ pub struct Length {
 impl Length {
     /// The length in `to` (the input's unit): the number itself without a unit; refused with a unit when
     /// the input declares none.
-    fn resolve(self, to: Option<fairway::io::Unit>, input: &std::path::Path) -> Result<f64> {
+    pub(crate) fn resolve(self, to: Option<fairway::io::Unit>, input: &std::path::Path) -> Result<f64> {
         match (self.unit, to) {
             (None, _) => Ok(self.value),
             (Some(u), Some(to)) => Ok(self.value * (u.in_mm() / to.in_mm())),
@@ -343,6 +348,18 @@ pub fn run(a: &Args) -> Result<()> {
             }
         }
     }
+    if a.index.is_none()
+        && let Some((scene, notices)) = crate::common::load_scene_input(&a.input)?
+        && (scene.objects.len() > 1 || !a.objects.is_empty())
+    {
+        return crate::fair_scene::run(a, scene, &notices);
+    }
+    if !a.objects.is_empty() {
+        bail!(
+            "--object picks objects of a file with several (IGES, STEP, a .ron document); {} holds one",
+            a.input.display()
+        );
+    }
     let input = load_input(&a.input, a.index)?;
     let mut a = a.clone();
     a.tolerance = a.tolerance_given.resolve(input.unit, &a.input)?;
@@ -358,8 +375,8 @@ pub fn run(a: &Args) -> Result<()> {
     run_loaded(&a, input.doc)
 }
 
-/// [`run`] once the input is read and the tolerance is in its units.
-fn run_loaded(a: &Args, doc: Document) -> Result<()> {
+/// The curve fairing's options from the command line (the region is set later), checked.
+pub(crate) fn curve_options(a: &Args) -> Result<FairingOptions> {
     let mode = match a.method.as_str() {
         "fast" | "iterative" => FitMode::Fairway,
         "paper" => FitMode::Paper,
@@ -399,6 +416,12 @@ fn run_loaded(a: &Args, doc: Document) -> Result<()> {
             opts.target_weight
         );
     }
+    Ok(opts)
+}
+
+/// [`run`] once the input is read and the tolerance is in its units.
+fn run_loaded(a: &Args, doc: Document) -> Result<()> {
+    let opts = curve_options(a)?;
     // a tolerance below the precision of the coordinates cannot be verified: the same message for curves
     // and surfaces
     fairway::range::check_tolerance(a.tolerance, &doc.geometry).map_err(|e| anyhow!("--{e}"))?;
@@ -477,7 +500,7 @@ fn region_to_fair(a: &Args, doc: &Document) -> Result<Option<Region>> {
 }
 
 /// Write the report after the output `written`: a failure says that the output is there.
-fn write_report<T: Serialize>(path: &std::path::Path, report: &T, written: &std::path::Path) -> Result<()> {
+pub(crate) fn write_report<T: Serialize>(path: &std::path::Path, report: &T, written: &std::path::Path) -> Result<()> {
     let text = serde_json::to_string_pretty(report)?;
     fairway::io::write_atomic(path, text.as_bytes()).with_context(|| {
         format!(
@@ -578,12 +601,17 @@ fn seam_text(seam: &Seam) -> String {
     }
 }
 
-fn fair_surface_cmd(a: &Args, surface: &BSplineSurface, curve: FairingOptions, region: Option<&Region>) -> Result<()> {
-    let method = match a.method.as_str() {
+/// The surface engine's method for `--method`.
+pub(crate) fn surface_method(a: &Args) -> Result<SurfaceMethod> {
+    Ok(match a.method.as_str() {
         "fast" => SurfaceMethod::Fairway,
         "smoothing" => SurfaceMethod::Smoothing,
         m => bail!("surfaces are faired by the fast or the smoothing method (got --method {m})"),
-    };
+    })
+}
+
+fn fair_surface_cmd(a: &Args, surface: &BSplineSurface, curve: FairingOptions, region: Option<&Region>) -> Result<()> {
+    let method = surface_method(a)?;
     let region = match region.map(|r| r.0.as_slice()) {
         None => None,
         Some(&[u1, u2, v1, v2]) => Some(((u1, u2), (v1, v2))),

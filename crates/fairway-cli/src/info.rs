@@ -76,6 +76,9 @@ pub struct CurveInfo {
     /// IGES / STEP input: its unit and which object this is (absent for other formats).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub file: Option<FileInfo>,
+    /// A file with several objects: all of them and their joins (absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub network: Option<crate::joins::NetworkInfo>,
 }
 
 /// Summary of a surface.
@@ -114,6 +117,9 @@ pub struct SurfaceInfo {
     /// IGES / STEP input: its unit and which object this is (absent for other formats).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub file: Option<FileInfo>,
+    /// A file with several objects: all of them and their joins (absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub network: Option<crate::joins::NetworkInfo>,
 }
 
 /// Call `f` at `m` uniform parameters in each span, then at the domain end (without storing them: a curve of
@@ -177,6 +183,7 @@ pub fn curve_info(c: &BSplineCurve) -> CurveInfo {
         n_inflections: inflections.len(),
         inflections,
         file: None,
+        network: None,
     }
 }
 
@@ -212,7 +219,20 @@ pub fn surface_info(s: &BSplineSurface) -> SurfaceInfo {
         mean_range: h.get(),
         gauss_range: g.get(),
         file: None,
+        network: None,
     }
+}
+
+/// The objects and joins of a file with several objects (`None` for one object).
+fn network(path: &std::path::Path, input: &Input) -> Result<Option<crate::joins::NetworkInfo>> {
+    if input.object.is_none_or(|(_, n)| n < 2) {
+        return Ok(None);
+    }
+    let Some((scene, _)) = crate::common::load_scene_input(path)? else {
+        return Ok(None);
+    };
+    let joins = fairway::network::find_joins(&scene.geometries());
+    Ok(Some(crate::joins::network_info(&scene, &joins)))
 }
 
 /// Run `fairway info`.
@@ -220,10 +240,12 @@ pub fn run(args: &Args) -> Result<()> {
     let name = args.file.display();
     let input = load_input(&args.file, args.index)?;
     let file = file_info(&input);
+    let network = network(&args.file, &input)?;
     match input.doc.geometry {
         Geometry::Curve(c) => {
             let mut i = curve_info(&c);
             i.file = file;
+            i.network = network;
             refuse_non_finite("the summary", &i)?;
             if args.json {
                 return print_json(&i);
@@ -246,10 +268,14 @@ pub fn run(args: &Args) -> Result<()> {
             if i.dimension == 2 {
                 println!("  inflections     {}", inflection_list(&i.inflections));
             }
+            if let Some(n) = &i.network {
+                crate::joins::print_network(n);
+            }
         }
         Geometry::Surface(s) => {
             let mut i = surface_info(&s);
             i.file = file;
+            i.network = network;
             refuse_non_finite("the summary", &i)?;
             if args.json {
                 return print_json(&i);
@@ -273,6 +299,9 @@ pub fn run(args: &Args) -> Result<()> {
             println!("  k_min           {}", r(i.k_min_range));
             println!("  mean            {}", r(i.mean_range));
             println!("  gauss           {}", r(i.gauss_range));
+            if let Some(n) = &i.network {
+                crate::joins::print_network(n);
+            }
         }
     }
     Ok(())

@@ -11,7 +11,9 @@ mod common;
 mod convert;
 mod eval;
 mod fair;
+mod fair_scene;
 mod info;
+mod joins;
 mod measure;
 
 use std::process::ExitCode;

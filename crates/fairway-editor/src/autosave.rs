@@ -18,7 +18,7 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant, SystemTime};
 
-use fairway::io::Document;
+use fairway::io::{Document, Scene, SceneObject, Unit};
 use fairway::{Error, Result};
 
 const DOC: &str = "autosave.ron";
@@ -43,8 +43,12 @@ pub fn default_dir() -> Option<PathBuf> {
 /// A document found at start-up that a previous session autosaved and never cleared.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Recovery {
-    /// The autosaved document.
+    /// The autosaved document (its first curve, else its first object, of several).
     pub document: Document,
+    /// Every object of the autosaved document, with its name and settings.
+    pub objects: Vec<SceneObject>,
+    /// The length unit of the document's file, if it had one.
+    pub unit: Option<Unit>,
     /// The file the document was opened from or saved to, if any.
     pub source: Option<PathBuf>,
     /// When it was autosaved.
@@ -78,6 +82,17 @@ impl Autosave {
     /// it is dirty and `interval` has passed since the last autosave (or
     /// none was written yet). Returns whether it wrote.
     pub fn tick(&mut self, doc: &Document, source: Option<&Path>, dirty: bool, now: Instant) -> Result<bool> {
+        self.tick_scene(|| Scene::from(doc.clone()), source, dirty, now)
+    }
+
+    /// [`Autosave::tick`] for a document of several objects (`scene` is called only when writing).
+    pub fn tick_scene(
+        &mut self,
+        scene: impl FnOnce() -> Scene,
+        source: Option<&Path>,
+        dirty: bool,
+        now: Instant,
+    ) -> Result<bool> {
         if !dirty
             || self
                 .last
@@ -87,17 +102,31 @@ impl Autosave {
         }
         // count the attempt even if it fails, so a broken folder is not retried every frame
         self.last = Some(now);
-        self.write(doc, source)?;
+        self.write_scene(&scene(), source)?;
         Ok(true)
     }
 
     /// Write the autosave now.
     pub fn write(&self, doc: &Document, source: Option<&Path>) -> Result<()> {
+        self.write_scene(&Scene::from(doc.clone()), source)
+    }
+
+    /// Write the autosave of a document of several objects now: a RON document of version 1 for one
+    /// unnamed object without a unit (as before), else of version 2 (every object, named, the unit).
+    pub fn write_scene(&self, scene: &Scene, source: Option<&Path>) -> Result<()> {
         std::fs::create_dir_all(&self.dir).map_err(|e| Error::Io {
             path: self.dir.display().to_string(),
             message: e.to_string(),
         })?;
-        fairway::io::write_atomic(&self.dir.join(DOC), doc.to_ron()?.as_bytes())?;
+        let text = match scene.objects.as_slice() {
+            [one] if one.name.is_empty() && scene.unit.is_none() => Document {
+                geometry: one.geometry.clone(),
+                settings: one.settings.clone(),
+            }
+            .to_ron()?,
+            _ => scene.to_ron()?,
+        };
+        fairway::io::write_atomic(&self.dir.join(DOC), text.as_bytes())?;
         let secs = SystemTime::now()
             .duration_since(SystemTime::UNIX_EPOCH)
             .map_or(0, |d| d.as_secs());
@@ -153,7 +182,17 @@ pub fn pending(dir: &Path) -> Result<Option<Recovery>> {
     {
         return Ok(None);
     }
-    let document = Document::from_ron(&fairway::io::read_text(&doc_path)?)?;
+    let scene = Scene::from_ron(&fairway::io::read_text(&doc_path)?)?;
+    let first = scene
+        .objects
+        .iter()
+        .find(|o| o.geometry.as_curve().is_some())
+        .or(scene.objects.first())
+        .ok_or_else(|| Error::InvalidInput("the autosave holds no object".into()))?;
+    let document = Document {
+        geometry: first.geometry.clone(),
+        settings: first.settings.clone(),
+    };
     let source = field("source").filter(|s| !s.is_empty()).map(PathBuf::from);
     let saved_at = field("time")
         .and_then(|t| t.parse::<u64>().ok())
@@ -162,6 +201,8 @@ pub fn pending(dir: &Path) -> Result<Option<Recovery>> {
         });
     Ok(Some(Recovery {
         document,
+        objects: scene.objects,
+        unit: scene.unit,
         source,
         saved_at,
     }))

@@ -92,6 +92,7 @@ impl App {
         let Some((i, phase)) = self.bench_record_cycle(last_frame_cpu) else {
             return;
         };
+        self.curve_ws.benchmarking = true;
         self.bench_drive(i, phase);
         self.bench_timed_show(ui, phase);
         if self.bench.as_ref().is_some_and(|b| b.frame_no >= b.frames) {
@@ -132,7 +133,7 @@ impl App {
             let (a, e) = self.curve().domain();
             self.apply(Command::SetRegion(Some((a + 0.2 * (e - a), a + 0.8 * (e - a)))));
         }
-        let d = self.view.diag;
+        let d = self.curve_ws.view.diag;
         if phase == 0 {
             self.apply(Command::SetTolerance(d * 1e-3 * (1.0 + 0.5 * (i as f64 * 0.3).sin())));
         } else if phase == 2 {
@@ -153,7 +154,7 @@ impl App {
                 moved.max(u1 + h).min(e)
             };
             self.apply(Command::SetRegion(Some((u1, u2))));
-        } else if let Some(p) = self.preview().cloned() {
+        } else if let Some(p) = self.curve_ws.preview().cloned() {
             // drag the middle target point: quintic falloff over 10% of the samples
             let start = self
                 .bench
@@ -194,9 +195,9 @@ impl App {
             .zip(c0)
             .map(|(b, a)| (b - a) as f64 * 1e-6)
             .unwrap_or(f64::NAN);
-        let mut fair = self.preview().map(|p| p.fair_ms).unwrap_or(f64::NAN);
+        let mut fair = self.curve_ws.preview().map(|p| p.fair_ms).unwrap_or(f64::NAN);
         if phase == 2 {
-            fair += self.fairing.setup_ms;
+            fair += self.curve_ws.fairing.setup_ms;
         }
         let b = self.bench.as_mut().unwrap();
         b.cpu[phase].push(cpu);
@@ -235,7 +236,7 @@ impl App {
             }
             println!("{line}");
         }
-        self.allow_close = true;
+        self.allow_close();
         ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
     }
 }

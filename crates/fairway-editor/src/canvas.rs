@@ -7,8 +7,9 @@ use eframe::egui;
 use egui::{Color32, Pos2, Rect, Sense, Shape, Stroke, Vec2};
 use fairway::DVec2;
 
+use crate::curve_ws::CurveCx;
 use crate::region::RegionDrag;
-use crate::{App, CombScaling, Command, Sampled};
+use crate::{CombScaling, Command, Sampled};
 
 /// Pick radius around the curve and handles, in points.
 const PICK: f32 = 12.0;
@@ -112,12 +113,12 @@ pub fn comb_length(k: f64, scaling: CombScaling, kmax: f64, kmean: f64, unit: f6
     k.signum() * f * unit
 }
 
-impl App {
+impl CurveCx<'_> {
     /// Index of the sample nearest to screen point `q`, with its distance.
     fn nearest_sample(&self, q: Pos2) -> (usize, f32) {
         let mut best = (0, f32::INFINITY);
-        for (i, &p) in self.view.sampled.p.iter().enumerate() {
-            let d = self.canvas.to_screen(p).distance(q);
+        for (i, &p) in self.ws.view.sampled.p.iter().enumerate() {
+            let d = self.ws.canvas.to_screen(p).distance(q);
             if d < best.1 {
                 best = (i, d);
             }
@@ -128,10 +129,10 @@ impl App {
     /// Comb tip positions for `s` (model units), using the original's
     /// curvature scale so several combs compare.
     pub fn comb_tips(&self, s: &Sampled, kappa: &[f64], out: &mut Vec<DVec2>) {
-        let o = &self.view.sampled;
+        let o = &self.ws.view.sampled;
         let kmax = o.kappa_range.0.abs().max(o.kappa_range.1.abs());
         let kmean = o.kappa.iter().map(|k| k.abs()).sum::<f64>() / o.kappa.len().max(1) as f64;
-        let unit = 0.15 * self.view.diag * self.prefs.comb_scale;
+        let unit = 0.15 * self.ws.view.diag * self.prefs.comb_scale;
         out.clear();
         out.extend(
             s.p.iter()
@@ -145,23 +146,28 @@ impl App {
     pub fn canvas_ui(&mut self, ui: &mut egui::Ui) {
         let (rect, resp) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
         resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "Canvas"));
-        self.canvas.rect = rect;
-        if self.canvas.needs_fit && rect.width() > 20.0 {
-            let (mut a, mut b) = self.view.sampled.bbox;
+        self.ws.canvas.rect = rect;
+        if self.ws.canvas.needs_fit && rect.width() > 20.0 {
+            let (mut a, mut b) = self.ws.view.sampled.bbox;
+            if let Some((sa, sb)) = self.ws.scene.bbox {
+                (a, b) = (a.min(sa), b.max(sb));
+            }
             if self.prefs.show_polygon {
-                for &p in &self.view.control {
+                for &p in &self.ws.view.control {
                     a = a.min(p);
                     b = b.max(p);
                 }
             }
-            self.canvas.fit(a, b);
-            self.canvas.needs_fit = false;
+            self.ws.canvas.fit(a, b);
+            self.ws.canvas.needs_fit = false;
         }
         self.canvas_input(ui, &resp);
+        self.click_to_select(&resp);
         let painter = ui.painter_at(rect);
         painter.rect_filled(rect, 0.0, Color32::from_gray(24));
         self.draw_canvas(&painter);
-        resp.on_hover_text_at_pointer(if self.view.closed {
+        self.join_markers_ui(ui, rect);
+        resp.on_hover_text_at_pointer(if self.ws.view.closed {
             "Drag along the curve: select a region (on through the seam point: a region across the seam) · drag a \
              region end: adjust · wheel: zoom · right-drag: pan"
         } else {
@@ -177,58 +183,59 @@ impl App {
             if factor != 1.0
                 && let Some(q) = resp.hover_pos()
             {
-                let w = self.canvas.to_world(q);
-                self.canvas.ppu = (self.canvas.ppu * factor).clamp(1e-6, 1e12);
-                let w2 = self.canvas.to_world(q);
-                self.canvas.center += w - w2;
+                let w = self.ws.canvas.to_world(q);
+                self.ws.canvas.ppu = (self.ws.canvas.ppu * factor).clamp(1e-6, 1e12);
+                let w2 = self.ws.canvas.to_world(q);
+                self.ws.canvas.center += w - w2;
             }
         }
         // hover cursor shared with the κ plot
         if let Some(q) = resp.hover_pos() {
             let (i, d) = self.nearest_sample(q);
             if d < PICK * 2.0 {
-                self.next_hover_s = Some(self.view.sampled.s[i]);
+                self.ws.next_hover_s = Some(self.ws.view.sampled.s[i]);
             }
         }
         if resp.drag_started() {
             let origin = ui.input(|i| i.pointer.press_origin()).or(resp.interact_pointer_pos());
-            self.canvas.drag = CanvasDrag::Pan;
+            self.ws.canvas.drag = CanvasDrag::Pan;
             if resp.dragged_by(egui::PointerButton::Primary)
                 && let Some(q) = origin
             {
                 let handle = self.region().and_then(|(u1, u2)| {
                     [u1, u2]
                         .iter()
-                        .map(|&u| self.canvas.to_screen(self.view.sampled.point_at_u(u)).distance(q))
+                        .map(|&u| self.ws.canvas.to_screen(self.ws.view.sampled.point_at_u(u)).distance(q))
                         .enumerate()
                         .filter(|(_, d)| *d < PICK)
                         .min_by(|a, b| a.1.total_cmp(&b.1))
                         .map(|(k, _)| k)
                 });
-                let (dom, closed) = (self.view.domain, self.view.closed);
+                let (dom, closed) = (self.ws.view.domain, self.ws.view.closed);
                 if let (Some(k), Some(r)) = (handle, self.region()) {
-                    self.canvas.drag = CanvasDrag::Handle(k, RegionDrag::handle(r, k, dom, closed));
+                    self.ws.canvas.drag = CanvasDrag::Handle(k, RegionDrag::handle(r, k, dom, closed));
                 } else {
                     let (i, d) = self.nearest_sample(q);
                     if d < PICK {
-                        self.canvas.drag = CanvasDrag::Select(RegionDrag::select(self.view.sampled.u[i], dom, closed));
+                        self.ws.canvas.drag =
+                            CanvasDrag::Select(RegionDrag::select(self.ws.view.sampled.u[i], dom, closed));
                     }
                 }
             }
         }
         if resp.dragged() {
-            match self.canvas.drag {
+            match self.ws.canvas.drag {
                 CanvasDrag::Pan => {
                     let d = resp.drag_delta();
-                    self.canvas.center -= DVec2::new(d.x as f64, -d.y as f64) / self.canvas.ppu;
+                    self.ws.canvas.center -= DVec2::new(d.x as f64, -d.y as f64) / self.ws.canvas.ppu;
                 }
                 CanvasDrag::Select(mut d) | CanvasDrag::Handle(_, mut d) => {
                     // the nearest sample's parameter; on a closed curve the drag follows it through the
                     // seam (the sample jumps from one end of the domain to the other)
                     if let Some(q) = resp.interact_pointer_pos() {
-                        let u = self.view.sampled.u[self.nearest_sample(q).0];
+                        let u = self.ws.view.sampled.u[self.nearest_sample(q).0];
                         let r = d.move_to(u);
-                        match &mut self.canvas.drag {
+                        match &mut self.ws.canvas.drag {
                             CanvasDrag::Select(x) | CanvasDrag::Handle(_, x) => *x = d,
                             _ => {}
                         }
@@ -241,35 +248,38 @@ impl App {
             }
         }
         if resp.drag_stopped() {
-            self.canvas.drag = CanvasDrag::None;
+            self.ws.canvas.drag = CanvasDrag::None;
         }
     }
 
     fn draw_canvas(&self, painter: &egui::Painter) {
-        let s = &self.view.sampled;
+        let s = &self.ws.view.sampled;
         let region = self.region();
         // the region's samples in order along it (through the seam for a region across it)
         let in_region = region.map(|r| s.region_indices(r)).unwrap_or_default();
 
+        self.draw_other_curves(painter);
         self.draw_band(painter, &in_region);
         self.draw_control_polygon(painter);
 
         // the faired preview (blended with the original by the blend slider)
-        let preview = self.preview().filter(|_| self.compare.show_after);
-        let shown_owned = preview.map(|p| blend(s, &p.sampled, self.compare.blend));
+        let preview = self.ws.preview().filter(|_| self.ws.compare.show_after);
+        let shown_owned = preview.map(|p| blend(s, &p.sampled, self.ws.compare.blend));
         let shown = shown_owned.as_ref().unwrap_or(s);
 
         self.draw_comb(painter, shown);
         self.draw_curves(painter, &in_region, shown_owned.as_ref());
         self.draw_max_dev(painter);
         self.draw_markers(painter, shown);
+        // the joins over the region's handles (a region often ends at one)
         self.draw_handles_and_cursor(painter, region);
+        self.draw_joins(painter);
     }
 
     /// The tolerance band: offsets of the original inside the region.
     fn draw_band(&self, painter: &egui::Painter, in_region: &[usize]) {
-        let s = &self.view.sampled;
-        let scr = |p: DVec2| self.canvas.to_screen(p);
+        let s = &self.ws.view.sampled;
+        let scr = |p: DVec2| self.ws.canvas.to_screen(p);
         if in_region.len() > 1 {
             let m = self.tolerance();
             for side in [-1.0, 1.0] {
@@ -281,9 +291,9 @@ impl App {
 
     /// The control polygon and its points.
     fn draw_control_polygon(&self, painter: &egui::Painter) {
-        let scr = |p: DVec2| self.canvas.to_screen(p);
+        let scr = |p: DVec2| self.ws.canvas.to_screen(p);
         if self.prefs.show_polygon {
-            let pts: Vec<Pos2> = self.view.control.iter().map(|&p| scr(p)).collect();
+            let pts: Vec<Pos2> = self.ws.view.control.iter().map(|&p| scr(p)).collect();
             painter.add(Shape::line(pts.clone(), Stroke::new(1.0, Color32::from_gray(90))));
             for p in pts {
                 painter.rect_filled(
@@ -297,7 +307,7 @@ impl App {
 
     /// The curvature comb of the shown curve, with the target curvature as a second envelope.
     fn draw_comb(&self, painter: &egui::Painter, shown: &Sampled) {
-        let scr = |p: DVec2| self.canvas.to_screen(p);
+        let scr = |p: DVec2| self.ws.canvas.to_screen(p);
         if self.prefs.show_comb {
             let mut tips = Vec::with_capacity(shown.len());
             self.comb_tips(shown, &shown.kappa, &mut tips);
@@ -310,7 +320,7 @@ impl App {
             let env: Vec<Pos2> = tips.iter().map(|&p| scr(p)).collect();
             painter.add(Shape::line(env, Stroke::new(1.2, Color32::from_rgb(150, 190, 255))));
             // target curvature as a second envelope
-            if let Some(p) = self.preview() {
+            if let Some(p) = self.ws.preview() {
                 let t: Vec<Pos2> = self.target_envelope(p).into_iter().map(scr).collect();
                 painter.add(Shape::line(t, Stroke::new(1.5, colors::TARGET)));
             }
@@ -319,11 +329,11 @@ impl App {
 
     /// The original curve (dimmed under a preview), the region highlighted, and the shown faired curve.
     fn draw_curves(&self, painter: &egui::Painter, in_region: &[usize], shown_owned: Option<&Sampled>) {
-        let s = &self.view.sampled;
-        let scr = |p: DVec2| self.canvas.to_screen(p);
+        let s = &self.ws.view.sampled;
+        let scr = |p: DVec2| self.ws.canvas.to_screen(p);
         let pts: Vec<Pos2> = s.p.iter().map(|&p| scr(p)).collect();
         let dim = shown_owned.is_some();
-        if !dim || self.compare.overlay {
+        if !dim || self.ws.compare.overlay {
             let c = if dim { Color32::from_gray(110) } else { colors::CURVE };
             painter.add(Shape::line(pts.clone(), Stroke::new(if dim { 1.5 } else { 2.0 }, c)));
         }
@@ -342,9 +352,9 @@ impl App {
 
     /// The cross at the point of maximum deviation.
     fn draw_max_dev(&self, painter: &egui::Painter) {
-        let s = &self.view.sampled;
-        let scr = |p: DVec2| self.canvas.to_screen(p);
-        if let Some(u) = self.fairing.dev_at {
+        let s = &self.ws.view.sampled;
+        let scr = |p: DVec2| self.ws.canvas.to_screen(p);
+        if let Some(u) = self.ws.fairing.dev_at {
             let c = scr(s.point_at_u(u));
             let st = Stroke::new(2.0, Color32::from_rgb(255, 60, 60));
             painter.line_segment([c + Vec2::splat(-5.0), c + Vec2::splat(5.0)], st);
@@ -361,7 +371,7 @@ impl App {
 
     /// Curvature extrema and inflection markers of the shown curve.
     fn draw_markers(&self, painter: &egui::Painter, shown: &Sampled) {
-        let scr = |p: DVec2| self.canvas.to_screen(p);
+        let scr = |p: DVec2| self.ws.canvas.to_screen(p);
         if self.prefs.show_markers {
             let s = shown;
             for &i in &s.extrema {
@@ -386,8 +396,8 @@ impl App {
 
     /// The region's end handles and the cursor shared with the κ plot.
     fn draw_handles_and_cursor(&self, painter: &egui::Painter, region: Option<(f64, f64)>) {
-        let s = &self.view.sampled;
-        let scr = |p: DVec2| self.canvas.to_screen(p);
+        let s = &self.ws.view.sampled;
+        let scr = |p: DVec2| self.ws.canvas.to_screen(p);
         if let Some((u1, u2)) = region {
             for u in [u1, u2] {
                 let c = scr(s.point_at_u(u));
@@ -396,7 +406,7 @@ impl App {
         }
 
         // shared cursor
-        if let Some(hs) = self.hover_s {
+        if let Some(hs) = self.ws.hover_s {
             let i = s.index_at_s(hs).round() as usize;
             painter.circle_stroke(scr(s.p[i]), 5.0, Stroke::new(1.5, Color32::WHITE));
         }

@@ -90,34 +90,34 @@ pub fn extrusion_height(diag: f64) -> f64 {
     0.35 * diag
 }
 
-impl crate::App {
+impl crate::curve_ws::CurveCx<'_> {
     /// The 3D view of the curve (replaces the canvas when enabled).
     pub(crate) fn curve3d_ui(&mut self, ui: &mut egui::Ui) {
         let curve = self.curve().clone();
-        let faired = self.preview().map(|p| p.result.curve.clone());
+        let faired = self.ws.preview().map(|p| p.result.curve.clone());
         let planar = curve.dim() == 2;
         ui.horizontal(|ui| {
-            ui.selectable_value(&mut self.curve3d.enabled, false, "2D canvas")
+            ui.selectable_value(&mut self.ws.curve3d.enabled, false, "2D canvas")
                 .on_hover_text("Back to the 2D canvas");
-            self.curve3d.view.toolbar_ui(ui);
+            self.ws.curve3d.view.toolbar_ui(ui);
             ui.separator();
             ui.add_enabled(
                 planar,
-                egui::Checkbox::new(&mut self.curve3d.extrusion, "Extrusion isophotes"),
+                egui::Checkbox::new(&mut self.ws.curve3d.extrusion, "Extrusion isophotes"),
             )
             .on_hover_text("Extrude the planar curve along z and show isophotes, before and after fairing");
-            if self.curve3d.extrusion {
+            if self.ws.curve3d.extrusion {
                 ui.add(
-                    egui::Slider::new(&mut self.curve3d.shading.stripe_deg, view3d::STRIPE_RANGE)
+                    egui::Slider::new(&mut self.ws.curve3d.shading.stripe_deg, view3d::STRIPE_RANGE)
                         .text("Stripe width °"),
                 )
                 .on_hover_text("Angular width of one isophote stripe");
-                self.curve3d.shading.light_ui(ui);
+                self.ws.curve3d.shading.light_ui(ui);
             }
         });
         let full = ui.available_rect_before_wrap();
-        let diag = self.view.diag;
-        let extrude = planar && self.curve3d.extrusion;
+        let diag = self.ws.view.diag;
+        let extrude = planar && self.ws.curve3d.extrusion;
         // content box
         let mut pts: Vec<DVec3> = curve.points().to_vec();
         if extrude {
@@ -125,16 +125,16 @@ impl crate::App {
             pts.extend(curve.points().iter().map(|p| *p + DVec3::Z * h));
         }
         let bb = view3d::camera::bbox(pts).unwrap_or((DVec3::splat(-1.0), DVec3::splat(1.0)));
-        if bb != self.curve3d.view.bbox {
-            self.curve3d.view.set_bbox(bb, true);
+        if bb != self.ws.curve3d.view.bbox {
+            self.ws.curve3d.view.set_bbox(bb, true);
         }
         if extrude {
             self.extrusion_panes(ui, full, &curve, faired.as_ref());
         } else {
             let resp = ui.interact(full, ui.scope_id().with("curve3d"), Sense::click_and_drag());
             resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "3D curve view"));
-            self.curve3d.view.fit_if_needed(full);
-            self.curve3d.view.interact(ui, &resp, true);
+            self.ws.curve3d.view.fit_if_needed(full);
+            self.ws.curve3d.view.interact(ui, &resp, true);
             self.update_combs(&curve, faired.as_ref());
             let painter = ui.painter_at(full);
             painter.rect_filled(full, 0.0, Color32::from_gray(24));
@@ -152,24 +152,24 @@ impl crate::App {
     fn update_combs(&mut self, curve: &BSplineCurve, faired: Option<&BSplineCurve>) {
         let frac = 0.2 * self.prefs.comb_scale;
         let key = (
-            self.curve_rev,
+            self.ws.curve_rev,
             faired.map(|c| hash_points(c.points())).unwrap_or(0),
             frac.to_bits(),
-            self.view.diag.to_bits(),
+            self.ws.view.diag.to_bits(),
         );
-        if self.curve3d.comb_key == Some(key) {
+        if self.ws.curve3d.comb_key == Some(key) {
             return;
         }
-        self.curve3d.combs = [Some(curve), faired]
+        self.ws.curve3d.combs = [Some(curve), faired]
             .into_iter()
             .flatten()
-            .map(|c| comb(c, Self::comb_samples(c), self.view.diag, frac))
+            .map(|c| comb(c, Self::comb_samples(c), self.ws.view.diag, frac))
             .collect();
-        self.curve3d.comb_key = Some(key);
+        self.ws.curve3d.comb_key = Some(key);
     }
 
     fn draw_curve3d(&self, painter: &egui::Painter, rect: Rect, curve: &BSplineCurve, faired: Option<&BSplineCurve>) {
-        let v = &self.curve3d.view;
+        let v = &self.ws.curve3d.view;
         let proj = |p: DVec3| v.to_screen(p, rect);
         // axes at the box corner
         let (lo, hi) = v.bbox;
@@ -210,7 +210,7 @@ impl crate::App {
                 ((90, 160, 255), Color32::from_gray(230))
             };
             if self.prefs.show_comb
-                && let Some(teeth) = self.curve3d.combs.get(k)
+                && let Some(teeth) = self.ws.curve3d.combs.get(k)
             {
                 let a = if is_after || !has_after { 150 } else { 120 };
                 let tooth = Color32::from_rgba_unmultiplied(comb_rgb.0, comb_rgb.1, comb_rgb.2, a);
@@ -237,19 +237,19 @@ impl crate::App {
     }
 
     fn extrusion_panes(&mut self, ui: &mut egui::Ui, full: Rect, curve: &BSplineCurve, faired: Option<&BSplineCurve>) {
-        let sh_key = self.curve3d.shading;
+        let sh_key = self.ws.curve3d.shading;
         let key = (
-            self.curve_rev,
+            self.ws.curve_rev,
             faired.map(|c| hash_points(c.points())).unwrap_or(0),
             sh_key.mode,
             sh_key.density,
             sh_key.show_iso,
             sh_key.show_net,
         );
-        if self.curve3d.key != Some(key) || self.curve3d.scenes.is_empty() {
-            let h = extrusion_height(self.view.diag);
-            let (lo, hi) = self.curve3d.view.bbox;
-            self.curve3d.origin = 0.5 * (lo + hi);
+        if self.ws.curve3d.key != Some(key) || self.ws.curve3d.scenes.is_empty() {
+            let h = extrusion_height(self.ws.view.diag);
+            let (lo, hi) = self.ws.curve3d.view.bbox;
+            self.ws.curve3d.origin = 0.5 * (lo + hi);
             let mut scenes = vec![];
             let mut extrusions = vec![];
             for c in [Some(curve), faired] {
@@ -259,29 +259,36 @@ impl crate::App {
                     SurfaceMesh::tessellate(&s, nu, 8).map(|m| (s, m))
                 }) {
                     Ok((s, m)) => {
-                        scenes.push(Arc::new(surface_scene(&s, &m, &sh_key, 1.0, None, self.curve3d.origin)));
+                        scenes.push(Arc::new(surface_scene(
+                            &s,
+                            &m,
+                            &sh_key,
+                            1.0,
+                            None,
+                            self.ws.curve3d.origin,
+                        )));
                         extrusions.push((s, m));
                     }
-                    Err(e) => self.error = Some(format!("extrusion failed: {e}")),
+                    Err(e) => *self.error = Some(format!("extrusion failed: {e}")),
                 }
             }
-            self.curve3d.scenes = scenes;
-            self.curve3d.extrusions = extrusions;
-            self.curve3d.key = Some(key);
+            self.ws.curve3d.scenes = scenes;
+            self.ws.curve3d.extrusions = extrusions;
+            self.ws.curve3d.key = Some(key);
         }
-        let n = self.curve3d.scenes.len().max(1);
+        let n = self.ws.curve3d.scenes.len().max(1);
         let w = full.width() / n as f32;
-        for k in 0..self.curve3d.scenes.len() {
+        for k in 0..self.ws.curve3d.scenes.len() {
             let rect =
                 Rect::from_min_size(full.min + egui::vec2(w * k as f32, 0.0), egui::vec2(w, full.height())).shrink(1.0);
             let resp = ui.interact(rect, ui.scope_id().with(("extr", k)), Sense::click_and_drag());
             resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "Extrusion view"));
-            self.curve3d.view.fit_if_needed(rect);
-            self.curve3d.view.interact(ui, &resp, true);
-            let scene = self.curve3d.scenes[k].clone();
-            let origin = self.curve3d.origin;
-            let shading = self.curve3d.shading;
-            self.curve3d.view.paint(
+            self.ws.curve3d.view.fit_if_needed(rect);
+            self.ws.curve3d.view.interact(ui, &resp, true);
+            let scene = self.ws.curve3d.scenes[k].clone();
+            let origin = self.ws.curve3d.origin;
+            let shading = self.ws.curve3d.shading;
+            self.ws.curve3d.view.paint(
                 ui,
                 rect,
                 ui.scope_id().with(("extr_paint", k)),
@@ -322,8 +329,8 @@ impl crate::App {
             surface: self
                 .surface
                 .as_ref()
-                .map_or(self.curve3d.surface_shading, |s| s.shading),
-            extrusion: self.curve3d.shading,
+                .map_or(self.curve_ws.curve3d.surface_shading, |s| s.shading),
+            extrusion: self.curve_ws.curve3d.shading,
         }
     }
 
@@ -331,10 +338,13 @@ impl crate::App {
     /// including an already open surface.
     pub fn set_view3d_prefs(&mut self, prefs: View3dPrefs) {
         let p = prefs.sanitized();
-        self.curve3d.shading = p.extrusion;
-        self.curve3d.surface_shading = p.surface;
-        if let Some(s) = self.surface.as_mut() {
-            s.set_shading(p.surface);
+        self.curve_ws.curve3d.shading = p.extrusion;
+        self.curve_ws.curve3d.surface_shading = p.surface;
+        if let Some(s) = self.surface.as_mut()
+            && let fairway::Geometry::Surface(surface) = &self.doc.geometry
+            && let Err(e) = s.set_shading(p.surface, surface)
+        {
+            self.error = Some(e.to_string());
         }
     }
 

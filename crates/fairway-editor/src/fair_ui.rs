@@ -3,14 +3,15 @@
 //! accept.
 
 use eframe::egui;
-use egui::{Color32, Pos2, Rect, RichText, Sense, Shape, Stroke};
+use egui::{Color32, Pos2, Rect, RichText, Shape, Stroke};
 use fairway::DVec2;
 use fairway::fair::{EndCondition, FitMode, Integrator, PolishMethod, Seam, TargetMethod};
 
+use crate::Command;
 use crate::canvas::colors;
-use crate::fairing::{MAX_POLISH, Preview, default_strength, pinned_indices};
+use crate::curve_ws::CurveCx;
+use crate::fairing::{FairOptions, MAX_POLISH, Preview, default_strength, pinned_indices};
 use crate::region;
-use crate::{App, Command};
 
 /// What a drag on the κ plot does to the target.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -61,22 +62,22 @@ pub struct TargetDrag {
     pub start: Vec<f64>,
 }
 
-impl App {
+impl CurveCx<'_> {
     /// The preview, if fairing succeeded.
     pub fn preview(&self) -> Option<&Preview> {
-        self.fairing.preview.as_ref().and_then(|r| r.as_ref().ok())
+        self.ws.fairing.preview.as_ref().and_then(|r| r.as_ref().ok())
     }
 
     /// Arc length (on the original) of target sample k.
     pub fn target_s(&self, p: &Preview, k: usize) -> f64 {
-        self.view.sampled.s_at_u(p.params[k])
+        self.ws.view.sampled.s_at_u(p.params[k])
     }
 
     /// Arc length of the region (both parts for a region across the seam); 0 without a region.
     pub fn region_s_length(&self) -> f64 {
         let Some(r) = self.region() else { return 0.0 };
-        let o = &self.view.sampled;
-        region::parts(r, self.view.domain)
+        let o = &self.ws.view.sampled;
+        region::parts(r, self.ws.view.domain)
             .iter()
             .map(|&(a, b)| o.s_at_u(b) - o.s_at_u(a))
             .sum()
@@ -87,7 +88,7 @@ impl App {
     fn s_distance(&self, s1: f64, s2: f64) -> f64 {
         let d = (s1 - s2).abs();
         if self.region().is_some_and(region::wraps) {
-            d.min(self.view.sampled.length - d)
+            d.min(self.ws.view.sampled.length - d)
         } else {
             d
         }
@@ -97,7 +98,7 @@ impl App {
     /// button per stretch between corners that makes it the region (to shape that stretch's target
     /// alone).
     fn corner_stretches_ui(&mut self, ui: &mut egui::Ui) {
-        let Some(Ok(p)) = &self.fairing.preview else {
+        let Some(Ok(p)) = &self.ws.fairing.preview else {
             return;
         };
         if p.corners.is_empty() {
@@ -144,7 +145,7 @@ impl App {
         }
         self.fair_status_ui(ui);
         self.corner_stretches_ui(ui);
-        if self.fairing.target_mismatch {
+        if self.ws.fairing.target_mismatch {
             ui.colored_label(
                 Color32::YELLOW,
                 "The saved target does not fit this region's samples; using the automatic target.",
@@ -152,28 +153,33 @@ impl App {
         }
         ui.horizontal(|ui| {
             // a draft (drag in progress) is not accepted: the full fair follows the release
-            let can = self.preview().is_some_and(|p| !p.draft);
+            let can = self.ws.preview().is_some_and(|p| !p.draft);
             if ui
                 .add_enabled(can, egui::Button::new(RichText::new("Accept").strong()))
                 .on_hover_text("Replace the region by the faired curve (one undo step)")
                 .clicked()
-                && let Some(c) = self.preview().map(|p| p.result.curve.clone())
+                && let Some(c) = self.ws.preview().map(|p| p.result.curve.clone())
             {
                 self.push(Command::ReplaceCurve(Box::new(c)));
             }
         });
         ui.add_space(4.0);
-        self.target_ui(ui);
+        // the options are edited on a copy: a change is a command (one undo step per gesture)
+        let mut opts = self.prefs.fair;
+        self.target_ui(ui, &mut opts);
         ui.add_space(4.0);
-        self.end_conditions_ui(ui);
-        egui::CollapsingHeader::new("Advanced").show(ui, |ui| self.advanced_ui(ui));
+        self.end_conditions_ui(ui, &mut opts);
+        egui::CollapsingHeader::new("Advanced").show(ui, |ui| advanced_ui(ui, &mut opts));
+        if opts != self.prefs.fair {
+            self.push(Command::SetFairOptions(opts));
+        }
         ui.add_space(4.0);
         self.compare_ui(ui);
     }
 
     /// The preview's status: error, or deviation bound, timing and what happened at the seam.
     fn fair_status_ui(&self, ui: &mut egui::Ui) {
-        match &self.fairing.preview {
+        match &self.ws.fairing.preview {
             Some(Err(e)) => {
                 ui.label(RichText::new(format!("Error: {e}")).color(Color32::from_rgb(230, 80, 60)));
             }
@@ -213,7 +219,7 @@ impl App {
                                  the original.",
                             );
                     }
-                    Seam::Faired if self.fairing.across_seam() => {
+                    Seam::Faired if self.ws.fairing.across_seam() => {
                         ui.weak("closed curve: region faired through the seam (as smooth there as the original)")
                             .on_hover_text(
                                 "The region runs across the seam: the core fairs it on the curve re-seamed in the \
@@ -244,7 +250,7 @@ impl App {
     }
 
     /// Target tools, falloff, automatic strength and the target reset.
-    fn target_ui(&mut self, ui: &mut egui::Ui) {
+    fn target_ui(&mut self, ui: &mut egui::Ui, opts: &mut FairOptions) {
         ui.strong("Target");
         ui.horizontal_wrapped(|ui| {
             for (t, name, tip) in [
@@ -265,22 +271,18 @@ impl App {
                     "Drag across the κ plot to flatten a stretch (constant κ)",
                 ),
             ] {
-                ui.selectable_value(&mut self.tool, t, name).on_hover_text(tip);
+                ui.selectable_value(&mut self.ws.tool, t, name).on_hover_text(tip);
             }
         });
         ui.add(
-            egui::Slider::new(&mut self.falloff, 0.005..=0.5)
+            egui::Slider::new(&mut self.ws.falloff, 0.005..=0.5)
                 .logarithmic(true)
                 .text("Falloff"),
         )
         .on_hover_text("Radius of a target drag, as a fraction of the region length");
-        let n = self.preview().map(|p| p.target.len()).unwrap_or(100);
+        let n = self.ws.preview().map(|p| p.target.len()).unwrap_or(100);
         let hand_edited = self.doc.settings.target.is_some();
-        let mut strength = self
-            .prefs
-            .fair
-            .strength
-            .unwrap_or(default_strength(self.prefs.fair.method, n));
+        let mut strength = opts.strength.unwrap_or(default_strength(opts.method, n));
         let r = ui
             .add_enabled(
                 !hand_edited,
@@ -289,7 +291,7 @@ impl App {
             .on_hover_text("Automatic smoothing strength (passes); disabled while the target is hand-edited")
             .on_disabled_hover_text("The target is hand-edited: Reset to use automatic smoothing");
         if r.changed() {
-            self.prefs.fair.strength = Some(strength);
+            opts.strength = Some(strength);
         }
         if ui
             .button("Reset target")
@@ -304,7 +306,7 @@ impl App {
     }
 
     /// The region's end conditions (a document edit) and easing of G2 curve ends.
-    fn end_conditions_ui(&mut self, ui: &mut egui::Ui) {
+    fn end_conditions_ui(&mut self, ui: &mut egui::Ui, opts: &mut FairOptions) {
         ui.strong("End conditions");
         // the document's (an undo step; a hand-edited target is resampled onto the new samples)
         let mut ends = self.ends();
@@ -324,245 +326,57 @@ impl App {
         if ends != self.ends() {
             self.push(Command::SetEnds(ends));
         }
+        for (held, label) in self.join_holds().into_iter().zip(["Start", "End"]) {
+            if let Some(h) = held {
+                ui.weak(format!("{label}: a curve end at a join, kept {h:?} by default"))
+                    .on_hover_text(
+                        "This region end is an end of the curve where another curve joins it: by default it keeps \
+                         the join's measured continuity, so the neighbour still meets it as before",
+                    );
+            }
+        }
         // only a G2 region end at an end of an open curve is eased (the core ignores the rest)
-        let (d0, d1) = self.view.domain;
+        let (d0, d1) = self.ws.view.domain;
         let eps = 1e-12 * (d1 - d0);
-        let easable = !self.view.closed
+        let easable = !self.ws.view.closed
             && self.region().is_some_and(|(u1, u2)| {
                 (u1 <= d0 + eps && ends[0] == EndCondition::G2) || (u2 >= d1 - eps && ends[1] == EndCondition::G2)
             });
-        ui.add_enabled(
-            easable,
-            egui::Checkbox::new(&mut self.prefs.fair.ease_ends, "Ease G2 curve ends"),
-        )
-        .on_disabled_hover_text("Applies to a G2 region end at an end of an open curve; this region has none")
-        .on_hover_text(
-            "Where a G2 end is an end of the (open) curve, its own end curvature is kept. On noisy data it \
+        ui.add_enabled(easable, egui::Checkbox::new(&mut opts.ease_ends, "Ease G2 curve ends"))
+            .on_disabled_hover_text("Applies to a G2 region end at an end of an open curve; this region has none")
+            .on_hover_text(
+                "Where a G2 end is an end of the (open) curve, its own end curvature is kept. On noisy data it \
                  is often far off: eased, the target reaches it within the end knot span instead of climbing \
                  to it from far inside (fewer wiggles near noisy ends; where the end curvature is real it can \
                  add some: compare). Region ends inside the curve and closed curves are not affected.",
-        );
-    }
-
-    /// The "Advanced" section: integrator, target method, E polish, fit method, polish method.
-    fn advanced_ui(&mut self, ui: &mut egui::Ui) {
-        ui.horizontal(|ui| {
-            ui.label("Integrator:");
-            for (i, name, tip) in [
-                (Integrator::Euler, "Euler", "Explicit Euler (the paper's first scheme)"),
-                (
-                    Integrator::Rk2,
-                    "RK2",
-                    "Second-order Runge–Kutta (the paper's second scheme)",
-                ),
-                (Integrator::Arc, "Arc", "Exact circular-arc steps (default)"),
-            ] {
-                ui.selectable_value(&mut self.prefs.fair.integrator, i, name)
-                    .on_hover_text(tip);
-            }
-        });
-        ui.horizontal(|ui| {
-            ui.label("Target:");
-            for (m, name, tip) in [
-                (
-                    TargetMethod::Heat,
-                    "Heat",
-                    "Heat flow of the averaging, implicit: fast at any strength",
-                ),
-                (TargetMethod::Average, "Average", "Neighbour averaging (the paper's)"),
-                (TargetMethod::Binomial, "Binomial", "(1,2,1)/4 kernel, damps zig-zag"),
-                (TargetMethod::Fit, "Fit", "Smoothing-spline fit of the curvature"),
-            ] {
-                ui.selectable_value(&mut self.prefs.fair.method, m, name)
-                    .on_hover_text(tip);
-            }
-        });
-        ui.add(egui::Slider::new(&mut self.prefs.fair.polish_iterations, 0..=MAX_POLISH).text("E polish"))
-            .on_hover_text(
-                "Gauss–Newton iterations of the E polish after the band search (full fair; a draft \
-                 skips it): more lower the paper's E further inside the band at about 0.2 ms each for \
-                 100 control points; a lower E is not always fewer curvature extrema",
             );
-        ui.horizontal(|ui| {
-            ui.label("Method:");
-            for (m, name, tip) in [
-                (
-                    FitMode::Fairway,
-                    "Fairway",
-                    "Integration of the target, fit, polish (default)",
-                ),
-                (
-                    FitMode::Smoothing,
-                    "Smoothing spline",
-                    "The reference: knot-keeping penalized least squares, its weight the largest that holds \
-                     the band (what a SciPy smoothing spline with a search on its factor gives)",
-                ),
-            ] {
-                ui.selectable_value(&mut self.prefs.fair.mode, m, name)
-                    .on_hover_text(tip);
-            }
-        });
-        ui.horizontal(|ui| {
-            ui.label("Polish:");
-            for (m, name, tip) in [
-                (
-                    PolishMethod::Variation,
-                    "Variation",
-                    "Lowers the curvature variation ∫(dκ/ds)² over the whole region inside the band, \
-                     following the target a little (default): never more curvature extrema than the \
-                     reference smoothing spline or the original",
-                ),
-                (
-                    PolishMethod::LineSearch,
-                    "Line search",
-                    "Stops well short of the lowest E in the band: the previous default",
-                ),
-                (
-                    PolishMethod::InteriorPoint,
-                    "Interior point",
-                    "Follows the target as closely as the band allows, in a few iterations: for a target \
-                     you shaped, pinned or typed in",
-                ),
-            ] {
-                ui.selectable_value(&mut self.prefs.fair.polish_method, m, name)
-                    .on_hover_text(tip);
-            }
-        });
     }
 
     /// Before / after comparison toggles.
     fn compare_ui(&mut self, ui: &mut egui::Ui) {
         ui.strong("Compare");
-        ui.checkbox(&mut self.compare.show_after, "Show result (Space)")
+        ui.checkbox(&mut self.ws.compare.show_after, "Show result (Space)")
             .on_hover_text("Toggle between before and after (Space)");
-        ui.checkbox(&mut self.compare.overlay, "Overlay original")
+        ui.checkbox(&mut self.ws.compare.overlay, "Overlay original")
             .on_hover_text("Draw the original dimmed under the result");
-        ui.add(egui::Slider::new(&mut self.compare.blend, 0.0..=1.0).text("Blend"))
+        ui.add(egui::Slider::new(&mut self.ws.compare.blend, 0.0..=1.0).text("Blend"))
             .on_hover_text("Blend the drawn curve between the original (0) and the faired result (1)");
-        ui.checkbox(&mut self.compare.trio, "Tight / medium / loose")
+        ui.checkbox(&mut self.ws.compare.trio, "Tight / medium / loose")
             .on_hover_text("Three side-by-side previews at m/3, m and 3m");
-    }
-
-    /// Measures before / after.
-    pub fn measures_ui(&mut self, ui: &mut egui::Ui) {
-        ui.heading("Measures");
-        let Some(p) = self.preview() else {
-            ui.weak("(no preview)");
-            return;
-        };
-        let max_dev = p.result.max_deviation;
-        // the bench simulates drags (tolerance sweep, target drag) without a pointer
-        let dragging = ui.input(|i| i.pointer.any_down()) || self.bench.is_some() || p.draft;
-        self.fairing.update_measures(dragging);
-        if self.fairing.measures_stale() {
-            ui.weak("(updated when the drag ends)");
-        }
-        let Some((b, a)) = self.fairing.measures.as_ref() else {
-            return;
-        };
-        let region = self.fairing.region_measures;
-        egui::Grid::new("measures").striped(true).show(ui, |ui| {
-            ui.strong("");
-            ui.strong("before");
-            ui.strong("after");
-            ui.strong("change");
-            ui.end_row();
-            // (name, tooltip, before, after, is a count)
-            let rows = [
-                (
-                    "max deviation",
-                    "Largest distance from the original (2000 arc-length samples)",
-                    b.dev_max,
-                    a.dev_max,
-                    false,
-                ),
-                (
-                    "κ extrema",
-                    "Curvature extrema of the whole curve (zig-zag pivots beyond δ = 1% of max|g|)",
-                    b.n_curv_extrema as f64,
-                    a.n_curv_extrema as f64,
-                    true,
-                ),
-                (
-                    "κ extrema (raw)",
-                    "Every sign change of dκ/ds between 4000 samples of the whole curve",
-                    b.n_curv_extrema_raw as f64,
-                    a.n_curv_extrema_raw as f64,
-                    true,
-                ),
-                (
-                    "inflections",
-                    "Sign changes of κ across the dead band ±δ (whole curve)",
-                    b.n_inflections as f64,
-                    a.n_inflections as f64,
-                    true,
-                ),
-                (
-                    "E (paper)",
-                    "Σ (κ − g)² over 200 samples, g the original's smoothed curvature",
-                    b.E_paper,
-                    a.E_paper,
-                    false,
-                ),
-                ("∫(dκ/ds)² ds", "Variation of curvature energy", b.E_var, a.E_var, false),
-                ("∫κ² ds", "Bending energy", b.E_bend, a.E_bend, false),
-            ];
-            // the region's own figures beside the whole curve's (same δ)
-            let region_rows = region.map(|((eb, vb), (ea, va))| {
-                [
-                    (
-                        "κ extrema (region)",
-                        "Curvature extrema inside the region (the whole curve's δ)",
-                        eb as f64,
-                        ea as f64,
-                        true,
-                    ),
-                    (
-                        "∫(dκ/ds)² (region)",
-                        "Variation of curvature energy over the region",
-                        vb,
-                        va,
-                        false,
-                    ),
-                ]
-            });
-            let rows = rows.into_iter().chain(region_rows.into_iter().flatten());
-            // the original's distance to itself is 0 up to closest-point round-off (~1e-14)
-            let zero = 1e-12 * self.view.diag.max(1e-300);
-            for (name, tip, bv, av, count) in rows {
-                let (bv, av) = if name == "max deviation" {
-                    (if bv < zero { 0.0 } else { bv }, if av < zero { 0.0 } else { av })
-                } else {
-                    (bv, av)
-                };
-                let f = |v: f64| if count { format!("{v:.0}") } else { fmt_num(v) };
-                ui.label(name).on_hover_text(tip);
-                ui.label(f(bv));
-                ui.label(f(av));
-                // a relative change from a round-off "before" (e.g. deviation 1e-14) means nothing
-                let ch = if bv.abs() > 1e-6 * av.abs() {
-                    format!("{:+.0}%", (av / bv - 1.0) * 100.0)
-                } else {
-                    "—".into()
-                };
-                ui.label(ch);
-                ui.end_row();
-            }
-        });
-        ui.weak(format!("core's verified bound on the deviation: {}", fmt_num(max_dev)))
-            .on_hover_text("An upper bound: the measured max deviation above is at most this");
     }
 
     /// Target editing input on the κ plot; returns true if it took the drag.
     pub fn target_plot_input(&mut self, ui: &egui::Ui, resp: &egui::Response) -> bool {
-        let Some(p) = self.preview().cloned() else { return false };
-        let len = self.view.sampled.length;
-        let near = |app: &App, q: Pos2, need_y: bool| -> Option<usize> {
+        let Some(p) = self.ws.preview().cloned() else {
+            return false;
+        };
+        let len = self.ws.view.sampled.length;
+        let near = |app: &CurveCx<'_>, q: Pos2, need_y: bool| -> Option<usize> {
             let mut best = (usize::MAX, f32::INFINITY);
             for k in 0..p.target.len() {
-                let x = app.plot.x(app.target_s(&p, k), len);
+                let x = app.ws.plot.x(app.ws.target_s(&p, k), len);
                 let d = if need_y {
-                    Pos2::new(x, app.plot.y(p.target[k])).distance(q)
+                    Pos2::new(x, app.ws.plot.y(p.target[k])).distance(q)
                 } else {
                     (x - q.x).abs()
                 };
@@ -572,7 +386,7 @@ impl App {
             }
             (best.1 < if need_y { 10.0 } else { 8.0 }).then_some(best.0)
         };
-        if self.tool == TargetTool::Pin {
+        if self.ws.tool == TargetTool::Pin {
             if resp.clicked()
                 && let Some(q) = resp.interact_pointer_pos()
                 && let Some(k) = near(&*self, q, false)
@@ -594,49 +408,31 @@ impl App {
         if resp.drag_started_by(egui::PointerButton::Primary)
             && let Some(q) = ui.input(|i| i.pointer.press_origin())
         {
-            let k = near(&*self, q, self.tool == TargetTool::Drag);
-            self.target_drag = k.map(|k0| TargetDrag {
+            let k = near(&*self, q, self.ws.tool == TargetTool::Drag);
+            self.ws.target_drag = k.map(|k0| TargetDrag {
                 k0,
-                k_start: self.plot.k(q.y),
+                k_start: self.ws.plot.k(q.y),
                 start: p.target.clone(),
             });
         }
-        let Some(d) = self.target_drag.clone() else {
+        let Some(d) = self.ws.target_drag.clone() else {
             return false;
         };
         if resp.dragged_by(egui::PointerButton::Primary)
             && let Some(q) = resp.interact_pointer_pos()
-            && let Some(mut t) = self.fairing.target()
+            && let Some(mut t) = self.ws.fairing.target()
         {
             for (k, &g) in d.start.iter().enumerate() {
                 t.set(k, g);
             }
-            match self.tool {
-                TargetTool::Drag => {
-                    let dk = self.plot.k(q.y) - d.k_start;
-                    let s0 = self.target_s(&p, d.k0);
-                    let radius = (self.falloff * self.region_s_length()).max(1e-12);
-                    // a corner bounds the falloff: the other stretch's target is its own
-                    let n = d.start.len();
-                    let own = stretch_pieces(&p.breaks, n, 0, n - 1)
-                        .find(|r| r.contains(&d.k0))
-                        .unwrap_or(0..n);
-                    for k in own {
-                        if p.pinned[k] {
-                            continue;
-                        }
-                        let r = self.s_distance(self.target_s(&p, k), s0) / radius;
-                        if r < 1.0 {
-                            t.set(k, d.start[k] + dk * fairway::fair::target::quintic(1.0 - r));
-                        }
-                    }
-                }
+            match self.ws.tool {
+                TargetTool::Drag => self.falloff_drag(&p, &d, q, &mut t),
                 TargetTool::Smooth | TargetTool::Flatten => {
-                    let s = self.plot.s(q.x, len);
+                    let s = self.ws.plot.s(q.x, len);
                     let mut k1 = 0;
                     let mut best = f64::INFINITY;
                     for k in 0..p.params.len() {
-                        let e = (self.target_s(&p, k) - s).abs();
+                        let e = (self.ws.target_s(&p, k) - s).abs();
                         if e < best {
                             best = e;
                             k1 = k;
@@ -647,7 +443,7 @@ impl App {
                     // curvature of its two sides (which the corner keeps apart)
                     for r in stretch_pieces(&p.breaks, d.start.len(), a, b) {
                         let (a, b) = (r.start, r.end - 1);
-                        if self.tool == TargetTool::Smooth {
+                        if self.ws.tool == TargetTool::Smooth {
                             let strength = default_strength(self.prefs.fair.method, p.target.len()).max(4);
                             t.smooth_range(a, b, self.prefs.fair.method, strength);
                         } else {
@@ -663,26 +459,48 @@ impl App {
             });
         }
         if resp.drag_stopped() {
-            self.target_drag = None;
+            self.ws.target_drag = None;
         }
         true
     }
 
+    /// A Drag-tool edit: move target sample `d.k0` with the pointer at `q`, its neighbours within
+    /// the falloff radius by a quintic falloff (pins stay, a corner bounds the reach).
+    fn falloff_drag(&self, p: &Preview, d: &TargetDrag, q: Pos2, t: &mut fairway::fair::Target) {
+        let dk = self.ws.plot.k(q.y) - d.k_start;
+        let s0 = self.ws.target_s(p, d.k0);
+        let radius = (self.ws.falloff * self.region_s_length()).max(1e-12);
+        // a corner bounds the falloff: the other stretch's target is its own
+        let n = d.start.len();
+        let own = stretch_pieces(&p.breaks, n, 0, n - 1)
+            .find(|r| r.contains(&d.k0))
+            .unwrap_or(0..n);
+        for k in own {
+            if p.pinned[k] {
+                continue;
+            }
+            let r = self.s_distance(self.ws.target_s(p, k), s0) / radius;
+            if r < 1.0 {
+                t.set(k, d.start[k] + dk * fairway::fair::target::quintic(1.0 - r));
+            }
+        }
+    }
+
     /// Draw target and faired curvature on the κ plot.
     pub fn draw_plot_fairing(&self, painter: &egui::Painter) {
-        let Some(p) = self.preview() else { return };
-        let len = self.view.sampled.length;
-        let pl = &self.plot;
+        let Some(p) = self.ws.preview() else { return };
+        let len = self.ws.view.sampled.length;
+        let pl = &self.ws.plot;
         // faired κ over the region's samples
         let fs = &p.sampled;
         let reg = self.region().unwrap_or((0.0, 0.0));
         let wraps = region::wraps(reg);
         // the reach of a target drag (falloff radius) around the pointer (around the loop, through
         // the plot's edges, for a region across the seam)
-        if self.tool == TargetTool::Drag
-            && let Some(hs) = self.hover_s
+        if self.ws.tool == TargetTool::Drag
+            && let Some(hs) = self.ws.hover_s
         {
-            let r = self.falloff * self.region_s_length();
+            let r = self.ws.falloff * self.region_s_length();
             let y = pl.rect.unwrap_or(Rect::NOTHING).y_range();
             let shifts: &[f64] = if wraps { &[-len, 0.0, len] } else { &[0.0] };
             // a corner bounds the reach (the drag stays in its stretch); drawn for a region that does
@@ -692,7 +510,7 @@ impl App {
             } else {
                 p.breaks
                     .iter()
-                    .map(|&b| self.target_s(p, b))
+                    .map(|&b| self.ws.target_s(p, b))
                     .fold((0.0f64, len), |(lo, hi), sb| {
                         if sb <= hs { (lo.max(sb), hi) } else { (lo, hi.min(sb)) }
                     })
@@ -712,15 +530,15 @@ impl App {
             }
         }
         // faired κ over the region (in two parts across the seam)
-        for (u1, u2) in region::parts(reg, self.view.domain) {
+        for (u1, u2) in region::parts(reg, self.ws.view.domain) {
             let (i1, i2) = (fs.index_at_u(u1).floor() as usize, fs.index_at_u(u2).ceil() as usize);
             let pts: Vec<Pos2> = (i1..=i2.min(fs.len() - 1))
-                .map(|i| Pos2::new(pl.x(self.view.sampled.s_at_u(fs.u[i]), len), pl.y(fs.kappa[i])))
+                .map(|i| Pos2::new(pl.x(self.ws.view.sampled.s_at_u(fs.u[i]), len), pl.y(fs.kappa[i])))
                 .collect();
             painter.add(Shape::line(pts, Stroke::new(1.8, colors::FAIRED)));
         }
         let tpts: Vec<Pos2> = (0..p.target.len())
-            .map(|k| Pos2::new(pl.x(self.target_s(p, k), len), pl.y(p.target[k])))
+            .map(|k| Pos2::new(pl.x(self.ws.target_s(p, k), len), pl.y(p.target[k])))
             .collect();
         // one polyline per run of increasing parameters (the target of a region across the seam jumps
         // from the plot's right edge to its left one) and per stretch between corners
@@ -740,7 +558,7 @@ impl App {
 
     /// Target comb envelope on the canvas (model units).
     pub fn target_envelope(&self, p: &Preview) -> Vec<DVec2> {
-        let o = &self.view.sampled;
+        let o = &self.ws.view.sampled;
         let mut tmp = crate::Sampled {
             p: Vec::with_capacity(p.params.len()),
             n: Vec::with_capacity(p.params.len()),
@@ -755,98 +573,88 @@ impl App {
         self.comb_tips(&tmp, &p.target, &mut out);
         out
     }
-
-    /// The tight / medium / loose trio window.
-    pub fn trio_ui(&mut self, ctx: &egui::Context) {
-        if !self.compare.trio {
-            return;
-        }
-        let mut open = true;
-        egui::Window::new("Tight / medium / loose")
-            .open(&mut open)
-            .default_size([900.0, 260.0])
-            .show(ctx, |ui| {
-                let Some(trio) = self.fairing.trio.clone() else {
-                    ui.weak("Select a region first.");
-                    return;
-                };
-                ui.columns(3, |cols| {
-                    for (col, (m, res)) in cols.iter_mut().zip(trio.iter()) {
-                        col.strong(format!("m = {m:.2e}"));
-                        match res {
-                            Err(e) => {
-                                col.colored_label(Color32::from_rgb(230, 80, 60), e.as_str());
-                            }
-                            Ok(p) => {
-                                let (ex, inf) = region_counts(&p.sampled, self.region());
-                                col.label(format!(
-                                    "dev {:.2e} · κ extrema {ex} · inflections {inf} (in region)",
-                                    p.result.max_deviation
-                                ));
-                                let (rect, _) =
-                                    col.allocate_exact_size(egui::vec2(col.available_width(), 180.0), Sense::hover());
-                                self.draw_mini(col.painter_at(rect), rect, p);
-                            }
-                        }
-                    }
-                });
-            });
-        if !open {
-            self.compare.trio = false;
-        }
-    }
-
-    fn draw_mini(&self, painter: egui::Painter, rect: Rect, p: &Preview) {
-        painter.rect_filled(rect, 0.0, Color32::from_gray(24));
-        let s = &p.sampled;
-        let idx = s.region_indices(self.region().unwrap_or(self.view.domain));
-        let mut tips = vec![];
-        self.comb_tips(s, &s.kappa, &mut tips);
-        let (mut a, mut b) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-        for &i in &idx {
-            for q in [s.p[i], tips[i]] {
-                a = a.min(q);
-                b = b.max(q);
-            }
-        }
-        let size = (b - a).max(DVec2::splat(1e-12));
-        let k = ((rect.width() as f64 - 10.0) / size.x).min((rect.height() as f64 - 10.0) / size.y);
-        let c = 0.5 * (a + b);
-        let scr = |q: DVec2| {
-            let d = (q - c) * k;
-            Pos2::new(rect.center().x + d.x as f32, rect.center().y - d.y as f32)
-        };
-        for &i in idx.iter().step_by((idx.len() / 80).max(1)) {
-            let col = if s.kappa[i] >= 0.0 { colors::POS } else { colors::NEG };
-            painter.line_segment([scr(s.p[i]), scr(tips[i])], Stroke::new(1.0, col.gamma_multiply(0.5)));
-        }
-        painter.add(Shape::line(
-            idx.iter().map(|&i| scr(tips[i])).collect(),
-            Stroke::new(1.0, colors::POS),
-        ));
-        painter.add(Shape::line(
-            idx.iter().map(|&i| scr(s.p[i])).collect(),
-            Stroke::new(2.0, colors::FAIRED),
-        ));
-    }
 }
 
-fn fmt_num(v: f64) -> String {
-    if v == 0.0 {
-        "0".into()
-    } else if v.abs() >= 1e4 || v.abs() < 1e-3 {
-        format!("{v:.3e}")
-    } else {
-        format!("{v:.4}")
-    }
-}
-
-/// Curvature extrema and inflections of a sampled curve inside the region.
-fn region_counts(s: &crate::Sampled, region: Option<(f64, f64)>) -> (usize, usize) {
-    let r = region.unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
-    let ex = s.extrema.iter().filter(|&&i| region::contains(r, s.u[i])).count();
-    let inf = s.inflections.iter().filter(|&&u| region::contains(r, u)).count();
-    (ex, inf)
+/// The fairing panel's "Advanced" section: integrator, target method, E polish, fit method, polish method.
+fn advanced_ui(ui: &mut egui::Ui, o: &mut FairOptions) {
+    ui.horizontal(|ui| {
+        ui.label("Integrator:");
+        for (i, name, tip) in [
+            (Integrator::Euler, "Euler", "Explicit Euler (the paper's first scheme)"),
+            (
+                Integrator::Rk2,
+                "RK2",
+                "Second-order Runge–Kutta (the paper's second scheme)",
+            ),
+            (Integrator::Arc, "Arc", "Exact circular-arc steps (default)"),
+        ] {
+            ui.selectable_value(&mut o.integrator, i, name).on_hover_text(tip);
+        }
+    });
+    ui.horizontal(|ui| {
+        ui.label("Target:");
+        for (m, name, tip) in [
+            (
+                TargetMethod::Heat,
+                "Heat",
+                "Heat flow of the averaging, implicit: fast at any strength",
+            ),
+            (TargetMethod::Average, "Average", "Neighbour averaging (the paper's)"),
+            (TargetMethod::Binomial, "Binomial", "(1,2,1)/4 kernel, damps zig-zag"),
+            (TargetMethod::Fit, "Fit", "Smoothing-spline fit of the curvature"),
+        ] {
+            ui.selectable_value(&mut o.method, m, name).on_hover_text(tip);
+        }
+    });
+    ui.add(egui::Slider::new(&mut o.polish_iterations, 0..=MAX_POLISH).text("E polish"))
+        .on_hover_text(
+            "Gauss–Newton iterations of the E polish after the band search (full fair; a draft \
+             skips it): more lower the paper's E further inside the band at about 0.2 ms each for \
+             100 control points; a lower E is not always fewer curvature extrema",
+        );
+    ui.horizontal(|ui| {
+        ui.label("Method:");
+        for (m, name, tip) in [
+            (
+                FitMode::Fairway,
+                "Fairway",
+                "Integration of the target, fit, polish (default)",
+            ),
+            (
+                FitMode::Smoothing,
+                "Smoothing spline",
+                "The reference: knot-keeping penalized least squares, its weight the largest that holds \
+                 the band (what a SciPy smoothing spline with a search on its factor gives)",
+            ),
+        ] {
+            ui.selectable_value(&mut o.mode, m, name).on_hover_text(tip);
+        }
+    });
+    ui.horizontal(|ui| {
+        ui.label("Polish:");
+        for (m, name, tip) in [
+            (
+                PolishMethod::Variation,
+                "Variation",
+                "Lowers the curvature variation ∫(dκ/ds)² over the whole region inside the band, \
+                 following the target a little (default): never more curvature extrema than the \
+                 reference smoothing spline or the original",
+            ),
+            (
+                PolishMethod::LineSearch,
+                "Line search",
+                "Stops well short of the lowest E in the band: the previous default",
+            ),
+            (
+                PolishMethod::InteriorPoint,
+                "Interior point",
+                "Follows the target as closely as the band allows, in a few iterations: for a target \
+                 you shaped, pinned or typed in",
+            ),
+        ] {
+            ui.selectable_value(&mut o.polish_method, m, name).on_hover_text(tip);
+        }
+    });
 }
 
 /// The parts of the target samples `a..=b` in each stretch between corners: `breaks` are the first

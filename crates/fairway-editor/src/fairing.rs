@@ -17,6 +17,7 @@ use fairway::measure::{Measures, arc_params, deviations, measure, region_curvatu
 use serde::{Deserialize, Serialize};
 
 use crate::Sampled;
+use crate::scene_view::Frame;
 
 /// The largest E polish iteration count the editor offers (and accepts from stored settings).
 pub const MAX_POLISH: usize = 64;
@@ -42,6 +43,12 @@ pub struct FairOptions {
     pub ease_ends: bool,
     /// Fairway's fair or the reference smoother ([`FairingOptions::mode`]).
     pub mode: FitMode,
+    /// The condition kept at the ends of the open curve that the region reaches
+    /// ([`FairingOptions::curve_ends`]): set for a fair, not stored — a curve end that joins another
+    /// curve keeps its join's continuity ([`crate::curve_ws::CurveCx::join_holds`]); `None`: the core's
+    /// default (at most G1), or G2 when easing.
+    #[serde(skip)]
+    pub curve_ends: Option<EndCondition>,
 }
 
 impl Default for FairOptions {
@@ -56,6 +63,7 @@ impl Default for FairOptions {
             polish_method: d.polish_method,
             ease_ends: d.ease_curve_ends,
             mode: d.mode,
+            curve_ends: None,
         }
     }
 }
@@ -69,6 +77,8 @@ struct SetupKey {
     ease_ends: bool,
     /// Fairway's fair or the reference smoother.
     mode: FitMode,
+    /// The condition kept at the curve's own ends (a join's).
+    curve_ends: Option<EndCondition>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -119,6 +129,8 @@ pub struct Preview {
 /// Live fairing state.
 #[derive(Debug, Default)]
 pub struct Fairing {
+    /// The view plane's frame the preview is sampled in (as the canvas draws the original).
+    pub frame: Frame,
     setup: Option<CurveFairing>,
     setup_key: Option<SetupKey>,
     run_key: Option<RunKey>,
@@ -155,10 +167,11 @@ pub struct Fairing {
 impl Fairing {
     /// Forget everything (no region).
     pub fn clear(&mut self) {
-        let inject_panic = self.inject_panic;
+        let (inject_panic, frame) = (self.inject_panic, self.frame);
         *self = Self {
             internal_error: self.internal_error.take(),
             inject_panic,
+            frame,
             ..Self::default()
         };
     }
@@ -193,6 +206,33 @@ impl Fairing {
         self.setup.as_ref().is_some_and(CurveFairing::across_seam)
     }
 
+    /// Build the setup of `key` (a new curve, region or end conditions); false (the error as the
+    /// preview) if the core refused it.
+    fn new_setup(&mut self, curve: &BSplineCurve, key: SetupKey, fo: FairingOptions, ends: [EndCondition; 2]) -> bool {
+        self.setup_key = Some(key);
+        self.run_key = None;
+        self.trio_key = None;
+        self.trio = None;
+        let t0 = Instant::now();
+        // u1 > u2: the region runs across the seam (the core says so clearly if the curve is open
+        // or its seam cannot be re-seamed)
+        let res = self
+            .guarded("fairing setup", || CurveFairing::with_ends(curve, fo, ends))
+            .and_then(|r| r.map_err(|e| e.to_string()));
+        self.setup_ms = t0.elapsed().as_secs_f64() * 1e3;
+        match res {
+            Ok(s) => {
+                self.setup = Some(s);
+                true
+            }
+            Err(e) => {
+                self.setup = None;
+                self.preview = Some(Err(e));
+                false
+            }
+        }
+    }
+
     /// Bring the preview up to date; does nothing when nothing changed.
     /// With `draft` (a drag in progress) the core's E polish is skipped, so
     /// a live drag stays inside the frame budget; when the drag ends
@@ -220,28 +260,12 @@ impl Fairing {
             ends: opts.ends,
             ease_ends: opts.ease_ends,
             mode: opts.mode,
+            curve_ends: opts.curve_ends,
         };
         let fo = fairing_options(region, tolerance, &opts);
-        if self.setup_key.as_ref() != Some(&sk) {
-            self.setup_key = Some(sk);
-            self.run_key = None;
-            self.trio_key = None;
-            self.trio = None;
-            let t0 = Instant::now();
-            // u1 > u2: the region runs across the seam (the core says so clearly if the curve is open
-            // or its seam cannot be re-seamed)
-            let res = self
-                .guarded("fairing setup", || CurveFairing::with_ends(curve, fo, opts.ends))
-                .and_then(|r| r.map_err(|e| e.to_string()));
-            self.setup_ms = t0.elapsed().as_secs_f64() * 1e3;
-            match res {
-                Ok(s) => self.setup = Some(s),
-                Err(e) => {
-                    self.setup = None;
-                    self.preview = Some(Err(e));
-                    return true;
-                }
-            }
+        let frame = self.frame;
+        if self.setup_key.as_ref() != Some(&sk) && !self.new_setup(curve, sk, fo, opts.ends) {
+            return true;
         }
         let rk = RunKey {
             tolerance,
@@ -265,7 +289,7 @@ impl Fairing {
                     (v, _) => setup.set_target(v.as_deref(), &rk.pinned),
                 };
                 let mismatch = !fits;
-                run(&mut setup, tolerance, draft).map(|p| (p, mismatch))
+                run(&mut setup, tolerance, draft, &frame).map(|p| (p, mismatch))
             });
             match res {
                 Ok(Ok((p, mismatch))) => {
@@ -284,8 +308,13 @@ impl Fairing {
         }
         if want_trio && self.trio_key.as_ref() != Some(&rk) {
             if let Some(mut s) = self.setup.clone() {
-                let trio = [tolerance / 3.0, tolerance, tolerance * 3.0]
-                    .map(|m| (m, self.guarded("fairing", || run(&mut s, m, draft)).and_then(|r| r)));
+                let trio = [tolerance / 3.0, tolerance, tolerance * 3.0].map(|m| {
+                    (
+                        m,
+                        self.guarded("fairing", || run(&mut s, m, draft, &frame))
+                            .and_then(|r| r),
+                    )
+                });
                 self.trio = Some(trio);
                 self.trio_key = Some(rk);
                 changed = true;
@@ -351,8 +380,24 @@ impl Fairing {
 
 /// The core's options for `region` at `tolerance` with the editor's choices.
 fn fairing_options(region: (f64, f64), tolerance: f64, opts: &FairOptions) -> FairingOptions {
+    // easing keeps the G2 curve end (by default a curve end keeps position and tangent only); a join
+    // there keeps its own continuity
+    let ease = opts.ease_ends.then_some(EndCondition::G2);
     FairingOptions {
         region: Some(region),
+        curve_ends: match (opts.curve_ends, ease) {
+            (Some(a), Some(b)) => Some(if a.order() >= b.order() { a } else { b }),
+            (a, b) => a.or(b),
+        },
+        ..curve_options(tolerance, opts)
+    }
+}
+
+/// The core's options at `tolerance` with the editor's choices, without a region (the whole curve,
+/// as the network fair takes them).
+pub fn curve_options(tolerance: f64, opts: &FairOptions) -> FairingOptions {
+    FairingOptions {
+        region: None,
         tolerance,
         target: opts.method,
         strength: opts.strength,
@@ -360,7 +405,6 @@ fn fairing_options(region: (f64, f64), tolerance: f64, opts: &FairOptions) -> Fa
         polish_iterations: opts.polish_iterations,
         polish_method: opts.polish_method,
         ease_curve_ends: opts.ease_ends,
-        // easing keeps the G2 curve end (by default a curve end keeps position and tangent only)
         curve_ends: opts.ease_ends.then_some(EndCondition::G2),
         mode: opts.mode,
         ..FairingOptions::default()
@@ -369,7 +413,7 @@ fn fairing_options(region: (f64, f64), tolerance: f64, opts: &FairOptions) -> Fa
 
 /// Fair at `tolerance` (a draft, or the full fair: for a whole closed curve with the automatic target
 /// that fairs its seam too, about 4× a single pass) and build the preview.
-fn run(fairing: &mut CurveFairing, tolerance: f64, draft: bool) -> Result<Preview, String> {
+fn run(fairing: &mut CurveFairing, tolerance: f64, draft: bool, frame: &Frame) -> Result<Preview, String> {
     let t0 = Instant::now();
     fairing.set_tolerance(tolerance).map_err(|e| e.to_string())?;
     let pass = if draft { Pass::Draft } else { Pass::Full };
@@ -377,7 +421,7 @@ fn run(fairing: &mut CurveFairing, tolerance: f64, draft: bool) -> Result<Previe
     let fair_ms = t0.elapsed().as_secs_f64() * 1e3;
     let result = fair.result;
     let spans = result.curve.knots().breakpoints().len().saturating_sub(1).max(1);
-    let sampled = Sampled::new(&result.curve, (spans * 24).clamp(400, 4000));
+    let sampled = Sampled::new(&frame.curve_in(&result.curve), (spans * 24).clamp(400, 4000));
     let target = fairing.target();
     Ok(Preview {
         sampled,

@@ -1,8 +1,23 @@
-//! Undo/redo history of whole documents, with gesture merging: all edits
-//! of one kind made during one gesture (a drag, a slider move) form a single
-//! undo step.
+//! Undo/redo history of the shell: snapshots of the whole document and the fairing options, with
+//! gesture merging: all edits of one kind made during one gesture (a drag, a slider move) form a
+//! single undo step. Both workspaces (curve, surface) go through this one history.
 
-use fairway::io::Document;
+use fairway::io::{Document, SceneObject};
+
+use crate::fairing::FairOptions;
+
+/// What one undo step restores: the document and the fairing options.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Snapshot {
+    /// The document.
+    pub doc: Document,
+    /// The fairing options (kept in the settings, edited as commands like the document).
+    pub fair: FairOptions,
+    /// Every object of the document (the active one as `doc`), with its name and settings.
+    pub objects: Vec<SceneObject>,
+    /// The active object's index.
+    pub active: usize,
+}
 
 /// What kind of edit a gesture makes; consecutive edits of the same kind
 /// within one open gesture merge into one undo step.
@@ -14,28 +29,28 @@ pub enum Gesture {
     Tolerance,
     /// Target curvature edits.
     Target,
-    /// Fairing options (end conditions, method, ...).
+    /// Fairing options (end conditions, method, strength, ...).
     Options,
     /// A one-off edit that never merges (accept, load).
     Single,
 }
 
-/// Undo and redo stacks of documents.
+/// Undo and redo stacks of snapshots.
 #[derive(Debug, Default)]
 pub struct History {
-    undo: Vec<Document>,
-    redo: Vec<Document>,
+    undo: Vec<Snapshot>,
+    redo: Vec<Snapshot>,
     open: Option<Gesture>,
 }
 
 impl History {
     /// Record `before` as an undo step for an edit of kind `g`, unless it
     /// continues the currently open gesture of the same kind.
-    pub fn record(&mut self, before: &Document, g: Gesture) {
+    pub fn record(&mut self, before: Snapshot, g: Gesture) {
         if g != Gesture::Single && self.open == Some(g) {
             return;
         }
-        self.undo.push(before.clone());
+        self.undo.push(before);
         self.redo.clear();
         self.open = if g == Gesture::Single { None } else { Some(g) };
         const MAX: usize = 200;
@@ -49,19 +64,19 @@ impl History {
         self.open = None;
     }
 
-    /// Step back: returns the document to restore, storing `current` for redo.
-    pub fn undo(&mut self, current: &Document) -> Option<Document> {
+    /// Step back: returns the snapshot to restore, storing `current` for redo.
+    pub fn undo(&mut self, current: Snapshot) -> Option<Snapshot> {
         self.open = None;
         let d = self.undo.pop()?;
-        self.redo.push(current.clone());
+        self.redo.push(current);
         Some(d)
     }
 
     /// Step forward again.
-    pub fn redo(&mut self, current: &Document) -> Option<Document> {
+    pub fn redo(&mut self, current: Snapshot) -> Option<Snapshot> {
         self.open = None;
         let d = self.redo.pop()?;
-        self.undo.push(current.clone());
+        self.undo.push(current);
         Some(d)
     }
 

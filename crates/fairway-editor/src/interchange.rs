@@ -171,14 +171,6 @@ impl App {
         }
     }
 
-    /// The document on screen (curve or surface), its file, and whether it is dirty.
-    fn current(&self) -> (&Document, Option<&Path>, bool) {
-        match &self.surface {
-            Some(s) => (&s.doc, s.path.as_deref(), s.is_dirty()),
-            None => (&self.doc, self.path.as_deref(), self.is_dirty()),
-        }
-    }
-
     /// Autosave the document if it is dirty and the interval has passed; remove
     /// this session's autosave once the document is clean again (saved, or
     /// back to its saved state). Called every frame with the current time.
@@ -187,9 +179,10 @@ impl App {
             return; // the previous session's autosave waits for the user's choice
         }
         let Some(mut a) = self.autosave.take() else { return };
-        let (doc, source, dirty) = self.current();
+        let (source, dirty) = (self.path.clone(), self.is_dirty());
         let result = if dirty {
-            a.tick(doc, source, true, now).map(|wrote| self.autosaved |= wrote)
+            a.tick_scene(|| self.scene(), source.as_deref(), true, now)
+                .map(|wrote| self.autosaved |= wrote)
         } else if self.autosaved {
             self.autosaved = false;
             a.clear()
@@ -215,9 +208,18 @@ impl App {
     pub(crate) fn restore_autosave(&mut self) {
         let Some(r) = self.recovery.take() else { return };
         // the file as it is on disk, if any: the restored document is dirty against it
+        if r.objects.len() > 1 || r.unit.is_some() || r.objects.iter().any(|o| !o.name.is_empty()) {
+            let saved = r.source.as_deref().and_then(|p| fairway::io::load_scene(p).ok());
+            if self.set_scene(r.objects, r.source, saved.map(|(s, _)| s.objects)) {
+                self.unit = r.unit;
+                self.status = "Restored the autosaved document (not saved yet)".into();
+            }
+            return;
+        }
         let saved = r.source.as_deref().and_then(|p| fairway::io::load(p).ok());
-        self.set_document(r.document, r.source, saved);
-        self.report_status("Restored the autosaved document (not saved yet)".into());
+        if self.set_document(r.document, r.source, saved) {
+            self.status = "Restored the autosaved document (not saved yet)".into();
+        }
     }
 
     pub(crate) fn discard_autosave(&mut self) {
@@ -261,14 +263,48 @@ impl App {
         });
     }
 
-    /// Open an IGES or STEP file: one object opens directly, several show the picker.
-    pub(crate) fn open_interchange(&mut self, path: &Path) {
-        let file = match fairway::io::read_interchange(path) {
-            Ok(Some(f)) => f,
+    /// Read an IGES or STEP file for opening (errors reported).
+    fn read_interchange_for_open(&mut self, path: &Path) -> Option<InterchangeFile> {
+        match fairway::io::read_interchange(path) {
+            Ok(Some(f)) => Some(f),
             Ok(None) => {
-                return self.report_error(format!("Could not open {}: not an IGES or STEP file", path.display()));
+                self.report_error(format!("Could not open {}: not an IGES or STEP file", path.display()));
+                None
             }
-            Err(e) => return self.report_error(format!("Could not open {}: {e}", path.display())),
+            Err(e) => {
+                self.report_error(format!("Could not open {}: {e}", path.display()));
+                None
+            }
+        }
+    }
+
+    /// Show the picker of an IGES or STEP file, to import one of its objects as an untitled document.
+    pub(crate) fn pick_one_object(&mut self, path: &Path) {
+        if !is_interchange(path) {
+            return self.report_error(format!(
+                "{}: import one object reads IGES (.igs, .iges) and STEP (.stp, .step) files",
+                path.display()
+            ));
+        }
+        if let Some(file) = self.read_interchange_for_open(path) {
+            if file.objects.is_empty() {
+                return self.report_error(format!(
+                    "Could not open {}: no B-spline curve or surface in it",
+                    path.display()
+                ));
+            }
+            self.object_pick = Some(ObjectPick {
+                path: path.to_path_buf(),
+                file,
+            });
+        }
+    }
+
+    /// Open an IGES or STEP file: all its objects as one document (the picker imports one of them:
+    /// [`Command::ImportOne`]).
+    pub(crate) fn open_interchange(&mut self, path: &Path) {
+        let Some(file) = self.read_interchange_for_open(path) else {
+            return;
         };
         match file.objects.len() {
             0 => self.report_error(format!(
@@ -284,8 +320,10 @@ impl App {
                 let doc = Document::new(file.objects[0].clone());
                 // keep the path only if saving back loses nothing else of the file
                 let keep = file.notices.is_empty();
-                self.set_document(doc.clone(), keep.then(|| path.to_path_buf()), Some(doc));
-                self.set_unit(file.unit);
+                if !self.set_document(doc.clone(), keep.then(|| path.to_path_buf()), Some(doc)) {
+                    return;
+                }
+                self.unit = file.unit;
                 let mut msg = format!("Opened {}{}", path.display(), unit_note(file.unit));
                 if !keep {
                     msg.push_str(&format!(
@@ -297,20 +335,27 @@ impl App {
                 self.report_status(msg);
                 self.push_recent(path.to_path_buf());
             }
-            _ => {
-                self.object_pick = Some(ObjectPick {
-                    path: path.to_path_buf(),
-                    file,
-                })
+            n => {
+                // keep the path only if saving back loses nothing else of the file
+                let keep = file.notices.is_empty();
+                let notices = file.notices.clone();
+                let unit = file.unit;
+                let objects = fairway::io::Scene::from_interchange(file).objects;
+                if !self.set_scene(objects.clone(), keep.then(|| path.to_path_buf()), Some(objects)) {
+                    return;
+                }
+                self.unit = unit;
+                let mut msg = format!("Opened {}: {n} objects{}", path.display(), unit_note(unit));
+                if !keep {
+                    msg.push_str(&format!(
+                        " ({} notices, e.g. {}; Save As to keep it)",
+                        notices.len(),
+                        notices[0]
+                    ));
+                }
+                self.report_status(msg);
+                self.push_recent(path.to_path_buf());
             }
-        }
-    }
-
-    /// The unit of the document just opened, on the curve editor or the surface workspace.
-    fn set_unit(&mut self, unit: Option<Unit>) {
-        match self.surface.as_mut() {
-            Some(s) => s.unit = unit,
-            None => self.unit = unit,
         }
     }
 
@@ -321,8 +366,10 @@ impl App {
         };
         let doc = Document::new(g);
         // untitled: saving over the file would drop its other objects
-        self.set_document(doc.clone(), None, Some(doc));
-        self.set_unit(pick.file.unit);
+        if !self.set_document(doc.clone(), None, Some(doc)) {
+            return;
+        }
+        self.unit = pick.file.unit;
         self.report_status(format!(
             "Imported object {} of {} from {}{} (untitled: Save As to keep it)",
             k + 1,
@@ -404,8 +451,9 @@ impl App {
             ..SvgOptions::default()
         };
         let faired = self
+            .curve_ws
             .preview()
-            .filter(|_| self.compare.show_after)
+            .filter(|_| self.curve_ws.compare.show_after)
             .map(|p| &p.result.curve);
         try_curve_svg(self.curve(), faired, &opts).map_err(|e| e.to_string())
     }
@@ -511,23 +559,12 @@ impl App {
             }
         } else if self.png_export.is_none() {
             self.export_then_quit = None;
-            let err = self
-                .error
-                .clone()
-                .or_else(|| self.surface.as_ref().and_then(|s| s.error.clone()));
-            match err {
+            match &self.error {
                 Some(e) => eprintln!("fairway-editor: {e}"),
-                None => eprintln!("fairway-editor: {}", self.status_text()),
+                None => eprintln!("fairway-editor: {}", self.status),
             }
             self.allow_close();
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
-        }
-    }
-
-    fn status_text(&self) -> String {
-        match &self.surface {
-            Some(s) => s.status.clone(),
-            None => self.status.clone(),
         }
     }
 

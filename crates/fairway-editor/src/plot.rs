@@ -8,9 +8,10 @@
 use eframe::egui;
 use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Shape, Stroke};
 
+use crate::Command;
 use crate::canvas::colors;
+use crate::curve_ws::CurveCx;
 use crate::region::{self, RegionDrag};
-use crate::{App, Command};
 
 /// What a drag on the plot does.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -33,7 +34,7 @@ pub struct PlotState {
     pub rect: Option<Rect>,
     /// κ range shown (bottom, top).
     pub y_range: (f64, f64),
-    /// During a region drag: the pointer's parameter ([`App::plot_u`]) plus this is the moving end's
+    /// During a region drag: the pointer's parameter ([`CurveCx::plot_u`]) plus this is the moving end's
     /// unwrapped parameter (a multiple of the domain length: `L` when the grabbed end is the `u2` of a
     /// region across the seam, else 0).
     pub drag_offset: f64,
@@ -74,12 +75,12 @@ impl PlotState {
     }
 }
 
-impl App {
+impl CurveCx<'_> {
     /// The κ(s) plot panel.
     pub fn plot_ui(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
             ui.strong("Curvature κ(s)");
-            ui.weak(if self.view.closed {
+            ui.weak(if self.ws.view.closed {
                 "— drag across the plot to select a region (past an edge: on through the seam), drag its edges to adjust"
             } else {
                 "— drag across the plot to select a region, drag its edges to adjust"
@@ -88,8 +89,8 @@ impl App {
         let (outer, resp) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
         resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "Curvature plot"));
         let rect = Rect::from_min_max(outer.min + egui::vec2(56.0, 6.0), outer.max - egui::vec2(8.0, 18.0));
-        self.plot.rect = Some(rect);
-        let s = &self.view.sampled;
+        self.ws.plot.rect = Some(rect);
+        let s = &self.ws.view.sampled;
         let (mut lo, mut hi) = s.kappa_range;
         for k in self.extra_kappa_ranges() {
             lo = lo.min(k.0);
@@ -98,7 +99,7 @@ impl App {
         lo = lo.min(0.0);
         hi = hi.max(0.0);
         let pad = 0.08 * (hi - lo).max(1e-12);
-        self.plot.y_range = (lo - pad, hi + pad);
+        self.ws.plot.y_range = (lo - pad, hi + pad);
         self.plot_input(ui, &resp);
         let painter = ui.painter_at(outer);
         painter.rect_filled(outer, 0.0, Color32::from_gray(20));
@@ -108,7 +109,7 @@ impl App {
     /// κ ranges of other drawn curves (target, faired) so the plot fits them.
     fn extra_kappa_ranges(&self) -> Vec<(f64, f64)> {
         let mut out = vec![];
-        if let Some(p) = self.preview() {
+        if let Some(p) = self.ws.preview() {
             let r = |v: &mut dyn Iterator<Item = f64>| {
                 v.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), k| (a.min(k), b.max(k)))
             };
@@ -130,11 +131,11 @@ impl App {
     /// parameter goes on through the seam (above `b` past the right edge, below `a` past the left
     /// one); on an open curve it is clamped to the domain.
     pub fn plot_u(&self, x: f32) -> f64 {
-        let s = &self.view.sampled;
+        let s = &self.ws.view.sampled;
         let len = s.length;
-        let (a, b) = self.view.domain;
-        let t = self.plot.s_unclamped(x, len);
-        if !self.view.closed || (0.0..=len).contains(&t) {
+        let (a, b) = self.ws.view.domain;
+        let t = self.ws.plot.s_unclamped(x, len);
+        if !self.ws.view.closed || (0.0..=len).contains(&t) {
             s.u_at_s(t.clamp(0.0, len))
         } else if t > len {
             s.u_at_s(t - len) + (b - a)
@@ -144,9 +145,9 @@ impl App {
     }
 
     fn plot_input(&mut self, ui: &egui::Ui, resp: &egui::Response) {
-        let len = self.view.sampled.length;
+        let len = self.ws.view.sampled.length;
         if let Some(q) = resp.hover_pos() {
-            self.next_hover_s = Some(self.plot.s(q.x, len));
+            self.ws.next_hover_s = Some(self.ws.plot.s(q.x, len));
         }
         if self.target_plot_input(ui, resp) {
             return;
@@ -157,30 +158,30 @@ impl App {
             let handle = self.region().and_then(|(u1, u2)| {
                 [u1, u2]
                     .iter()
-                    .map(|&u| (self.plot.x(self.view.sampled.s_at_u(u), len) - q.x).abs())
+                    .map(|&u| (self.ws.plot.x(self.ws.view.sampled.s_at_u(u), len) - q.x).abs())
                     .enumerate()
                     .filter(|(_, d)| *d < 6.0)
                     .min_by(|a, b| a.1.total_cmp(&b.1))
                     .map(|(k, _)| k)
             });
-            let (dom, closed) = (self.view.domain, self.view.closed);
+            let (dom, closed) = (self.ws.view.domain, self.ws.view.closed);
             let u = self.plot_u(q.x);
-            self.plot.drag = match (handle, self.region()) {
+            self.ws.plot.drag = match (handle, self.region()) {
                 (Some(k), Some(r)) => PlotDrag::Handle(k, RegionDrag::handle(r, k, dom, closed)),
                 _ => PlotDrag::Select(RegionDrag::select(u, dom, closed)),
             };
             // the plot's x is absolute: the moving end follows it, shifted by whole periods as grabbed
-            self.plot.drag_offset = match self.plot.drag {
+            self.ws.plot.drag_offset = match self.ws.plot.drag {
                 PlotDrag::Handle(_, d) if closed => ((d.moving - u) / (dom.1 - dom.0)).round() * (dom.1 - dom.0),
                 _ => 0.0,
             };
         }
         if resp.dragged_by(egui::PointerButton::Primary)
             && let Some(q) = resp.interact_pointer_pos()
-            && let PlotDrag::Select(mut d) | PlotDrag::Handle(_, mut d) = self.plot.drag
+            && let PlotDrag::Select(mut d) | PlotDrag::Handle(_, mut d) = self.ws.plot.drag
         {
-            let r = d.set_moving(self.plot_u(q.x) + self.plot.drag_offset);
-            if let PlotDrag::Select(x) | PlotDrag::Handle(_, x) = &mut self.plot.drag {
+            let r = d.set_moving(self.plot_u(q.x) + self.ws.plot.drag_offset);
+            if let PlotDrag::Select(x) | PlotDrag::Handle(_, x) = &mut self.ws.plot.drag {
                 *x = d;
             }
             if r.0 != r.1 {
@@ -188,13 +189,13 @@ impl App {
             }
         }
         if resp.drag_stopped() {
-            self.plot.drag = PlotDrag::None;
+            self.ws.plot.drag = PlotDrag::None;
         }
     }
 
     fn draw_plot(&self, painter: &egui::Painter, rect: Rect) {
-        let s = &self.view.sampled;
-        let p = &self.plot;
+        let s = &self.ws.view.sampled;
+        let p = &self.ws.plot;
         let len = s.length;
         let font = FontId::proportional(11.0);
         let axis = Color32::from_gray(110);
@@ -237,7 +238,7 @@ impl App {
         }
         // region shading (in two parts, end and start of the plot, for a region across the seam)
         if let Some((u1, u2)) = self.region() {
-            for (v1, v2) in region::parts((u1, u2), self.view.domain) {
+            for (v1, v2) in region::parts((u1, u2), self.ws.view.domain) {
                 let (x1, x2) = (p.x(s.s_at_u(v1), len), p.x(s.s_at_u(v2), len));
                 painter.rect_filled(
                     Rect::from_x_y_ranges(x1..=x2, rect.y_range()),
@@ -272,7 +273,7 @@ impl App {
         painter.add(Shape::line(pts, Stroke::new(1.5, Color32::from_rgb(150, 190, 255))));
         self.draw_plot_fairing(painter);
         // cursor
-        if let Some(hs) = self.hover_s {
+        if let Some(hs) = self.ws.hover_s {
             let x = p.x(hs, len);
             painter.line_segment(
                 [Pos2::new(x, rect.top()), Pos2::new(x, rect.bottom())],

@@ -6,8 +6,9 @@ use eframe::egui;
 use egui::{Align2, Color32, FontId, Pos2, Rect, Stroke};
 use fairway::suggest::{SuggestOptions, Suggestion, suggest_regions};
 
+use crate::Command;
 use crate::canvas::colors;
-use crate::{App, Command};
+use crate::curve_ws::CurveCx;
 
 /// Suggestions for one revision of the curve.
 #[derive(Debug, Clone, Default)]
@@ -18,11 +19,21 @@ pub struct Suggestions {
     pub rev: u64,
 }
 
-impl App {
+impl crate::curve_ws::CurveWorkspace {
+    /// The current suggestions, if they belong to the current curve.
+    pub fn suggestions(&self) -> Option<&[Suggestion]> {
+        match &self.suggest.list {
+            Some(Ok(v)) if self.suggest.rev == self.curve_rev => Some(v),
+            _ => None,
+        }
+    }
+}
+
+impl CurveCx<'_> {
     /// Compute the suggestions for the current curve now.
     pub fn suggest_now(&mut self) {
         let r = suggest_regions(self.curve(), &SuggestOptions::default()).map_err(|e| e.to_string());
-        self.status = match &r {
+        *self.status = match &r {
             Ok(v) if v.is_empty() => "No wiggly stretch found".into(),
             Ok(v) => format!(
                 "{} wiggly stretch(es) found, best first: click one to select it",
@@ -30,18 +41,10 @@ impl App {
             ),
             Err(e) => format!("Suggest regions failed: {e}"),
         };
-        self.suggest = Suggestions {
+        self.ws.suggest = Suggestions {
             list: Some(r),
-            rev: self.curve_rev,
+            rev: self.ws.curve_rev,
         };
-    }
-
-    /// The current suggestions, if they belong to the current curve.
-    pub fn suggestions(&self) -> Option<&[Suggestion]> {
-        match &self.suggest.list {
-            Some(Ok(v)) if self.suggest.rev == self.curve_rev => Some(v),
-            _ => None,
-        }
     }
 
     /// The "Suggest regions" button and the ranked list.
@@ -56,10 +59,10 @@ impl App {
         {
             self.suggest_now();
         }
-        if self.suggest.rev != self.curve_rev {
+        if self.ws.suggest.rev != self.ws.curve_rev {
             return;
         }
-        match self.suggest.list.clone() {
+        match self.ws.suggest.list.clone() {
             None => {}
             Some(Err(e)) => {
                 ui.colored_label(Color32::from_rgb(230, 80, 60), e);
@@ -88,11 +91,11 @@ impl App {
 
     /// Outline the suggestions on the κ plot (numbered, best = 1).
     pub fn draw_plot_suggestions(&self, painter: &egui::Painter, rect: Rect) {
-        let Some(list) = self.suggestions() else { return };
-        let len = self.view.sampled.length;
+        let Some(list) = self.ws.suggestions() else { return };
+        let len = self.ws.view.sampled.length;
         let col = colors::REGION.gamma_multiply(0.7);
         for (i, s) in list.iter().enumerate() {
-            let (x1, x2) = (self.plot.x(s.s1, len), self.plot.x(s.s2, len));
+            let (x1, x2) = (self.ws.plot.x(s.s1, len), self.ws.plot.x(s.s2, len));
             let y = rect.top() + 3.0;
             painter.line_segment([Pos2::new(x1, y), Pos2::new(x2, y)], Stroke::new(3.0, col));
             for x in [x1, x2] {

@@ -19,19 +19,20 @@ fn select_fair_edit_target_accept_undo_redo() {
     let path: Vec<Pos2> = (0..=8)
         .map(|k| {
             let app = h.state();
-            app.canvas
-                .to_screen(app.view.sampled.point_at_u(0.25 + 0.05 * k as f64))
+            app.curve_ws
+                .canvas
+                .to_screen(app.curve_ws.view.sampled.point_at_u(0.25 + 0.05 * k as f64))
         })
         .collect();
     drag(&mut h, &path);
     let (u1, u2) = h.state().region().expect("region");
     // tolerance through the slider
-    let m = h.state().view.diag * 2e-3;
+    let m = h.state().curve_ws.view.diag * 2e-3;
     h.get_by_role_and_label(Role::Slider, "Tolerance")
         .set_value_accesskit(m);
     h.run();
     let m = h.state().doc.settings.tolerance.unwrap();
-    let p = h.state().preview().expect("a faired preview").clone();
+    let p = h.state().curve_ws.preview().expect("a faired preview").clone();
     assert!(
         p.result.max_deviation <= m * (1.0 + 1e-9),
         "{} > {m}",
@@ -42,8 +43,11 @@ fn select_fair_edit_target_accept_undo_redo() {
     let k0 = p.target.len() / 2;
     let (x, y) = {
         let app = h.state();
-        let len = app.view.sampled.length;
-        (app.plot.x(app.target_s(&p, k0), len), app.plot.y(p.target[k0]))
+        let len = app.curve_ws.view.sampled.length;
+        (
+            app.curve_ws.plot.x(app.curve_ws.target_s(&p, k0), len),
+            app.curve_ws.plot.y(p.target[k0]),
+        )
     };
     drag(
         &mut h,
@@ -52,7 +56,7 @@ fn select_fair_edit_target_accept_undo_redo() {
     let t = h.state().doc.settings.target.clone().expect("hand-edited target");
     assert!(t[k0] > p.target[k0], "target point did not move up");
     assert_eq!(t[0], p.target[0], "the pinned end moved");
-    let p2 = h.state().preview().expect("re-faired").clone();
+    let p2 = h.state().curve_ws.preview().expect("re-faired").clone();
     assert_eq!(p2.target, t, "the preview uses the edited target");
     assert!(p2.result.max_deviation <= m * (1.0 + 1e-9));
 
@@ -96,7 +100,7 @@ fn closed_curve_is_faired_across_the_seam() {
     h.get_by_role_and_label(Role::Button, "Whole curve").click();
     h.run();
     let m = h.state().tolerance();
-    let p = h.state().preview().expect("a faired preview").clone();
+    let p = h.state().curve_ws.preview().expect("a faired preview").clone();
     assert_eq!(p.result.seam, fairway::fair::Seam::Faired, "{:?}", p.result.seam);
     let f = &p.result.curve;
     assert_eq!(f.knots().values(), c0.knots().values());
@@ -115,7 +119,7 @@ fn closed_curve_is_faired_across_the_seam() {
         pinned: vec![],
     });
     h.run();
-    let p2 = h.state().preview().expect("re-faired").clone();
+    let p2 = h.state().curve_ws.preview().expect("re-faired").clone();
     assert!(
         matches!(p2.result.seam, fairway::fair::Seam::Held(_)),
         "{:?}",
@@ -130,7 +134,7 @@ fn whole_curve_with_advanced_options() -> egui_kittest::Harness<'static, App> {
     let mut h = harness(App::default());
     h.get_by_role_and_label(Role::Button, "Whole curve").click();
     h.run();
-    let m = h.state().view.diag * 2e-3;
+    let m = h.state().curve_ws.view.diag * 2e-3;
     h.get_by_role_and_label(Role::Slider, "Tolerance")
         .set_value_accesskit(m);
     h.run();
@@ -151,7 +155,7 @@ fn e_polish_slider_caps_the_polish_of_the_full_fair() {
         h.run();
         assert_eq!(h.state().prefs.fair.polish_iterations, n);
         let m = h.state().doc.settings.tolerance.expect("tolerance");
-        let p = h.state().preview().expect("a faired preview").clone();
+        let p = h.state().curve_ws.preview().expect("a faired preview").clone();
         assert!(!p.draft);
         assert!(p.result.max_deviation <= m * (1.0 + 1e-9));
         p.result.energy
@@ -174,7 +178,7 @@ fn polish_choice_refairs_the_preview_inside_the_band() {
         h.get_by_label(name).click();
         h.run();
         let m = h.state().doc.settings.tolerance.expect("tolerance");
-        let p = h.state().preview().expect("a faired preview").clone();
+        let p = h.state().curve_ws.preview().expect("a faired preview").clone();
         assert!(!p.draft);
         assert!(p.result.max_deviation <= m * (1.0 + 1e-9), "{name}: band");
         let mm = fairway::measure::measure(h.state().curve(), &p.result.curve);
@@ -217,18 +221,18 @@ fn target_tools_keep_the_two_sides_of_a_corner_apart() {
     let mut h = common::harness_with_asset("kinked_profile.json");
     h.state_mut().push(fairway_editor::Command::SetRegion(Some((0.2, 0.8))));
     h.run();
-    let p = h.state().preview().expect("faired stretch by stretch").clone();
+    let p = h.state().curve_ws.preview().expect("faired stretch by stretch").clone();
     assert_eq!(p.breaks.len(), 1);
     let (b, n) = (p.breaks[0], p.target.len());
     let xy = |h: &egui_kittest::Harness<'static, App>, k: usize, on_target: bool| {
         let app = h.state();
-        let len = app.view.sampled.length;
+        let len = app.curve_ws.view.sampled.length;
         let y = if on_target {
-            app.plot.y(p.target[k])
+            app.curve_ws.plot.y(p.target[k])
         } else {
-            app.plot.rect.unwrap().center().y
+            app.curve_ws.plot.rect.unwrap().center().y
         };
-        Pos2::new(app.plot.x(app.target_s(&p, k), len), y)
+        Pos2::new(app.curve_ws.plot.x(app.curve_ws.target_s(&p, k), len), y)
     };
     // flatten from 15 samples before the kink to 15 after it
     h.get_by_label("Flatten").click();
@@ -238,12 +242,14 @@ fn target_tools_keep_the_two_sides_of_a_corner_apart() {
     drag(&mut h, &[qa, Pos2::new(0.5 * (qa.x + qc.x), qa.y), qc]);
     let t = h.state().doc.settings.target.clone().expect("hand-edited target");
     let (ka, kc) = (
-        h.state()
-            .plot
-            .x(h.state().target_s(&p, a), h.state().view.sampled.length),
-        h.state()
-            .plot
-            .x(h.state().target_s(&p, c), h.state().view.sampled.length),
+        h.state().curve_ws.plot.x(
+            h.state().curve_ws.target_s(&p, a),
+            h.state().curve_ws.view.sampled.length,
+        ),
+        h.state().curve_ws.plot.x(
+            h.state().curve_ws.target_s(&p, c),
+            h.state().curve_ws.view.sampled.length,
+        ),
     );
     assert_eq!((ka, kc), (qa.x, qc.x));
     for (lo, hi) in [(a, b - 1), (b, c)] {
@@ -289,7 +295,7 @@ fn a_region_across_a_corner_is_faired_stretch_by_stretch_with_the_corner_kept() 
     let c0 = h.state().curve().clone();
     h.state_mut().push(fairway_editor::Command::SetRegion(Some((0.2, 0.8))));
     h.run();
-    let p = h.state().preview().expect("faired stretch by stretch").clone();
+    let p = h.state().curve_ws.preview().expect("faired stretch by stretch").clone();
     h.get_by_label_contains("a corner kept (tangent break or stop): the 2 stretches between them");
     let m = h.state().tolerance();
     assert!(p.result.max_deviation <= m * (1.0 + 1e-9));
@@ -340,10 +346,10 @@ fn a_region_across_a_corner_is_faired_stretch_by_stretch_with_the_corner_kept() 
     });
     h.run();
     assert!(
-        !h.state().fairing.target_mismatch,
+        !h.state().curve_ws.fairing.target_mismatch,
         "the edited target fits the stretches' samples"
     );
-    let q = h.state().preview().expect("re-faired").clone();
+    let q = h.state().curve_ws.preview().expect("re-faired").clone();
     assert_eq!(q.target, values, "the edited target is the one faired");
     let g = &q.result.curve;
     for i in 0..=23 {
@@ -359,7 +365,7 @@ fn a_region_across_a_corner_is_faired_stretch_by_stretch_with_the_corner_kept() 
     h.get_by_role_and_label(Role::Button, "u 0.6000 to 0.8000").click();
     h.run();
     assert_eq!(h.state().region(), Some((0.6, 0.8)));
-    let r = h.state().preview().expect("the stretch is faired").clone();
+    let r = h.state().curve_ws.preview().expect("the stretch is faired").clone();
     assert!(r.corners.is_empty(), "the stretch holds no corner");
     for i in 0..=23 {
         assert_eq!(

@@ -30,9 +30,6 @@ fn temp_dir(name: &str) -> PathBuf {
 /// Type `text` into the File menu's path field (menu left open).
 fn type_path(h: &mut Harness<'static, App>, text: &str) {
     h.state_mut().path_input.clear();
-    if let Some(s) = h.state_mut().surface.as_mut() {
-        s.path_input.clear();
-    }
     h.get_by_role_and_label(Role::Button, "File").click();
     h.run();
     let field = h.get_by_role(Role::TextInput);
@@ -190,7 +187,7 @@ fn svg_export_holds_what_the_canvas_shows() {
     let mut h = harness(App::default());
     h.get_by_role_and_label(Role::Button, "Whole curve").click();
     h.run();
-    assert!(h.state().preview().is_some());
+    assert!(h.state().curve_ws.preview().is_some());
     let out = dir.join("canvas.svg");
     path_action(&mut h, &out, "Export SVG to path");
     let svg = std::fs::read_to_string(&out).unwrap_or_else(|e| panic!("{e}: {:?}", h.state().error));
@@ -317,8 +314,21 @@ fn iges_with_several_objects_opens_a_picker_and_one_object_opens_directly() {
     std::fs::write(&multi, text).unwrap();
 
     let mut h = harness(App::default());
-    let before = h.state().doc.clone();
+    // opened, every object is in the document, the first curve active
     path_action(&mut h, &multi, "Open path");
+    assert!(h.state().object_pick.is_none(), "{:?}", h.state().error);
+    let names: Vec<String> = h.state().objects.iter().map(|o| o.name.clone()).collect();
+    assert_eq!(names, ["", "HULL", ""]);
+    let geometries: Vec<Geometry> = h.state().objects.iter().map(|o| o.geometry.clone()).collect();
+    assert_eq!(geometries, objects, "exact");
+    assert_eq!((h.state().active, &h.state().doc.geometry), (0, &objects[0]));
+    assert!(!h.state().is_dirty());
+    h.get_by_label("2. HULL");
+
+    // imported, one object through the picker
+    let mut h = harness(App::default());
+    let before = h.state().doc.clone();
+    path_action(&mut h, &multi, "Import one object");
     assert!(h.state().object_pick.is_some(), "{:?}", h.state().error);
     assert_eq!(h.state().doc, before, "nothing opened before the choice");
     h.get_by_label("Choose an object");
@@ -338,20 +348,20 @@ fn iges_with_several_objects_opens_a_picker_and_one_object_opens_directly() {
     assert!(!h.state().is_dirty());
 
     // again, choosing the surface opens the surface workspace
-    path_action(&mut h, &multi, "Open path");
+    path_action(&mut h, &multi, "Import one object");
     h.get_by_role_and_label(Role::Button, "Open object 2").click();
     h.run();
-    let s = h.state().surface.as_ref().expect("surface workspace");
-    assert_eq!(s.doc.geometry, objects[1]);
+    assert!(h.state().surface.is_some(), "surface workspace");
+    assert_eq!(h.state().doc.geometry, objects[1]);
     assert!(!h.state().is_dirty());
 
-    // cancel keeps what is open
-    h.state_mut().surface = None;
-    path_action(&mut h, &multi, "Open path");
+    // cancel keeps what is open (the surface)
+    path_action(&mut h, &multi, "Import one object");
     h.get_by_role_and_label(Role::Button, "Cancel import").click();
     h.run();
     assert!(h.state().object_pick.is_none());
-    assert_eq!(h.state().doc.geometry, objects[2]);
+    assert!(h.state().surface.is_some());
+    assert_eq!(h.state().doc.geometry, objects[1]);
 
     // a file with one object opens directly, keeping its path
     let single = dir.join("single.iges");
@@ -368,7 +378,7 @@ fn a_panic_in_the_fairing_engine_is_reported_and_changes_nothing() {
     let mut h = harness(App::default());
     let geometry = h.state().doc.geometry.clone();
     // panic while preparing the fairing of a new region
-    h.state_mut().fairing.inject_panic = true;
+    h.state_mut().curve_ws.fairing.inject_panic = true;
     h.get_by_role_and_label(Role::Button, "Whole curve").click();
     h.run();
     let err = h.state().error.clone().expect("reported");
@@ -382,7 +392,7 @@ fn a_panic_in_the_fairing_engine_is_reported_and_changes_nothing() {
             .count(),
         2
     );
-    assert!(h.state().preview().is_none());
+    assert!(h.state().curve_ws.preview().is_none());
     assert!(
         h.get_by_role_and_label(Role::Button, "Accept")
             .accesskit_node()
@@ -395,16 +405,16 @@ fn a_panic_in_the_fairing_engine_is_reported_and_changes_nothing() {
     h.run();
     h.get_by_role_and_label(Role::Button, "Whole curve").click();
     h.run();
-    assert!(h.state().preview().is_some());
+    assert!(h.state().curve_ws.preview().is_some());
     assert!(h.state().error.is_none());
     // panic while re-fairing at a new tolerance
-    h.state_mut().fairing.inject_panic = true;
+    h.state_mut().curve_ws.fairing.inject_panic = true;
     let tol = h.state().tolerance() * 2.0;
     h.state_mut().push(Command::SetTolerance(tol));
     h.run();
     let err = h.state().error.clone().expect("reported");
     assert!(err.starts_with("internal error in fairing: injected panic"), "{err}");
-    assert!(h.state().preview().is_none());
+    assert!(h.state().curve_ws.preview().is_none());
     assert!(
         h.get_by_role_and_label(Role::Button, "Accept")
             .accesskit_node()
@@ -421,11 +431,11 @@ fn a_surface_document_is_autosaved_and_restored_into_the_surface_workspace() {
     fairway::io::save(&path, &doc).unwrap();
     let mut h = harness(App::default().with_autosave(&dir));
     path_action(&mut h, &path, "Open path");
-    let s = h.state_mut().surface.as_mut().expect("surface workspace");
-    s.push(fairway_editor::surface_ui::SurfCommand::SetTolerance(0.25));
+    assert!(h.state().surface.is_some(), "surface workspace");
+    h.state_mut().push(fairway_editor::Command::SetTolerance(0.25));
     h.run();
-    assert!(h.state().surface.as_ref().unwrap().is_dirty());
-    let expected = h.state().surface.as_ref().unwrap().doc.clone();
+    assert!(h.state().is_dirty());
+    let expected = h.state().doc.clone();
     assert!(autosave_file(&dir).exists());
     drop(h);
     let mut h = harness(App::default().with_autosave(&dir));
@@ -436,11 +446,10 @@ fn a_surface_document_is_autosaved_and_restored_into_the_surface_workspace() {
     );
     h.get_by_role_and_label(Role::Button, "Restore").click();
     h.run_steps(8); // the surface workspace lays out its views over a few frames
-    let s = h.state().surface.as_ref().expect("restored into the surface workspace");
-    assert_eq!(s.doc, expected);
-    assert_eq!(s.path.as_deref(), Some(path.as_path()));
-    assert!(s.is_dirty(), "differs from the file on disk");
-    assert!(h.state().is_dirty());
+    assert!(h.state().surface.is_some(), "restored into the surface workspace");
+    assert_eq!(h.state().doc, expected);
+    assert_eq!(h.state().path.as_deref(), Some(path.as_path()));
+    assert!(h.state().is_dirty(), "differs from the file on disk");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -513,12 +522,8 @@ fn the_iges_picker_also_opens_from_the_surface_workspace() {
     let mut h = harness(App::default());
     path_action(&mut h, &surf, "Open path");
     assert!(h.state().surface.is_some());
-    path_action(&mut h, &multi, "Open path");
-    assert!(
-        h.state().object_pick.is_some(),
-        "{:?}",
-        h.state().surface.as_ref().unwrap().error
-    );
+    path_action(&mut h, &multi, "Import one object");
+    assert!(h.state().object_pick.is_some(), "{:?}", h.state().error);
     assert!(
         h.state().surface.is_some(),
         "the surface stays open until a choice is made"
@@ -585,7 +590,7 @@ fn step_with_several_objects_opens_the_picker_with_its_unit_and_saves_in_that_un
 
     let mut h = harness(App::default());
     let before = h.state().doc.clone();
-    path_action(&mut h, &multi, "Open path");
+    path_action(&mut h, &multi, "Import one object");
     assert!(h.state().object_pick.is_some(), "{:?}", h.state().error);
     assert_eq!(h.state().doc, before, "nothing opened before the choice");
     h.get_by_label("Choose an object");
@@ -597,10 +602,14 @@ fn step_with_several_objects_opens_the_picker_with_its_unit_and_saves_in_that_un
     h.get_by_role_and_label(Role::Button, "Open object 2").click();
     h.run();
     assert!(h.state().object_pick.is_none());
-    let s = h.state().surface.as_ref().expect("surface workspace");
-    assert_eq!(s.doc.geometry, objects[1], "exact");
-    assert_eq!(s.unit, Some(Unit::Inch));
-    assert_eq!(s.path, None, "untitled: saving must not overwrite the STEP file");
+    assert!(h.state().surface.is_some(), "surface workspace");
+    assert_eq!(h.state().doc.geometry, objects[1], "exact");
+    assert_eq!(h.state().unit, Some(Unit::Inch));
+    assert_eq!(
+        h.state().path,
+        None,
+        "untitled: saving must not overwrite the STEP file"
+    );
     h.get_by_label("unit in");
     h.get_by_label("Tolerance (in)");
     // saved as STEP: declares inch, the surface exact
@@ -610,7 +619,7 @@ fn step_with_several_objects_opens_the_picker_with_its_unit_and_saves_in_that_un
     assert_eq!((f.unit, f.objects.as_slice()), (Some(Unit::Inch), &objects[1..2]));
 
     // the 2D curve, to the curve editor: the unit in the status bar and beside the tolerance
-    path_action(&mut h, &multi, "Open path");
+    path_action(&mut h, &multi, "Import one object");
     h.get_by_role_and_label(Role::Button, "Open object 1").click();
     h.run();
     assert!(h.state().surface.is_none());

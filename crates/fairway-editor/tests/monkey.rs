@@ -7,6 +7,7 @@
 use eframe::egui;
 use egui::{Event, Key, Modifiers, PointerButton, Pos2};
 use egui_kittest::Harness;
+use fairway::Geometry;
 use fairway_editor::App;
 
 mod common;
@@ -38,18 +39,12 @@ impl Rng {
 fn check(h: &Harness<'static, App>, file: &str, seed: u64, step: usize, what: &str) {
     let app = h.state();
     let at = format!("{file}, seed {seed}, action {step} ({what})");
-    for e in [
-        app.error.as_deref(),
-        app.surface.as_ref().and_then(|s| s.error.as_deref()),
-    ]
-    .into_iter()
-    .flatten()
-    {
+    if let Some(e) = app.error.as_deref() {
         assert!(!e.contains("internal error"), "{at}: {e}");
     }
-    if let Some(s) = &app.surface {
-        if let Some(((u1, u2), (v1, v2))) = s.doc.settings.region_uv {
-            let ((a, b), (c, d)) = s.surface().domain();
+    if let (Some(_), Geometry::Surface(surface)) = (&app.surface, &app.doc.geometry) {
+        if let Some(((u1, u2), (v1, v2))) = app.doc.settings.region_uv {
+            let ((a, b), (c, d)) = surface.domain();
             let inside =
                 |x: f64, lo: f64, hi: f64| x.is_finite() && x >= lo - 1e-9 * (hi - lo) && x <= hi + 1e-9 * (hi - lo);
             assert!(
@@ -57,7 +52,7 @@ fn check(h: &Harness<'static, App>, file: &str, seed: u64, step: usize, what: &s
                 "{at}: surface region ({u1}, {u2}) × ({v1}, {v2}) outside the domain"
             );
         }
-        if let Some(t) = s.doc.settings.tolerance {
+        if let Some(t) = app.doc.settings.tolerance {
             assert!(t.is_finite() && t > 0.0, "{at}: tolerance {t}");
         }
         return;
@@ -179,18 +174,18 @@ fn monkey(file: &str, seed: u64, actions: usize) {
     }
     let app = h.state();
     match &app.surface {
-        Some(s) => println!(
+        Some(_) => println!(
             "{file} seed {seed}: surface region {:?}, tolerance {:?}, dirty {}, error {:?}",
-            s.doc.settings.region_uv,
-            s.doc.settings.tolerance,
-            s.is_dirty(),
-            s.error
+            app.doc.settings.region_uv,
+            app.doc.settings.tolerance,
+            app.is_dirty(),
+            app.error
         ),
         None => println!(
             "{file} seed {seed}: region {:?}, tolerance {:?}, preview {}, dirty {}, error {:?}",
             app.doc.settings.region,
             app.doc.settings.tolerance,
-            app.preview().is_some(),
+            app.curve_ws.preview().is_some(),
             app.is_dirty(),
             app.error
         ),

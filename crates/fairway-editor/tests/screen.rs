@@ -22,16 +22,19 @@ fn whole_curve() -> Harness<'static, App> {
     let mut h = harness(App::default());
     h.get_by_role_and_label(Role::Button, "Whole curve").click();
     h.run();
-    assert!(h.state().preview().is_some());
+    assert!(h.state().curve_ws.preview().is_some());
     h
 }
 
 /// Screen x of target sample `k` on the κ plot, and the plot's mid height.
 fn plot_xy(h: &Harness<'static, App>, k: usize) -> (f32, f32) {
     let app = h.state();
-    let p = app.preview().unwrap();
-    let len = app.view.sampled.length;
-    (app.plot.x(app.target_s(p, k), len), app.plot.rect.unwrap().center().y)
+    let p = app.curve_ws.preview().unwrap();
+    let len = app.curve_ws.view.sampled.length;
+    (
+        app.curve_ws.plot.x(app.curve_ws.target_s(p, k), len),
+        app.curve_ws.plot.rect.unwrap().center().y,
+    )
 }
 
 /// A primary click at `q` (press and release without moving).
@@ -54,44 +57,47 @@ fn hovering_the_canvas_or_the_plot_moves_one_shared_cursor() {
     let mut h = harness(App::default());
     let (q, s_expected, ds) = {
         let app = h.state();
-        let s = &app.view.sampled;
-        let q = app.canvas.to_screen(s.point_at_u(0.4));
+        let s = &app.curve_ws.view.sampled;
+        let q = app.curve_ws.canvas.to_screen(s.point_at_u(0.4));
         (q, s.s_at_u(0.4), s.length / s.len() as f64)
     };
     h.hover_at(q);
     h.run();
-    let hs = h.state().hover_s.expect("hover on the curve sets the cursor");
+    let hs = h.state().curve_ws.hover_s.expect("hover on the curve sets the cursor");
     assert!((hs - s_expected).abs() <= 2.0 * ds, "{hs} vs {s_expected}");
     // the status bar shows the cursor's s and κ
     assert!(h.query_by_label_contains("s = ").is_some());
     // hover on the plot: the cursor follows the plot's arc length
-    let (r, len) = (h.state().plot.rect.unwrap(), h.state().view.sampled.length);
+    let (r, len) = (
+        h.state().curve_ws.plot.rect.unwrap(),
+        h.state().curve_ws.view.sampled.length,
+    );
     h.hover_at(Pos2::new(r.left() + 0.7 * r.width(), r.center().y));
     h.run();
-    let hs = h.state().hover_s.expect("hover on the plot sets the cursor");
+    let hs = h.state().curve_ws.hover_s.expect("hover on the plot sets the cursor");
     assert!((hs / len - 0.7).abs() < 0.005, "{}", hs / len);
     // away from both: no cursor
     let c = h.get_by_label("Canvas").rect();
     h.hover_at(c.left_top() + egui::vec2(3.0, 3.0));
     h.run();
-    assert!(h.state().hover_s.is_none());
+    assert!(h.state().curve_ws.hover_s.is_none());
 }
 
 #[test]
 fn pin_tool_pins_a_target_value_that_a_drag_then_keeps() {
     let mut h = whole_curve();
-    let n = h.state().preview().unwrap().target.len();
+    let n = h.state().curve_ws.preview().unwrap().target.len();
     let k = n / 2;
-    let pins0 = h.state().preview().unwrap().pinned.clone();
+    let pins0 = h.state().curve_ws.preview().unwrap().pinned.clone();
     assert!(!pins0[k]);
     h.get_by_label("Pin").click();
     h.run();
-    assert_eq!(h.state().tool, TargetTool::Pin);
+    assert_eq!(h.state().curve_ws.tool, TargetTool::Pin);
     let (x, y) = plot_xy(&h, k);
     h.hover_at(Pos2::new(x, y));
     h.run();
     click_at(&mut h, Pos2::new(x, y));
-    let p = h.state().preview().unwrap().clone();
+    let p = h.state().curve_ws.preview().unwrap().clone();
     let mut want = pins0.clone();
     want[k] = true;
     assert_eq!(p.pinned, want, "one click pins the nearest sample, only it");
@@ -103,7 +109,7 @@ fn pin_tool_pins_a_target_value_that_a_drag_then_keeps() {
     let (x1, _) = plot_xy(&h, k + 2);
     let y1 = {
         let app = h.state();
-        app.plot.y(app.preview().unwrap().target[k + 2])
+        app.curve_ws.plot.y(app.curve_ws.preview().unwrap().target[k + 2])
     };
     drag(
         &mut h,
@@ -112,12 +118,16 @@ fn pin_tool_pins_a_target_value_that_a_drag_then_keeps() {
     let t = h.state().doc.settings.target.clone().expect("edited");
     assert_eq!(t[k], g_k, "the pinned value moved");
     assert!(t[k + 2] > p.target[k + 2]);
-    assert_eq!(h.state().preview().unwrap().target, t, "re-faired with the edit");
+    assert_eq!(
+        h.state().curve_ws.preview().unwrap().target,
+        t,
+        "re-faired with the edit"
+    );
     // a second click on the same sample unpins it
     h.get_by_label("Pin").click();
     h.run();
     click_at(&mut h, Pos2::new(x, y));
-    assert_eq!(h.state().preview().unwrap().pinned, pins0, "unpinned");
+    assert_eq!(h.state().curve_ws.preview().unwrap().pinned, pins0, "unpinned");
 }
 
 #[test]
@@ -127,7 +137,7 @@ fn smooth_brush_strength_slider_and_reset_target() {
     h.get_by_role_and_label(Role::Slider, "Strength")
         .set_value_accesskit(0.0);
     h.run();
-    let p0 = h.state().preview().unwrap().clone();
+    let p0 = h.state().curve_ws.preview().unwrap().clone();
     assert_eq!(h.state().prefs.fair.strength, Some(0));
     assert_eq!(p0.target, p0.original);
     let n = p0.target.len();
@@ -155,12 +165,12 @@ fn smooth_brush_strength_slider_and_reset_target() {
     h.get_by_role_and_label(Role::Button, "Reset target").click();
     h.run();
     assert!(h.state().doc.settings.target.is_none());
-    assert_eq!(h.state().preview().unwrap().target, p0.target);
+    assert_eq!(h.state().curve_ws.preview().unwrap().target, p0.target);
     // a stronger automatic target is smoother everywhere
     h.get_by_role_and_label(Role::Slider, "Strength")
         .set_value_accesskit(40.0);
     h.run();
-    let p40 = h.state().preview().unwrap().clone();
+    let p40 = h.state().curve_ws.preview().unwrap().clone();
     assert!(roughness(&p40.target, 1, n - 2) < 0.5 * roughness(&p0.target, 1, n - 2));
 }
 
@@ -174,8 +184,8 @@ fn end_conditions_and_integrator_re_fair_the_preview() {
     let c0 = h.state().curve().clone();
     // the default ends are G2: the faired curvature meets the original's at u1 and u2
     assert_eq!(h.state().ends(), [EndCondition::G2; 2]);
-    let g2 = h.state().preview().unwrap().result.curve.clone();
-    let kmax = h.state().view.sampled.kappa_range.1.abs().max(1e-9);
+    let g2 = h.state().curve_ws.preview().unwrap().result.curve.clone();
+    let kmax = h.state().curve_ws.view.sampled.kappa_range.1.abs().max(1e-9);
     for u in [0.3, 0.6] {
         let (ko, kf) = (c0.curvature(u), g2.curvature(u));
         assert!((ko - kf).abs() < 1e-6 * kmax, "κ jumps at u = {u}: {ko} vs {kf}");
@@ -197,7 +207,7 @@ fn end_conditions_and_integrator_re_fair_the_preview() {
     h.state_mut().apply(fairway_editor::Command::Redo);
     h.run();
     assert_eq!(h.state().ends(), [EndCondition::G0; 2]);
-    let p = h.state().preview().unwrap().clone();
+    let p = h.state().curve_ws.preview().unwrap().clone();
     assert_ne!(p.result.curve.points(), g2.points(), "G0 ends did not re-fair");
     assert!(p.result.max_deviation <= m * (1.0 + 1e-9));
     for u in [0.3, 0.6] {
@@ -213,11 +223,11 @@ fn end_conditions_and_integrator_re_fair_the_preview() {
     // search polishes the fit itself)
     h.get_by_label("Line search").click();
     h.run();
-    let p = h.state().preview().unwrap().clone();
+    let p = h.state().curve_ws.preview().unwrap().clone();
     h.get_by_label("Euler").click();
     h.run();
     assert_eq!(h.state().prefs.fair.integrator, Integrator::Euler);
-    let pe = h.state().preview().unwrap().clone();
+    let pe = h.state().curve_ws.preview().unwrap().clone();
     assert_ne!(pe.result.curve, p.result.curve, "the integrator did not re-fair");
     assert!(pe.result.max_deviation <= m * (1.0 + 1e-9));
 }
@@ -231,11 +241,11 @@ fn ease_g2_curve_ends_checkbox_re_fairs_a_region_at_the_curve_end() {
     let inner = (d0 + 0.3 * (d1 - d0), d0 + 0.6 * (d1 - d0));
     h.state_mut().apply(fairway_editor::Command::SetRegion(Some(inner)));
     h.run();
-    let inner_plain = h.state().preview().unwrap().result.curve.clone();
+    let inner_plain = h.state().curve_ws.preview().unwrap().result.curve.clone();
     let at_start = (d0, d0 + 0.5 * (d1 - d0));
     h.state_mut().apply(fairway_editor::Command::SetRegion(Some(at_start)));
     h.run();
-    let plain = h.state().preview().unwrap().result.curve.clone();
+    let plain = h.state().curve_ws.preview().unwrap().result.curve.clone();
     assert!(!h.state().prefs.fair.ease_ends);
     assert!(
         !h.get_by_role_and_label(Role::CheckBox, "Ease G2 curve ends")
@@ -247,7 +257,7 @@ fn ease_g2_curve_ends_checkbox_re_fairs_a_region_at_the_curve_end() {
     assert!(h.state().prefs.fair.ease_ends);
     let m = h.state().tolerance();
     let c0 = h.state().curve().clone();
-    let p = h.state().preview().unwrap().clone();
+    let p = h.state().curve_ws.preview().unwrap().clone();
     assert_ne!(p.result.curve.points(), plain.points(), "easing did not re-fair");
     assert!(p.result.max_deviation <= m * (1.0 + 1e-9));
     let (ko, kf) = (c0.curvature(d0), p.result.curve.curvature(d0));
@@ -257,7 +267,10 @@ fn ease_g2_curve_ends_checkbox_re_fairs_a_region_at_the_curve_end() {
     );
     h.state_mut().apply(fairway_editor::Command::SetRegion(Some(inner)));
     h.run();
-    assert_eq!(h.state().preview().unwrap().result.curve.points(), inner_plain.points());
+    assert_eq!(
+        h.state().curve_ws.preview().unwrap().result.curve.points(),
+        inner_plain.points()
+    );
     // nothing to ease there: the box is greyed out
     assert!(
         h.get_by_role_and_label(Role::CheckBox, "Ease G2 curve ends")
@@ -272,25 +285,25 @@ fn compare_space_toggle_blend_overlay_and_the_trio() {
     h.state_mut()
         .apply(fairway_editor::Command::SetRegion(Some((0.3, 0.6))));
     h.run();
-    assert!(h.state().compare.show_after);
+    assert!(h.state().curve_ws.compare.show_after);
     h.key_press(Key::Space);
     h.run();
-    assert!(!h.state().compare.show_after, "Space shows the original");
+    assert!(!h.state().curve_ws.compare.show_after, "Space shows the original");
     h.key_press(Key::Space);
     h.run();
-    assert!(h.state().compare.show_after, "Space shows the result again");
+    assert!(h.state().curve_ws.compare.show_after, "Space shows the result again");
     h.get_by_role_and_label(Role::Slider, "Blend").set_value_accesskit(0.25);
     h.run();
-    assert_eq!(h.state().compare.blend, 0.25);
+    assert_eq!(h.state().curve_ws.compare.blend, 0.25);
     h.get_by_role_and_label(Role::CheckBox, "Overlay original").click();
     h.run();
-    assert!(!h.state().compare.overlay);
+    assert!(!h.state().curve_ws.compare.overlay);
     // the trio: three fairs at m/3, m, 3m, each within its own band, shown side by side
     h.get_by_role_and_label(Role::CheckBox, "Tight / medium / loose")
         .click();
     h.run();
     let m = h.state().tolerance();
-    let trio = h.state().fairing.trio.clone().expect("trio computed");
+    let trio = h.state().curve_ws.fairing.trio.clone().expect("trio computed");
     let mut devs = vec![];
     for ((mi, r), f) in trio.iter().zip([1.0 / 3.0, 1.0, 3.0]) {
         assert!((mi / (m * f) - 1.0).abs() < 1e-12);
@@ -315,10 +328,10 @@ fn measures_panel_marks_where_the_deviation_is_largest() {
         .apply(fairway_editor::Command::SetRegion(Some((0.3, 0.6))));
     h.run();
     let app = h.state();
-    let (before, after) = app.fairing.measures.clone().expect("measures after the frame");
-    let u = app.fairing.dev_at.expect("max-deviation marker");
+    let (before, after) = app.curve_ws.fairing.measures.clone().expect("measures after the frame");
+    let u = app.curve_ws.fairing.dev_at.expect("max-deviation marker");
     assert!((0.3..=0.6).contains(&u), "marker outside the region: {u}");
-    let p = app.preview().unwrap();
+    let p = app.curve_ws.preview().unwrap();
     // the marked point is (one of) the farthest from the faired curve
     let proj = fairway::closest::CurveProjector::new(&p.result.curve, 32);
     let q = app.curve().point(u);
@@ -367,13 +380,13 @@ fn keyboard_shortcuts_undo_and_redo() {
     h.hover_at(h.get_by_label("Canvas").rect().left_top() + egui::vec2(3.0, 3.0));
     h.key_press(Key::F);
     h.run();
-    let (ppu, c) = (h.state().canvas.ppu, h.state().canvas.center);
-    h.state_mut().canvas.ppu *= 3.0;
-    h.state_mut().canvas.center += fairway::DVec2::new(0.3, 0.1);
+    let (ppu, c) = (h.state().curve_ws.canvas.ppu, h.state().curve_ws.canvas.center);
+    h.state_mut().curve_ws.canvas.ppu *= 3.0;
+    h.state_mut().curve_ws.canvas.center += fairway::DVec2::new(0.3, 0.1);
     h.key_press(Key::F);
     h.run();
-    assert!((h.state().canvas.ppu / ppu - 1.0).abs() < 1e-9);
-    assert!((h.state().canvas.center - c).length() < 1e-12);
+    assert!((h.state().curve_ws.canvas.ppu / ppu - 1.0).abs() < 1e-9);
+    assert!((h.state().curve_ws.canvas.center - c).length() < 1e-12);
 }
 
 fn temp_dir(name: &str) -> std::path::PathBuf {
@@ -512,7 +525,9 @@ fn region_handle_drag_exact_tolerance_field_and_ctrl_s() {
     let path: Vec<Pos2> = (0..=5)
         .map(|k| {
             let app = h.state();
-            app.canvas.to_screen(app.view.sampled.point_at_u(0.6 + 0.02 * k as f64))
+            app.curve_ws
+                .canvas
+                .to_screen(app.curve_ws.view.sampled.point_at_u(0.6 + 0.02 * k as f64))
         })
         .collect();
     drag(&mut h, &path);
@@ -527,7 +542,7 @@ fn region_handle_drag_exact_tolerance_field_and_ctrl_s() {
         .set_value_accesskit(0.00123);
     h.run();
     assert_eq!(h.state().doc.settings.tolerance, Some(0.00123));
-    assert!(h.state().preview().unwrap().result.max_deviation <= 0.00123 * (1.0 + 1e-9));
+    assert!(h.state().curve_ws.preview().unwrap().result.max_deviation <= 0.00123 * (1.0 + 1e-9));
     // Ctrl+S saves to the document's path without a dialog
     let dir = temp_dir("ctrl-s");
     let path = dir.join("doc.ron");
@@ -548,7 +563,7 @@ fn wheel_zooms_about_the_pointer() {
     let q = h.get_by_label("Canvas").rect().center() + egui::vec2(100.0, -40.0);
     h.hover_at(q);
     h.run();
-    let (ppu, w) = (h.state().canvas.ppu, h.state().canvas.to_world(q));
+    let (ppu, w) = (h.state().curve_ws.canvas.ppu, h.state().curve_ws.canvas.to_world(q));
     h.event(egui::Event::MouseWheel {
         unit: egui::MouseWheelUnit::Point,
         delta: egui::vec2(0.0, 120.0),
@@ -561,8 +576,16 @@ fn wheel_zooms_about_the_pointer() {
         h.step();
     }
     let app = h.state();
-    assert!(app.canvas.ppu > 1.1 * ppu, "no zoom: {} -> {}", ppu, app.canvas.ppu);
-    assert!((app.canvas.to_world(q) - w).length() < 1e-9 * app.view.diag.max(1.0) + 1e-6 / app.canvas.ppu);
+    assert!(
+        app.curve_ws.canvas.ppu > 1.1 * ppu,
+        "no zoom: {} -> {}",
+        ppu,
+        app.curve_ws.canvas.ppu
+    );
+    assert!(
+        (app.curve_ws.canvas.to_world(q) - w).length()
+            < 1e-9 * app.curve_ws.view.diag.max(1.0) + 1e-6 / app.curve_ws.canvas.ppu
+    );
 }
 
 #[test]
@@ -573,12 +596,12 @@ fn region_edge_drag_on_the_kappa_plot_moves_only_that_end() {
     h.run();
     let (x0, x1, y, len) = {
         let app = h.state();
-        let s = &app.view.sampled;
+        let s = &app.curve_ws.view.sampled;
         let len = s.length;
         (
-            app.plot.x(s.s_at_u(0.3), len),
-            app.plot.x(s.s_at_u(0.3), len) - 40.0,
-            app.plot.rect.unwrap().top() + 5.0,
+            app.curve_ws.plot.x(s.s_at_u(0.3), len),
+            app.curve_ws.plot.x(s.s_at_u(0.3), len) - 40.0,
+            app.curve_ws.plot.rect.unwrap().top() + 5.0,
             len,
         )
     };
@@ -589,9 +612,9 @@ fn region_edge_drag_on_the_kappa_plot_moves_only_that_end() {
     let app = h.state();
     let (u1, u2) = app.region().unwrap();
     assert_eq!(u2, 0.6, "the other end moved");
-    let want = app.plot.s(x1, len);
+    let want = app.curve_ws.plot.s(x1, len);
     assert!(
-        (app.view.sampled.s_at_u(u1) - want).abs() < 1e-3 * len,
+        (app.curve_ws.view.sampled.s_at_u(u1) - want).abs() < 1e-3 * len,
         "start at u = {u1}"
     );
     assert!(u1 < 0.3);
@@ -603,7 +626,9 @@ fn a_drag_previews_a_draft_and_the_release_fairs_in_full() {
     let pts: Vec<Pos2> = (0..=6)
         .map(|k| {
             let app = h.state();
-            app.canvas.to_screen(app.view.sampled.point_at_u(0.3 + 0.05 * k as f64))
+            app.curve_ws
+                .canvas
+                .to_screen(app.curve_ws.view.sampled.point_at_u(0.3 + 0.05 * k as f64))
         })
         .collect();
     h.hover_at(pts[0]);
@@ -616,9 +641,14 @@ fn a_drag_previews_a_draft_and_the_release_fairs_in_full() {
     }
     h.step();
     // still dragging: a draft (no E polish), in the band, and Accept waits
-    assert!(h.state().drag_in_progress);
+    assert!(h.state().curve_ws.drag_in_progress);
     let m = h.state().tolerance();
-    let draft = h.state().preview().expect("live preview while dragging").clone();
+    let draft = h
+        .state()
+        .curve_ws
+        .preview()
+        .expect("live preview while dragging")
+        .clone();
     assert!(draft.draft);
     assert!(draft.result.max_deviation <= m * (1.0 + 1e-9));
     assert!(
@@ -628,8 +658,8 @@ fn a_drag_previews_a_draft_and_the_release_fairs_in_full() {
     );
     h.drop_at(*pts.last().unwrap());
     h.run();
-    assert!(!h.state().drag_in_progress);
-    let full = h.state().preview().expect("preview after the release").clone();
+    assert!(!h.state().curve_ws.drag_in_progress);
+    let full = h.state().curve_ws.preview().expect("preview after the release").clone();
     assert!(!full.draft, "the release did not re-fair in full");
     assert_eq!(full.params, draft.params, "same region, same samples");
     assert!(full.result.max_deviation <= m * (1.0 + 1e-9));

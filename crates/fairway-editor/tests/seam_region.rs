@@ -23,7 +23,7 @@ fn closed_app() -> App {
 /// Screen point of the canvas curve at parameter `u`.
 fn at(h: &Harness<'static, App>, u: f64) -> Pos2 {
     let app = h.state();
-    app.canvas.to_screen(app.view.sampled.point_at_u(u))
+    app.curve_ws.canvas.to_screen(app.curve_ws.view.sampled.point_at_u(u))
 }
 
 /// Drag along the canvas curve through the parameters `us` (each a frame).
@@ -56,7 +56,7 @@ fn supported_in(c: &BSplineCurve, lo: f64, hi: f64) -> Vec<usize> {
 fn canvas_drag_past_the_seam_selects_faires_and_accepts_a_region_across_it() {
     let mut h = harness(closed_app());
     let c0 = h.state().curve().clone();
-    assert!(h.state().view.closed);
+    assert!(h.state().curve_ws.view.closed);
     drag_along(&mut h, &through_seam(0.85, 0.15, 0.02));
     let (u1, u2) = h.state().region().expect("a region");
     assert!(u1 > u2, "not across the seam: {u1} {u2}");
@@ -67,9 +67,9 @@ fn canvas_drag_past_the_seam_selects_faires_and_accepts_a_region_across_it() {
 
     // the full preview (the drag is over): faired through the re-seamed setup, back on the original knots
     let m = h.state().tolerance();
-    let p = h.state().preview().expect("a faired preview").clone();
+    let p = h.state().curve_ws.preview().expect("a faired preview").clone();
     assert!(!p.draft);
-    assert!(h.state().fairing.across_seam());
+    assert!(h.state().curve_ws.fairing.across_seam());
     assert_eq!(p.result.seam, fairway::fair::Seam::Faired);
     let f = &p.result.curve;
     assert_eq!(f.knots(), c0.knots());
@@ -119,7 +119,10 @@ fn canvas_drag_past_the_seam_selects_faires_and_accepts_a_region_across_it() {
     assert_eq!(h.state().doc, before);
     assert_eq!(h.state().region(), Some((u1, u2)));
     // the restored region is faired again, to the same curve
-    assert_eq!(&h.state().preview().expect("preview after undo").result.curve, f);
+    assert_eq!(
+        &h.state().curve_ws.preview().expect("preview after undo").result.curve,
+        f
+    );
     h.get_by_role_and_label(Role::Button, "Redo").click();
     h.run();
     assert_eq!(h.state().curve(), f);
@@ -135,7 +138,11 @@ fn a_region_handle_dragged_past_the_seam_wraps_the_region_and_back() {
     let (u1, u2) = h.state().region().unwrap();
     assert_eq!(u1, 0.6, "the other end stays");
     assert!((u2 - 0.1).abs() < 0.01, "{u2}");
-    assert!(h.state().preview().is_some(), "{:?}", h.state().fairing.preview);
+    assert!(
+        h.state().curve_ws.preview().is_some(),
+        "{:?}",
+        h.state().curve_ws.fairing.preview
+    );
     // and the start handle of the region across the seam, forward through the seam: ordinary again
     let us: Vec<f64> = (0..=9).map(|k| 0.6 + 0.04 * k as f64).chain([0.02, 0.05]).collect();
     drag_along(&mut h, &us);
@@ -146,7 +153,7 @@ fn a_region_handle_dragged_past_the_seam_wraps_the_region_and_back() {
 #[test]
 fn a_drag_leaving_the_kappa_plot_at_its_right_edge_goes_on_through_the_seam() {
     let mut h = harness(closed_app());
-    let r = h.state().plot.rect.unwrap();
+    let r = h.state().curve_ws.plot.rect.unwrap();
     let y = r.center().y;
     let xs = [0.8, 0.9, 0.97, 1.03, 1.1, 1.15];
     let path: Vec<Pos2> = xs.iter().map(|&f| Pos2::new(r.left() + f * r.width(), y)).collect();
@@ -154,11 +161,14 @@ fn a_drag_leaving_the_kappa_plot_at_its_right_edge_goes_on_through_the_seam() {
     let app = h.state();
     let (u1, u2) = app.region().expect("region from the κ plot");
     assert!(u1 > u2, "{u1} {u2}");
-    let len = app.view.sampled.length;
-    let (s1, s2) = (app.view.sampled.s_at_u(u1), app.view.sampled.s_at_u(u2));
+    let len = app.curve_ws.view.sampled.length;
+    let (s1, s2) = (
+        app.curve_ws.view.sampled.s_at_u(u1),
+        app.curve_ws.view.sampled.s_at_u(u2),
+    );
     // the side panel widens a little once a region shows, so the plot is narrower at the release:
     // the last point's fraction of the plot as it is then, one length on
-    let r2 = app.plot.rect.unwrap();
+    let r2 = app.curve_ws.plot.rect.unwrap();
     let f2 = (path.last().unwrap().x - r2.left()) / r2.width() - 1.0;
     assert!(
         (s1 / len - 0.8).abs() < 0.01 && (s2 / len - f2 as f64).abs() < 0.01,
@@ -179,8 +189,12 @@ fn a_region_across_the_seam_round_trips_through_a_saved_document() {
     let doc = fairway::io::load(&path).expect("saved document");
     assert_eq!(doc.settings.region, Some((0.8, 0.2)));
     let h = harness(App::with_document(doc, Some(path)));
-    assert!(h.state().fairing.across_seam());
-    assert!(h.state().preview().is_some(), "{:?}", h.state().fairing.preview);
+    assert!(h.state().curve_ws.fairing.across_seam());
+    assert!(
+        h.state().curve_ws.preview().is_some(),
+        "{:?}",
+        h.state().curve_ws.fairing.preview
+    );
     h.get_by_label_contains("u from 0.8000 to 0.2000 (across the seam)");
     std::fs::remove_dir_all(&dir).ok();
     // on an open curve the ends are put in order
@@ -204,7 +218,11 @@ fn a_seam_that_cannot_be_re_seamed_is_an_error_message() {
     let mut doc = Document::new(fairway::Geometry::Curve(c.with_points(q).unwrap()));
     doc.settings.region = Some((0.8, 0.2));
     let h = harness(App::with_document(doc, None));
-    let p = h.state().preview().expect("faired as the two sides of the seam");
+    let p = h
+        .state()
+        .curve_ws
+        .preview()
+        .expect("faired as the two sides of the seam");
     assert_eq!(p.stretches, vec![(0.8, 1.0), (0.0, 0.2)]);
     assert_eq!(p.corners[0].u, 0.0);
     // a seam that is smooth (G1) but not parametrically C2 (the speed jumps) cannot be re-seamed: an error
@@ -213,7 +231,7 @@ fn a_seam_that_cannot_be_re_seamed_is_an_error_message() {
     let mut doc = Document::new(fairway::Geometry::Curve(c.with_points(q).unwrap()));
     doc.settings.region = Some((0.8, 0.2));
     let h = harness(App::with_document(doc, None));
-    match &h.state().fairing.preview {
+    match &h.state().curve_ws.fairing.preview {
         Some(Err(e)) => assert!(e.contains("re-seamed"), "{e}"),
         other => panic!("expected an error, got {other:?}"),
     }
@@ -242,15 +260,18 @@ fn target_drag_next_to_the_seam_reaches_through_it() {
     let mut app = closed_app();
     app.apply(Command::SetRegion(Some((0.85, 0.15))));
     let mut h = harness(app);
-    let p = h.state().preview().expect("preview").clone();
+    let p = h.state().curve_ws.preview().expect("preview").clone();
     let k0 = p.params.windows(2).position(|w| w[1] < w[0]).expect("the seam") + 1;
     let (x, y) = {
         let app = h.state();
-        let len = app.view.sampled.length;
-        (app.plot.x(app.target_s(&p, k0), len), app.plot.y(p.target[k0]))
+        let len = app.curve_ws.view.sampled.length;
+        (
+            app.curve_ws.plot.x(app.curve_ws.target_s(&p, k0), len),
+            app.curve_ws.plot.y(p.target[k0]),
+        )
     };
     assert!(
-        x - h.state().plot.rect.unwrap().left() < 5.0,
+        x - h.state().curve_ws.plot.rect.unwrap().left() < 5.0,
         "the sample after the seam is at the left edge"
     );
     drag(
@@ -266,9 +287,9 @@ fn target_drag_next_to_the_seam_reaches_through_it() {
     );
     let far = k0 + (t.len() - k0) / 2;
     assert_eq!(t[far], p.target[far], "a point far away moved");
-    let p2 = h.state().preview().expect("re-faired").clone();
+    let p2 = h.state().curve_ws.preview().expect("re-faired").clone();
     assert_eq!(p2.target, t);
-    assert!(h.state().fairing.across_seam());
+    assert!(h.state().curve_ws.fairing.across_seam());
 }
 
 /// The κ plot's edge of a region across the seam: the end u2 (left part of the plot) dragged out past
@@ -281,8 +302,11 @@ fn a_plot_edge_dragged_out_of_the_plot_goes_on_through_the_seam() {
     let mut h = harness(app);
     let (r, x2) = {
         let app = h.state();
-        let len = app.view.sampled.length;
-        (app.plot.rect.unwrap(), app.plot.x(app.view.sampled.s_at_u(0.15), len))
+        let len = app.curve_ws.view.sampled.length;
+        (
+            app.curve_ws.plot.rect.unwrap(),
+            app.curve_ws.plot.x(app.curve_ws.view.sampled.s_at_u(0.15), len),
+        )
     };
     // (near the top: away from the target curve, which a press would grab instead)
     let y = r.top() + 4.0;
@@ -296,8 +320,11 @@ fn a_plot_edge_dragged_out_of_the_plot_goes_on_through_the_seam() {
     assert_eq!(u1, 0.7, "the other end stays");
     assert!(u2 > u1 && u2 < 1.0, "{u2}");
     // 60 points past the left edge: that far before the right edge, on the plot as it is now
-    let r2 = app.plot.rect.unwrap();
-    let x = app.plot.x(app.view.sampled.s_at_u(u2), app.view.sampled.length);
+    let r2 = app.curve_ws.plot.rect.unwrap();
+    let x = app
+        .curve_ws
+        .plot
+        .x(app.curve_ws.view.sampled.s_at_u(u2), app.curve_ws.view.sampled.length);
     assert!(
         (x - (r2.right() - 60.0)).abs() < 0.02 * r2.width(),
         "{x} vs {}",
@@ -355,7 +382,7 @@ fn a_closed_curve_with_a_kink_is_faired_across_its_seam_with_the_kink_kept() {
     let (a, b) = c.domain();
     doc.settings.region = Some((a, b));
     let mut h = harness(App::with_document(doc, None));
-    let p = h.state().preview().expect("the whole curve is faired").clone();
+    let p = h.state().curve_ws.preview().expect("the whole curve is faired").clone();
     assert_eq!(p.result.seam, fairway::fair::Seam::Faired);
     assert_eq!(p.corners.len(), 1);
     assert_eq!(p.corners[0].u, u0);
@@ -374,7 +401,7 @@ fn a_closed_curve_with_a_kink_is_faired_across_its_seam_with_the_kink_kept() {
     // a region across the seam holding the kink
     h.state_mut().push(Command::SetRegion(Some((0.8, 0.3))));
     h.run();
-    let p = h.state().preview().expect("faired stretch by stretch").clone();
+    let p = h.state().curve_ws.preview().expect("faired stretch by stretch").clone();
     assert_eq!(p.stretches.len(), 2, "{:?}", p.stretches);
     assert_eq!(p.stretches[0].0, 0.8);
     assert!((p.stretches[0].1 - u0).abs() < 1e-12, "{:?}", p.stretches);
@@ -402,7 +429,7 @@ fn a_kink_at_the_seam_is_kept_as_a_corner_when_the_whole_curve_is_faired() {
     let mut doc = Document::new(fairway::Geometry::Curve(c.clone()));
     doc.settings.region = Some((0.0, 1.0));
     let h = harness(App::with_document(doc, None));
-    let p = h.state().preview().expect("faired").clone();
+    let p = h.state().curve_ws.preview().expect("faired").clone();
     h.get_by_label_contains("closed curve: its seam is a corner, kept (G1 on both sides)");
     assert_eq!(p.corners.len(), 1);
     assert_eq!(p.corners[0].u, 0.0);

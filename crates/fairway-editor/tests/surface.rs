@@ -13,7 +13,8 @@ mod common;
 use common::{asset, drag, harness};
 
 fn surface(app: &App) -> BSplineSurface {
-    match &app.surface.as_ref().expect("surface workspace").doc.geometry {
+    assert!(app.surface.is_some(), "surface workspace");
+    match &app.doc.geometry {
         Geometry::Surface(s) => s.clone(),
         Geometry::Curve(_) => panic!("not a surface"),
     }
@@ -33,7 +34,7 @@ fn region_in_uv_view_tolerance_accept_undo() {
     assert!(app.surface.is_some(), "{:?}", app.error);
     let mut h = harness(app);
     let original = surface(h.state());
-    let doc0 = h.state().surface.as_ref().unwrap().doc.clone();
+    let doc0 = h.state().doc.clone();
     // without a wgpu renderer the view says so instead of panicking
     assert!(h.query_by_label_contains("3D view unavailable").is_some());
 
@@ -44,13 +45,7 @@ fn region_in_uv_view_tolerance_accept_undo() {
         .map(|k| at(0.3 + 0.1 * k as f32, 0.25 + 0.125 * k as f32))
         .collect();
     drag(&mut h, &path);
-    let ((u1, u2), (v1, v2)) = h
-        .state()
-        .surface
-        .as_ref()
-        .unwrap()
-        .region()
-        .expect("a region after the drag");
+    let ((u1, u2), (v1, v2)) = h.state().doc.settings.region_uv.expect("a region after the drag");
     for (x, want) in [(u1, 0.3), (u2, 0.7), (v1, 0.25), (v2, 0.75)] {
         assert!((x - want).abs() < 0.01, "region {:?}", ((u1, u2), (v1, v2)));
     }
@@ -61,7 +56,8 @@ fn region_in_uv_view_tolerance_accept_undo() {
         .set_value_accesskit(tol);
     h.run();
     let s = h.state().surface.as_ref().unwrap();
-    assert!((s.tolerance() - tol).abs() < 1e-12 * tol.max(1.0), "{}", s.tolerance());
+    let t = h.state().tolerance();
+    assert!((t - tol).abs() < 1e-12 * tol.max(1.0), "{t}");
     let p = s.preview.as_ref().expect("a live preview");
     assert!(p.max_deviation <= tol);
     assert!(!p.draft, "with the pointer up the preview is the full-quality one");
@@ -77,12 +73,13 @@ fn region_in_uv_view_tolerance_accept_undo() {
     assert!(h.query_by_label_contains(&said).is_some(), "the panel lacks “{said}”");
     // during a drag the preview is a one-level draft; the release recomputes it at full quality
     let final_points = p.surface.points().to_vec();
+    let doc = h.state().doc.clone();
     let ws = h.state_mut().surface.as_mut().unwrap();
     ws.preview = None;
-    ws.update_preview(true);
+    ws.update_preview(&doc, true);
     let draft = ws.preview.as_ref().expect("a draft preview");
     assert!(draft.draft && draft.max_deviation <= tol);
-    ws.update_preview(false);
+    ws.update_preview(&doc, false);
     let full = ws.preview.as_ref().expect("the full preview");
     assert!(!full.draft);
     assert_eq!(
@@ -118,9 +115,8 @@ fn region_in_uv_view_tolerance_accept_undo() {
     // undo restores the document exactly; redo re-applies
     h.get_by_role_and_label(Role::Button, "Undo").click();
     h.run();
-    let s = h.state().surface.as_ref().unwrap();
     assert_eq!(surface(h.state()).points(), original.points());
-    assert_eq!(s.region(), Some(((u1, u2), (v1, v2))));
+    assert_eq!(h.state().doc.settings.region_uv, Some(((u1, u2), (v1, v2))));
     h.get_by_role_and_label(Role::Button, "Redo").click();
     h.run();
     assert_eq!(surface(h.state()).points(), faired.points());
@@ -129,7 +125,7 @@ fn region_in_uv_view_tolerance_accept_undo() {
         h.get_by_role_and_label(Role::Button, "Undo").click();
         h.run();
     }
-    assert_eq!(h.state().surface.as_ref().unwrap().doc, doc0);
+    assert_eq!(h.state().doc, doc0);
 }
 
 #[test]
@@ -160,7 +156,7 @@ fn ctrl_drag_on_the_surface_picks_the_uv_region_and_plain_drag_orbits() {
     };
     common::drag_with(&mut h, &path, ctrl);
     let s = h.state().surface.as_ref().unwrap();
-    let ((u1, u2), (v1, v2)) = s.region().expect("a region from the Ctrl+drag");
+    let ((u1, u2), (v1, v2)) = h.state().doc.settings.region_uv.expect("a region from the Ctrl+drag");
     // CPU ray picking (core pick_uv): the region's corners are the picked uv
     // of the first and last pointer positions
     for (x, want) in [(u1, a.0), (u2, b.0), (v1, a.1), (v2, b.1)] {
@@ -174,11 +170,57 @@ fn ctrl_drag_on_the_surface_picks_the_uv_region_and_plain_drag_orbits() {
     // one gesture = one undo step
     h.get_by_role_and_label(Role::Button, "Undo").click();
     h.run();
-    assert_eq!(h.state().surface.as_ref().unwrap().region(), None);
+    assert_eq!(h.state().doc.settings.region_uv, None);
 
     // the same drag without Ctrl orbits and leaves the region alone
     drag(&mut h, &path);
     let s = h.state().surface.as_ref().unwrap();
-    assert_eq!(s.region(), None);
+    assert_eq!(h.state().doc.settings.region_uv, None);
     assert_ne!(s.view.camera, cam0, "plain drag did not orbit");
+}
+
+/// What the surface fair did besides the plain method (`SurfaceFairingResult::notes`) is shown in the
+/// measures panel: here a cubic chain of Bézier patches (a C0 knot line in u and in v) is faired tile by
+/// tile, and the panel says so.
+#[test]
+fn the_preview_notes_are_shown_in_the_measures_panel() {
+    // knots of two cubic Bézier pieces per direction: the joint at 0.5 has multiplicity 3
+    let knots = vec![0.0, 0.0, 0.0, 0.0, 0.5, 0.5, 0.5, 1.0, 1.0, 1.0, 1.0];
+    let n = knots.len() - 4;
+    let grev = |i: usize| knots[i + 1..i + 4].iter().sum::<f64>() / 3.0;
+    let mut pts = vec![];
+    for i in 0..n {
+        for j in 0..n {
+            let (x, y) = (grev(i), grev(j));
+            let noise = 2e-3 * (((i * 7 + j * 13) % 5) as f64 / 4.0 - 0.5);
+            pts.push(fairway::DVec3::new(
+                x,
+                y,
+                0.2 * (3.0 * x).sin() * (2.0 * y).cos() + noise,
+            ));
+        }
+    }
+    let s = BSplineSurface::try_new(3, 3, knots.clone(), knots, n, n, pts, None).unwrap();
+    let mut doc = fairway::io::Document::new(Geometry::Surface(s));
+    doc.settings.region_uv = Some(((0.0, 1.0), (0.0, 1.0)));
+    doc.settings.tolerance = Some(3e-3);
+    let mut app = App::default();
+    assert!(app.set_document(doc.clone(), None, Some(doc)), "{:?}", app.error);
+    let mut h = harness(app);
+    h.run();
+    let p = h
+        .state()
+        .surface
+        .as_ref()
+        .unwrap()
+        .preview
+        .as_ref()
+        .expect("a live preview");
+    let note = p
+        .notes
+        .iter()
+        .find(|n| n.contains("C0 knot lines"))
+        .unwrap_or_else(|| panic!("no C0 note in {:?}", p.notes))
+        .clone();
+    assert!(h.query_by_label(&note).is_some(), "the panel lacks “{note}”");
 }

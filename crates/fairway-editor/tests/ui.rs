@@ -13,7 +13,7 @@ use common::{drag, harness};
 
 fn curve_screen_point(h: &Harness<'static, App>, u: f64) -> Pos2 {
     let app = h.state();
-    app.canvas.to_screen(app.view.sampled.point_at_u(u))
+    app.curve_ws.canvas.to_screen(app.curve_ws.view.sampled.point_at_u(u))
 }
 
 #[test]
@@ -52,18 +52,21 @@ fn drag_along_the_curve_selects_a_region_and_undo_redo_restore_it() {
 fn dragging_off_the_curve_pans_without_editing() {
     let mut h = harness(App::default());
     let rect = h.get_by_label("Canvas").rect();
-    let c0 = h.state().canvas.center;
+    let c0 = h.state().curve_ws.canvas.center;
     let a = rect.left_top() + egui::vec2(30.0, 30.0);
     drag(&mut h, &[a, a + egui::vec2(40.0, 0.0), a + egui::vec2(80.0, 20.0)]);
     assert!(h.state().region().is_none());
     assert!(!h.state().is_dirty());
-    assert!((h.state().canvas.center - c0).length() > 0.0, "view did not pan");
+    assert!(
+        (h.state().curve_ws.canvas.center - c0).length() > 0.0,
+        "view did not pan"
+    );
 }
 
 #[test]
 fn drag_across_the_kappa_plot_selects_a_region() {
     let mut h = harness(App::default());
-    let r = h.state().plot.rect.unwrap();
+    let r = h.state().curve_ws.plot.rect.unwrap();
     let y = r.center().y;
     let (x1, x2) = (r.left() + 0.2 * r.width(), r.left() + 0.5 * r.width());
     drag(
@@ -72,8 +75,11 @@ fn drag_across_the_kappa_plot_selects_a_region() {
     );
     let app = h.state();
     let (u1, u2) = app.region().expect("region from the κ plot");
-    let len = app.view.sampled.length;
-    let (s1, s2) = (app.view.sampled.s_at_u(u1), app.view.sampled.s_at_u(u2));
+    let len = app.curve_ws.view.sampled.length;
+    let (s1, s2) = (
+        app.curve_ws.view.sampled.s_at_u(u1),
+        app.curve_ws.view.sampled.s_at_u(u2),
+    );
     assert!(
         (s1 / len - 0.2).abs() < 0.01 && (s2 / len - 0.5).abs() < 0.01,
         "{s1} {s2} of {len}"
@@ -84,7 +90,7 @@ fn drag_across_the_kappa_plot_selects_a_region() {
 fn tolerance_slider_sets_the_document_tolerance_in_one_undo_step() {
     let mut h = harness(App::default());
     let t0 = h.state().doc.settings.tolerance;
-    let d = h.state().view.diag;
+    let d = h.state().curve_ws.view.diag;
     h.get_by_role_and_label(Role::Slider, "Tolerance")
         .set_value_accesskit(d * 0.01);
     h.run();
@@ -149,17 +155,21 @@ fn open_the_sample_suggest_a_region_and_fair_it() {
     // suggest, then one click on the best suggestion selects it
     h.get_by_role_and_label(Role::Button, "Suggest regions").click();
     h.run();
-    let best = h.state().suggestions().expect("suggestions")[0];
+    let best = h.state().curve_ws.suggestions().expect("suggestions")[0];
     h.get_by_label_contains("#1 ").click();
     h.run();
     assert_eq!(h.state().region(), Some((best.u1, best.u2)));
     let m = h.state().tolerance();
-    let p = h.state().preview().expect("a faired preview of the suggested region");
+    let p = h
+        .state()
+        .curve_ws
+        .preview()
+        .expect("a faired preview of the suggested region");
     assert!(p.result.max_deviation <= m * (1.0 + 1e-9));
     // the suggested stretch is wiggly and fairing it removes extrema there
     assert!(best.extrema >= 3);
-    h.state_mut().fairing.update_measures(false);
-    let (before, after) = h.state().fairing.measures.clone().unwrap();
+    h.state_mut().curve_ws.fairing.update_measures(false);
+    let (before, after) = h.state().curve_ws.fairing.measures.clone().unwrap();
     assert!(
         after.n_curv_extrema < before.n_curv_extrema,
         "{} -> {}",
@@ -193,18 +203,18 @@ fn flatten_tool_makes_a_stretch_of_the_target_constant() {
     let mut h = harness(App::default());
     h.get_by_role_and_label(Role::Button, "Whole curve").click();
     h.run();
-    let p = h.state().preview().expect("preview").clone();
+    let p = h.state().curve_ws.preview().expect("preview").clone();
     h.get_by_label("Flatten").click();
     h.run();
     let n = p.target.len();
     let (a, b) = (n / 4, n / 2);
     let (xa, xb, y) = {
         let app = h.state();
-        let len = app.view.sampled.length;
+        let len = app.curve_ws.view.sampled.length;
         (
-            app.plot.x(app.target_s(&p, a), len),
-            app.plot.x(app.target_s(&p, b), len),
-            app.plot.rect.unwrap().center().y,
+            app.curve_ws.plot.x(app.curve_ws.target_s(&p, a), len),
+            app.curve_ws.plot.x(app.curve_ws.target_s(&p, b), len),
+            app.curve_ws.plot.rect.unwrap().center().y,
         )
     };
     drag(
@@ -297,7 +307,7 @@ fn saved_settings_that_do_not_fit_open_with_a_message() {
         assert!(app.is_dirty(), "{name}: the changed settings show as unsaved");
         // the region that is left is used: the fairing preview ran on it
         if want.is_some() {
-            assert!(matches!(app.fairing.preview, Some(Ok(_))), "{name}");
+            assert!(matches!(app.curve_ws.fairing.preview, Some(Ok(_))), "{name}");
         }
     }
     let _ = std::fs::remove_dir_all(&dir);
@@ -319,15 +329,15 @@ fn measures_follow_a_new_region_and_show_the_regions_figures() {
     for region in [(0.35, 0.55), (0.5, 0.8)] {
         h.state_mut().apply(fairway_editor::Command::SetRegion(Some(region)));
         h.run();
-        h.state_mut().fairing.update_measures(false);
-        assert!(!h.state().fairing.measures_stale());
-        let p = h.state().preview().expect("a preview").result.curve.clone();
-        let (_, after) = h.state().fairing.measures.clone().expect("measures");
+        h.state_mut().curve_ws.fairing.update_measures(false);
+        assert!(!h.state().curve_ws.fairing.measures_stale());
+        let p = h.state().curve_ws.preview().expect("a preview").result.curve.clone();
+        let (_, after) = h.state().curve_ws.fairing.measures.clone().expect("measures");
         // the table's "after" is the preview on screen
         let now = fairway::measure::measure(&orig, &p);
         assert_eq!(after.n_curv_extrema, now.n_curv_extrema, "{region:?}");
         assert!((after.dev_max - now.dev_max).abs() <= 1e-12, "{region:?}");
-        let ((eb, vb), (ea, va)) = h.state().fairing.region_measures.expect("region figures");
+        let ((eb, vb), (ea, va)) = h.state().curve_ws.fairing.region_measures.expect("region figures");
         let (e0, v0) = fairway::measure::region_curvature(&orig, region.0, region.1, after.threshold_delta);
         assert_eq!((eb, vb), (e0, v0));
         assert!(

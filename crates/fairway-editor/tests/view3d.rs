@@ -20,18 +20,18 @@ fn extrusion_isophotes_show_the_curve_and_the_faired_curve_side_by_side() {
     let mut h = harness(App::open_or_demo(Some(&asset("car_roof.ron"))));
     h.get_by_label("3D view").click();
     h.run();
-    assert!(h.state().curve3d.enabled);
+    assert!(h.state().curve_ws.curve3d.enabled);
     h.get_by_role_and_label(Role::CheckBox, "Extrusion isophotes").click();
     h.run();
-    assert!(h.state().curve3d.extrusion);
+    assert!(h.state().curve_ws.curve3d.extrusion);
     // no region yet: only the original's extrusion
-    assert_eq!(h.state().curve3d.extrusions().len(), 1);
+    assert_eq!(h.state().curve_ws.curve3d.extrusions().len(), 1);
     assert_eq!(h.query_all_by_label("Extrusion view").count(), 1);
     // without a wgpu renderer the panes say so instead of panicking
     assert!(h.query_by_label_contains("3D view unavailable").is_some());
 
     // region by dragging across the κ plot (it stays below the 3D view)
-    let r = h.state().plot.rect.expect("κ plot");
+    let r = h.state().curve_ws.plot.rect.expect("κ plot");
     let y = r.center().y;
     let (x1, x2) = (r.left() + 0.3 * r.width(), r.left() + 0.6 * r.width());
     drag(
@@ -42,7 +42,7 @@ fn extrusion_isophotes_show_the_curve_and_the_faired_curve_side_by_side() {
     let app = h.state();
     let (u1, u2) = app.region().expect("a region from the κ plot");
     let before = app.curve().clone();
-    let p = app.preview().expect("a faired preview");
+    let p = app.curve_ws.preview().expect("a faired preview");
     let after = p.result.curve.clone();
     let dev = p.result.max_deviation;
     assert!(dev > 0.0);
@@ -51,7 +51,7 @@ fn extrusion_isophotes_show_the_curve_and_the_faired_curve_side_by_side() {
         2,
         "before and after side by side"
     );
-    let ex = app.curve3d.extrusions();
+    let ex = app.curve_ws.curve3d.extrusions();
     assert_eq!(ex.len(), 2);
     let (m0, m1) = (&ex[0].1, &ex[1].1);
     assert_eq!((m0.nu, m0.nv), (m1.nu, m1.nv));
@@ -59,7 +59,7 @@ fn extrusion_isophotes_show_the_curve_and_the_faired_curve_side_by_side() {
 
     // each mesh is the extrusion of its curve: S(u, v) = c(u) + v·h·z with
     // the curve's right normal c' × z (horizontal)
-    let diag = app.view.diag;
+    let diag = app.curve_ws.view.diag;
     let height = extrusion_height(diag);
     for (c, m) in [(&before, m0), (&after, m1)] {
         for k in 0..m.positions.len() {
@@ -116,7 +116,7 @@ fn extrusion_isophotes_show_the_curve_and_the_faired_curve_side_by_side() {
     h.get_by_role_and_label(Role::Slider, "Stripe width °")
         .set_value_accesskit(10.0);
     h.run();
-    assert_eq!(h.state().curve3d.shading.stripe_deg, 10.0);
+    assert_eq!(h.state().curve_ws.curve3d.shading.stripe_deg, 10.0);
 }
 
 /// Check comb teeth `(base, tip)` of `c`: the base on the curve, the tooth
@@ -164,9 +164,9 @@ fn comb_of_a_spatial_curve_lies_along_the_principal_normal_in_3d() {
     assert!(check.accesskit_node().is_disabled());
 
     let c = h.state().curve().clone();
-    let diag = h.state().view.diag;
-    let teeth = h.state().curve3d.combs()[0].clone();
-    assert_eq!(h.state().curve3d.combs().len(), 1);
+    let diag = h.state().curve_ws.view.diag;
+    let teeth = h.state().curve_ws.curve3d.combs()[0].clone();
+    assert_eq!(h.state().curve_ws.curve3d.combs().len(), 1);
     let n = teeth.len();
     assert!(n >= 200, "{n} teeth");
     let scale = check_comb(&c, &teeth, n / 25, diag);
@@ -181,19 +181,22 @@ fn comb_of_a_spatial_curve_lies_along_the_principal_normal_in_3d() {
     assert!(spread > 0.1, "teeth z-components spread {spread}");
 
     // orbiting moves the camera, not the comb
-    let yaw0 = h.state().curve3d.view.camera.yaw;
+    let yaw0 = h.state().curve_ws.curve3d.view.camera.yaw;
     let r = h.get_by_label("3D curve view").rect();
     let a = r.center();
     drag(&mut h, &[a, a + egui::vec2(40.0, 0.0), a + egui::vec2(90.0, 10.0)]);
-    assert!((h.state().curve3d.view.camera.yaw - yaw0).abs() > 0.1, "did not orbit");
-    assert_eq!(h.state().curve3d.combs()[0], teeth);
+    assert!(
+        (h.state().curve_ws.curve3d.view.camera.yaw - yaw0).abs() > 0.1,
+        "did not orbit"
+    );
+    assert_eq!(h.state().curve_ws.curve3d.combs()[0], teeth);
     assert!(h.state().region().is_none(), "the orbit drag edited the document");
 
     // with a faired preview its comb is drawn too, on the faired curve
     h.get_by_role_and_label(Role::Button, "Whole curve").click();
     h.run();
-    let faired = h.state().preview().expect("preview").result.curve.clone();
-    let combs = h.state().curve3d.combs().to_vec();
+    let faired = h.state().curve_ws.preview().expect("preview").result.curve.clone();
+    let combs = h.state().curve_ws.curve3d.combs().to_vec();
     assert_eq!(combs.len(), 2);
     assert_eq!(combs[0], teeth);
     let scale_after = check_comb(&faired, &combs[1], combs[1].len() / 25, diag);
@@ -241,7 +244,7 @@ fn shading_settings_set_in_the_ui_survive_a_restart() {
     // a curve session keeps them for the next surface it opens
     let mut curve_app = App::open_or_demo(Some(&asset("car_roof.ron")));
     curve_app.load_view3d_prefs(&mem);
-    assert_eq!(curve_app.curve3d.surface_shading, set);
+    assert_eq!(curve_app.curve_ws.curve3d.surface_shading, set);
     curve_app.open_now(&asset("bumpy_surface.json"));
     assert_eq!(curve_app.surface.as_ref().expect("surface opened").shading, set);
     // and saves them again unchanged
@@ -259,13 +262,13 @@ fn extrusion_settings_round_trip_and_bad_stored_values_are_sanitized() {
         light_elevation: -10.0,
         ..Shading::extrusion()
     };
-    app.curve3d.shading = ex;
+    app.curve_ws.curve3d.shading = ex;
     let mut mem = MemStorage::default();
     eframe::App::save(&mut app, &mut mem);
     let mut fresh = App::open_or_demo(Some(&asset("car_roof.ron")));
-    assert_eq!(fresh.curve3d.shading, Shading::extrusion());
+    assert_eq!(fresh.curve_ws.curve3d.shading, Shading::extrusion());
     fresh.load_view3d_prefs(&mem);
-    assert_eq!(fresh.curve3d.shading, ex);
+    assert_eq!(fresh.curve_ws.curve3d.shading, ex);
 
     // hand-edited or stale storage: clamped / defaulted, never a panic or a
     // failed tessellation
@@ -282,8 +285,8 @@ fn extrusion_settings_round_trip_and_bad_stored_values_are_sanitized() {
     assert_eq!(s.shading.light_azimuth, 85.0);
     assert_eq!(s.mesh.nu, 8);
     // missing fields take the defaults of the settings struct
-    assert_eq!(app.curve3d.shading.mode, ShadeMode::Mean);
-    assert_eq!(app.curve3d.shading.stripe_deg, 5.0);
+    assert_eq!(app.curve_ws.curve3d.shading.mode, ShadeMode::Mean);
+    assert_eq!(app.curve_ws.curve3d.shading.stripe_deg, 5.0);
     // unreadable: nothing changes
     mem.set(View3dPrefs::KEY, "not ron at all (");
     let before = app.view3d_prefs();

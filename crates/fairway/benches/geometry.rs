@@ -93,6 +93,12 @@ fn benches(c: &mut Criterion) {
     c.bench_function("curve100/projector build (16 per span)", |b| {
         b.iter(|| CurveProjector::new(black_box(&cv), 16))
     });
+    // the guard of every full CurveFairing::fair: measure's curvature extrema of the result
+    let c100 = curve(100);
+    let delta = fairway::measure::extrema_threshold(&c100);
+    c.bench_function("curve100/curvature extrema (the fair's final guard)", |b| {
+        b.iter(|| fairway::measure::curvature_extrema_at(black_box(&c100), delta))
+    });
     // issue 26: the measures' cost per control point stays flat with the curve's size
     let mut group = c.benchmark_group("measure (all measures of a curve against a shifted copy)");
     group.sample_size(10);

@@ -397,11 +397,11 @@ impl ArcLengthTable {
 }
 
 /// Knot spans per stretch of [`BSplineCurve::length`] on a long curve.
-pub const LENGTH_CHUNK_SPANS: usize = 4096;
+pub(crate) const LENGTH_CHUNK_SPANS: usize = 4096;
 
 impl BSplineCurve {
     /// Arc length of the whole curve to relative `accuracy`. A long curve is measured in stretches of
-    /// [`LENGTH_CHUNK_SPANS`] knot spans, each table dropped once summed: memory stays bounded by a
+    /// `LENGTH_CHUNK_SPANS` knot spans, each table dropped once summed: memory stays bounded by a
     /// stretch's table, not the curve's (each stretch to relative `accuracy`, so the sum is too).
     pub fn length(&self, accuracy: f64) -> f64 {
         let bp = self.knots().breakpoints();

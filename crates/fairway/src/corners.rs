@@ -7,8 +7,8 @@
 //! tolerance): a curvature spike of θ²/(8m), e.g. 37 for a 54° break at m = 3e-3, where the
 //! curvature comb had none. A stop is worse still: the curvature is unbounded next to it (it grows
 //! like 1/t at a distance t in parameter), and the fit's basis functions there cover almost no arc
-//! length, so the engine put a loop of size 1e-4 with curvature 3400 into a stop that turned by 40°
-//! (test `degenerate.rs`, before session 12). The fairing engine therefore keeps corners: the
+//! length, so a fair across a stop that turns by 40° can put a loop of size 1e-4 with curvature 3400
+//! into it (test `degenerate.rs`). The fairing engine therefore keeps corners: the
 //! setup refuses a moving stretch across one, and [`crate::fair::fair_curve`] fairs the stretches
 //! between corners one by one, each a region of its own ([`crate::fair::split`]).
 

@@ -162,6 +162,24 @@ impl BSplineCurve {
     }
 
     /// A non-rational 2D curve from `(x, y)` points.
+    ///
+    /// A clamped quadratic with one interior knot, evaluated at its ends, its knot and between:
+    ///
+    /// ```
+    /// use fairway::{BSplineCurve, DVec2, DVec3};
+    /// let pts = [DVec2::new(0.0, 0.0), DVec2::new(1.0, 2.0), DVec2::new(3.0, 2.0), DVec2::new(4.0, 0.0)];
+    /// let c = BSplineCurve::new_2d(2, vec![0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0], &pts)?;
+    /// assert_eq!(c.point(0.0), DVec3::ZERO);
+    /// assert_eq!(c.point(1.0), DVec3::new(4.0, 0.0, 0.0));
+    /// // at the knot: the midpoint of the two middle control points (quadratic, simple knot)
+    /// assert!((c.point(0.5) - DVec3::new(2.0, 2.0, 0.0)).length() < 1e-15);
+    /// // symmetric control polygon: the tangent at the middle is horizontal, the curvature negative (turns right)
+    /// assert!(c.derivs(0.5).d1.y.abs() < 1e-12 && c.curvature(0.5) < 0.0);
+    /// // a knot vector of the wrong length is refused with the field and the counts
+    /// let e = BSplineCurve::new_2d(2, vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0], &pts).unwrap_err();
+    /// assert!(matches!(e, fairway::Error::KnotCount { count: 6, expected: 7, .. }));
+    /// # Ok::<(), fairway::Error>(())
+    /// ```
     pub fn new_2d(degree: usize, knots: Vec<f64>, points: &[glam::DVec2]) -> Result<Self> {
         Self::try_new(degree, knots, points.iter().map(|p| p.extend(0.0)).collect(), None, 2)
     }
@@ -301,6 +319,53 @@ impl BSplineCurve {
     #[inline]
     pub fn derivs(&self, u: f64) -> CurveDerivs {
         self.derivs_in_span(self.knots.find_span(u), self.knots.clamp(u))
+    }
+
+    /// [`Self::point`] from the knot span found by
+    /// [`KnotVector::find_span_from`](crate::knots::KnotVector::find_span_from) with `hint` (the same value).
+    #[inline]
+    pub(crate) fn point_from(&self, u: f64, hint: usize) -> DVec3 {
+        if self.weights.is_some() {
+            return self.point(u);
+        }
+        let p = self.degree();
+        let span = self.knots.find_span_from(u, hint);
+        let mut n = [0.0; MAX_ORDER];
+        basis_funs(self.knots.values(), span, self.knots.clamp(u), p, &mut n);
+        let mut c = DVec3::ZERO;
+        for j in 0..=p {
+            c += self.points[span - p + j] * n[j];
+        }
+        c
+    }
+
+    /// [`Self::derivs`] without the third derivative (`d3` is 0 on a non-rational curve), from the knot span
+    /// found by [`KnotVector::find_span_from`](crate::knots::KnotVector::find_span_from) with `hint`: the same
+    /// values for c, c', c'' (a closest-point Newton iteration needs no more); returns the span too.
+    #[inline]
+    pub(crate) fn derivs2_from(&self, u: f64, hint: usize) -> (CurveDerivs, usize) {
+        let span = self.knots.find_span_from(u, hint);
+        let u = self.knots.clamp(u);
+        if self.weights.is_some() {
+            return (self.derivs_in_span(span, u), span);
+        }
+        let p = self.degree();
+        let mut d = [[0.0; MAX_ORDER]; 3];
+        ders_basis_funs(self.knots.values(), span, u, p, &mut d);
+        let mut out = [DVec3::ZERO; 3];
+        for j in 0..=p {
+            let cp = self.points[span - p + j];
+            for k in 0..3 {
+                out[k] += cp * d[k][j];
+            }
+        }
+        let derivs = CurveDerivs {
+            p: out[0],
+            d1: out[1],
+            d2: out[2],
+            d3: DVec3::ZERO,
+        };
+        (derivs, span)
     }
 
     /// [`Self::derivs`] with the polynomial pieces of knot span `span` (`p ≤ span < n`, non-empty):
@@ -670,6 +735,66 @@ impl BSplineCurve {
             }
         }
         Self::try_new(self.degree(), knots, points, weights, self.dim)
+    }
+
+    /// The same curve of degree `degree` (≥ its own; non-rational): each Bézier segment elevated (The
+    /// NURBS Book eq. 5.36), every interior breakpoint kept at its multiplicity plus the degrees added.
+    /// Exact but for rounding (the knots inserted for the Bézier form are removed again within
+    /// 1e-12 × the control net's size).
+    pub fn elevate_degree(&self, degree: usize) -> Result<Self> {
+        let mut c = self.to_polynomial()?;
+        let (lo, hi) = c.control_bounds();
+        let tol = 1e-12 * (hi - lo).length().max(f64::MIN_POSITIVE);
+        while c.degree() < degree {
+            c = c.elevate_once(tol)?;
+        }
+        Ok(c)
+    }
+
+    /// [`Self::elevate_degree`] by one.
+    fn elevate_once(&self, tol: f64) -> Result<Self> {
+        let p = self.degree();
+        let (a, b) = self.domain();
+        let inner: Vec<(f64, usize)> = self
+            .knots
+            .breakpoints()
+            .into_iter()
+            .filter(|&u| u > a && u < b)
+            .map(|u| (u, self.knots.multiplicity(u)))
+            .collect();
+        let mut bez = self.clone();
+        for &(u, s) in &inner {
+            if s < p {
+                bez = bez.insert_knot(u, p - s)?;
+            }
+        }
+        // the Bézier segments, each elevated: Q_i = i/(p+1) P_{i−1} + (1 − i/(p+1)) P_i
+        let pts = bez.points();
+        let mut out = vec![pts[0]];
+        for seg in 0..=inner.len() {
+            let s = &pts[seg * p..=seg * p + p];
+            for i in 1..=p + 1 {
+                let f = i as f64 / (p + 1) as f64;
+                let q = if i == p + 1 {
+                    s[p]
+                } else {
+                    s[i - 1] * f + s[i] * (1.0 - f)
+                };
+                out.push(q);
+            }
+        }
+        let mut knots = vec![a; p + 2];
+        for &(u, _) in &inner {
+            knots.extend(std::iter::repeat_n(u, p + 1));
+        }
+        knots.extend(std::iter::repeat_n(b, p + 2));
+        let mut c = Self::try_new(p + 1, knots, out, None, self.dim)?;
+        for &(u, s) in &inner {
+            if s < p {
+                c = c.remove_knot(u, p - s, tol)?;
+            }
+        }
+        Ok(c)
     }
 
     /// Axis-aligned bounding box of the control points (contains the curve).

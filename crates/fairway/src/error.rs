@@ -4,7 +4,23 @@ use thiserror::Error;
 
 /// Everything that can go wrong in the core: invalid geometry, bad files,
 /// impossible fairing requests. Each variant names the problem and, where it
-/// applies, the field of the input that caused it.
+/// applies, the field of the input that caused it; its message says it in the user's terms.
+///
+/// Refusals are matched as variants:
+///
+/// ```
+/// use fairway::{BSplineCurve, DVec2, Error};
+/// use fairway::fair::{FairingOptions, fair_curve};
+/// let pts: Vec<DVec2> = (0..10).map(|i| DVec2::new(i as f64, (i % 2) as f64)).collect();
+/// let knots = [vec![0.0; 4], (1..7).map(|i| i as f64 / 7.0).collect(), vec![1.0; 4]].concat();
+/// let c = BSplineCurve::new_2d(3, knots, &pts)?;
+/// let narrow = FairingOptions { tolerance: 0.01, region: Some((0.5, 0.5001)), ..Default::default() };
+/// match fair_curve(&c, narrow) {
+///     Err(Error::RegionTooSmall { u1, u2, .. }) => assert_eq!((u1, u2), (0.5, 0.5001)),
+///     other => panic!("{other:?}"),
+/// }
+/// # Ok::<(), fairway::Error>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Error)]
 #[non_exhaustive]
 pub enum Error {
@@ -160,6 +176,127 @@ pub enum Error {
     /// A request that cannot be carried out as asked (bad tolerance, empty region, ...).
     #[error("{0}")]
     InvalidInput(String),
+    /// A tolerance (the band's half width) that is not a positive finite number.
+    #[error("tolerance must be a positive finite number, got {value}")]
+    BadTolerance {
+        /// The value given.
+        value: f64,
+    },
+    /// Fairing works on curvature: the curve must be of degree 2 or more.
+    #[error("fairing needs a curve of degree ≥ 2 (curvature), got degree {degree}")]
+    DegreeTooLowToFair {
+        /// The curve's degree.
+        degree: usize,
+    },
+    /// A region whose ends are not finite numbers.
+    #[error("region [{u1}, {u2}] is not finite")]
+    RegionNotFinite {
+        /// Region start.
+        u1: f64,
+        /// Region end.
+        u2: f64,
+    },
+    /// A region of an open curve with `u2 <= u1`.
+    #[error("region [{u1}, {u2}] is empty (u1 must be < u2)")]
+    EmptyRegion {
+        /// Region start.
+        u1: f64,
+        /// Region end.
+        u2: f64,
+    },
+    /// A region too small to move any control point.
+    #[error("region [{u1}, {u2}] is too small: {reason}")]
+    RegionTooSmall {
+        /// Region start.
+        u1: f64,
+        /// Region end.
+        u2: f64,
+        /// Why, in the user's terms, and what to do.
+        reason: String,
+    },
+    /// A region whose moving stretch crosses corners of the curve (fairing would round them off).
+    #[error("region [{u1}, {u2}] crosses {description}")]
+    RegionCrossesCorner {
+        /// Region start.
+        u1: f64,
+        /// Region end.
+        u2: f64,
+        /// The corners' knots.
+        corners: Vec<f64>,
+        /// The stretches between corners to fair instead.
+        stretches: Vec<(f64, f64)>,
+        /// The corners, why they stay and what to do, for the message.
+        description: String,
+    },
+    /// A whole-curve fair of a curve with too few control points for its end conditions.
+    #[error(
+        "the curve has only {points} control points: with {ends} ends the first and last {held} are held, so \
+         fairing needs at least {needed} (insert knots to refine the curve)"
+    )]
+    TooFewControlPoints {
+        /// Control points of the curve.
+        points: usize,
+        /// The end condition (`G0`, `G1`, `G2`).
+        ends: String,
+        /// Points held at each end.
+        held: usize,
+        /// Points needed.
+        needed: usize,
+    },
+    /// More fairing samples than memory allows.
+    #[error(
+        "{samples} samples are too many: at most {max} (each million takes about 0.4 GB of memory); ask for \
+         fewer samples, or fair a region of the curve"
+    )]
+    TooManySamples {
+        /// Samples asked for.
+        samples: usize,
+        /// The limit.
+        max: usize,
+    },
+    /// Fewer fairing samples than free control points (the fit would be underdetermined).
+    #[error("{samples} samples are too few for {free} free control points (need more than {free})")]
+    TooFewSamples {
+        /// Samples asked for.
+        samples: usize,
+        /// Free control points.
+        free: usize,
+    },
+    /// A pass-based target smoothing whose cost (strength × samples) is beyond the limit.
+    #[error(
+        "target strength {strength} is too much work for the {target} target: its passes cost strength × \
+         samples, and {samples} samples allow at most {max_passes} passes; use the heat target (the implicit \
+         heat flow of the averaging), whose cost stays bounded at any strength"
+    )]
+    TargetTooStrong {
+        /// The strength (passes) asked for.
+        strength: usize,
+        /// The target method's name.
+        target: String,
+        /// Samples of the target.
+        samples: usize,
+        /// The most passes allowed at this sample count.
+        max_passes: usize,
+    },
+    /// A region across the seam of a closed curve that could not be faired.
+    #[error(
+        "region [{u1}, {u2}] across the seam (the stretch [{u1}, {end}] then [{start}, {u2}], fairing region \
+         [{u1}, {reseamed_end}] of the re-seamed curve): {source}"
+    )]
+    AcrossSeam {
+        /// Region start (before the seam).
+        u1: f64,
+        /// Region end (past the seam).
+        u2: f64,
+        /// The domain's start.
+        start: f64,
+        /// The domain's end.
+        end: f64,
+        /// The region's end on the re-seamed curve.
+        reseamed_end: f64,
+        /// Why the re-seamed region could not be faired.
+        source: Box<Error>,
+    },
     /// A tolerance that cannot be met.
     #[error("tolerance {tolerance} cannot be met: {reason}")]
     ToleranceNotMet {

@@ -60,6 +60,7 @@ pub mod linalg;
 pub mod measure;
 pub mod measure_surface;
 pub mod mesh;
+pub mod network;
 pub mod quadrature;
 pub mod range;
 pub mod suggest;

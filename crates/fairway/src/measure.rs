@@ -404,14 +404,62 @@ pub fn paper_energy(curve: &BSplineCurve, target: &[f64]) -> Option<f64> {
 /// [`Measures::n_curv_extrema`] of `faired` alone (the dead band from `original`), without the deviation
 /// and the other figures: the count the engine's guards compare.
 pub fn curvature_extrema(original: &BSplineCurve, faired: &BSplineCurve) -> usize {
+    curvature_extrema_at(faired, extrema_threshold(original))
+}
+
+/// The dead band of [`Measures::n_curv_extrema`] for curves faired from `original`:
+/// [`REL_THRESHOLD`] × the largest |κ| of its reference target.
+pub fn extrema_threshold(original: &BSplineCurve) -> f64 {
     let (_, g_orig) = reference_target(original);
-    let delta = REL_THRESHOLD * g_orig.iter().fold(0.0f64, |m, g| m.max(g.abs()));
-    let us = arc_params(faired, curv_samples(faired));
-    let kk: Vec<f64> = us.iter().map(|&u| faired.derivs(u).curvature(faired.dim())).collect();
+    REL_THRESHOLD * g_orig.iter().fold(0.0f64, |m, g| m.max(g.abs()))
+}
+
+/// The curvature extrema of `c` with the dead band `delta` ([`extrema_threshold`]), at `measure`'s
+/// arc-length samples.
+pub fn curvature_extrema_at(c: &BSplineCurve, delta: f64) -> usize {
+    let us = arc_params(c, curv_samples(c));
+    let kk: Vec<f64> = us.iter().map(|&u| c.derivs(u).curvature(c.dim())).collect();
     zigzag_extrema(&kk, delta)
 }
 
+/// The curvature extrema of a closed curve counted around the loop, with the dead band `delta`: the
+/// samples of [`curvature_extrema_at`] read cyclically from the largest |κ| (itself one extremum), so
+/// that where the seam sits does not count. (An open count misses an extremum at the seam and finds it
+/// once a fair across the seam moves it inside: the same curve, one more.) 0 for a curve whose
+/// curvature varies less than `delta`, such as a circle.
+pub fn curvature_extrema_around(c: &BSplineCurve, delta: f64) -> usize {
+    let us = arc_params(c, curv_samples(c));
+    let mut kk: Vec<f64> = us.iter().map(|&u| c.derivs(u).curvature(c.dim())).collect();
+    // the last sample is the first point again
+    kk.pop();
+    let Some(top) = (0..kk.len()).max_by(|&a, &b| kk[a].total_cmp(&kk[b])) else {
+        return 0;
+    };
+    let lo = kk.iter().copied().fold(f64::INFINITY, f64::min);
+    if kk[top] - lo <= delta {
+        return 0;
+    }
+    kk.rotate_left(top);
+    kk.push(kk[0]);
+    zigzag_extrema(&kk, delta) + 1
+}
+
 /// All measures of `faired` against `original`.
+///
+/// A copy shifted by `d` deviates by `d` everywhere and has the original's curvature:
+///
+/// ```
+/// use fairway::{BSplineCurve, DVec2};
+/// use fairway::measure::measure;
+/// let pts: Vec<DVec2> = (0..8).map(|i| DVec2::new(i as f64, (i as f64 * 0.8).sin())).collect();
+/// let knots = [vec![0.0; 4], (1..5).map(|i| i as f64 / 5.0).collect(), vec![1.0; 4]].concat();
+/// let c = BSplineCurve::new_2d(3, knots.clone(), &pts)?;
+/// let shifted: Vec<DVec2> = pts.iter().map(|&q| q + DVec2::new(0.0, 1e-3)).collect();
+/// let m = measure(&c, &BSplineCurve::new_2d(3, knots, &shifted)?);
+/// assert!(m.dev_max <= 1e-3 + 1e-12 && m.dev_max > 0.5e-3);
+/// assert_eq!(m.n_curv_extrema, measure(&c, &c).n_curv_extrema);
+/// # Ok::<(), fairway::Error>(())
+/// ```
 pub fn measure(original: &BSplineCurve, faired: &BSplineCurve) -> Measures {
     let n_dev = dev_samples(original);
     let fwd = deviations(original, faired, n_dev);
@@ -592,6 +640,40 @@ mod tests {
         assert_eq!(sign_changes(&[1.0, 0.0, -1.0, 2.0]), 2);
         assert_eq!(interior_low_runs(&[0.0, 1.0, 0.0, 1.0, 0.0], 0.5), 1);
         assert_eq!(moving_average(&[1.0, 2.0, 3.0, 4.0], 1), vec![1.5, 2.0, 3.0, 3.5]);
+    }
+
+    /// An exact rational ellipse (semi-axes 3 and 1) whose seam is at the end of its major axis, a
+    /// curvature maximum: around the loop it has four curvature extrema (two maxima, two minima); the open
+    /// count misses the one at the seam. The circle has none.
+    #[test]
+    fn extrema_around_a_closed_curve_count_the_one_at_the_seam() {
+        let w = std::f64::consts::FRAC_1_SQRT_2;
+        let conic = |a: f64, b: f64| {
+            let xy = [
+                (1., 0.),
+                (1., 1.),
+                (0., 1.),
+                (-1., 1.),
+                (-1., 0.),
+                (-1., -1.),
+                (0., -1.),
+                (1., -1.),
+                (1., 0.),
+            ];
+            BSplineCurve::try_new(
+                2,
+                vec![0., 0., 0., 1., 1., 2., 2., 3., 3., 4., 4., 4.],
+                xy.iter().map(|&(x, y)| DVec3::new(a * x, b * y, 0.0)).collect(),
+                Some((0..9).map(|i| if i % 2 == 0 { 1.0 } else { w }).collect()),
+                2,
+            )
+            .unwrap()
+        };
+        let ellipse = conic(3.0, 1.0);
+        let delta = 0.01 * 3.0; // 1 % of the largest curvature, a / b² = 3
+        assert_eq!(curvature_extrema_around(&ellipse, delta), 4);
+        assert_eq!(curvature_extrema_at(&ellipse, delta), 3);
+        assert_eq!(curvature_extrema_around(&conic(2.0, 2.0), 0.005), 0);
     }
 
     #[test]

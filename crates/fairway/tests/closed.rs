@@ -506,7 +506,12 @@ fn region_across_the_seam_is_one_faired_stretch() {
     };
     assert!(matches!(wrap(&c, 1.2, 0.3), Err(Error::OutOfDomain { .. })));
     // too short a stretch: the message names the user's region and the reason
-    let e = wrap(&c, 0.99, 0.01).unwrap_err().to_string();
+    let e = wrap(&c, 0.99, 0.01).unwrap_err();
+    assert!(
+        matches!(&e, Error::AcrossSeam { u1: 0.99, u2: 0.01, source, .. } if matches!(**source, Error::RegionTooSmall { .. })),
+        "{e:?}"
+    );
+    let e = e.to_string();
     assert!(
         e.contains("[0.99, 0.01] across the seam") && e.contains("too small"),
         "{e}"

@@ -71,6 +71,13 @@ fn a_kink_is_kept_and_the_arcs_on_either_side_are_faired() {
     let Err(e) = FairingSetup::new(&c, ls_opts(m)) else {
         panic!("a setup across the kink")
     };
+    match &e {
+        fairway::Error::RegionCrossesCorner { corners, stretches, .. } => {
+            assert_eq!(corners, &vec![1.0]);
+            assert_eq!(stretches, &vec![(0.0, 1.0), (1.0, 2.0)]);
+        }
+        other => panic!("{other:?}"),
+    }
     let e = e.to_string();
     println!("{e}");
     assert!(

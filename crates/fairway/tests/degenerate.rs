@@ -496,3 +496,74 @@ fn an_absurd_target_gives_a_finite_result_within_the_band() {
         );
     }
 }
+
+/// The fairing refusals are error variants a caller matches on (not message strings), with the
+/// request's figures in their fields.
+#[test]
+fn fairing_refusals_are_variants() {
+    use fairway::Error;
+    let w = wiggly();
+    let err = |o: FairingOptions| fair_curve(&w, o).unwrap_err();
+    assert!(matches!(err(opts(0.0, None)), Error::BadTolerance { value } if value == 0.0));
+    assert!(matches!(
+        err(opts(0.01, Some((0.5, 0.5)))),
+        Error::EmptyRegion { u1: 0.5, u2: 0.5 }
+    ));
+    assert!(matches!(
+        err(opts(0.01, Some((f64::NAN, 0.4)))),
+        Error::RegionNotFinite { u2: 0.4, .. }
+    ));
+    assert!(matches!(
+        err(opts(0.01, Some((0.5, 0.5001)))),
+        Error::RegionTooSmall {
+            u1: 0.5,
+            u2: 0.5001,
+            ..
+        }
+    ));
+    let max = fairway::fair::curve::MAX_SAMPLES;
+    assert!(matches!(
+        err(FairingOptions { samples: Some(max + 1), ..opts(0.01, None) }),
+        Error::TooManySamples { samples, max: m } if samples == max + 1 && m == max
+    ));
+    assert!(matches!(
+        err(FairingOptions {
+            samples: Some(4),
+            ..opts(0.01, None)
+        }),
+        Error::TooFewSamples { samples: 4, .. }
+    ));
+    assert!(matches!(
+        err(FairingOptions {
+            samples: Some(1000),
+            target: fairway::fair::TargetMethod::Binomial,
+            strength: Some(1_000_001),
+            ..opts(0.01, None)
+        }),
+        Error::TargetTooStrong {
+            strength: 1_000_001,
+            samples: 1000,
+            ..
+        }
+    ));
+    let short = BSplineCurve::new_2d(
+        3,
+        vec![0., 0., 0., 0., 1., 1., 1., 1.],
+        &[DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y],
+    )
+    .unwrap();
+    assert!(matches!(
+        fair_curve(&short, opts(0.01, None)).unwrap_err(),
+        Error::TooFewControlPoints {
+            points: 4,
+            held: 3,
+            needed: 7,
+            ..
+        }
+    ));
+    let line = BSplineCurve::new_2d(1, vec![0., 0., 1., 1.], &[DVec2::ZERO, DVec2::X]).unwrap();
+    assert!(matches!(
+        fair_curve(&line, opts(0.01, None)).unwrap_err(),
+        Error::DegreeTooLowToFair { degree: 1 }
+    ));
+}

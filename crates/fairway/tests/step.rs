@@ -615,3 +615,53 @@ fn unclamped_b_splines_are_clamped_exactly_and_said() {
         f.notices
     );
 }
+
+/// A STEP file whose curves have an interior knot of multiplicity p + 1 (a break), as some CAD systems
+/// write Bézier chains: `(3,2,3)` knots at degree 2.
+fn break_file(joint_b: &str) -> String {
+    format!(
+        "ISO-10303-21;\r\nHEADER;\r\nFILE_DESCRIPTION((''),'2;1');\r\nFILE_NAME('b','',(''),(''),'','','');\r\n\
+         FILE_SCHEMA(('AUTOMOTIVE_DESIGN'));\r\nENDSEC;\r\nDATA;\r\n\
+         #1=CARTESIAN_POINT('',(0.,0.,0.));#2=CARTESIAN_POINT('',(1.,1.,0.));#3=CARTESIAN_POINT('',(2.,0.,0.));\r\n\
+         #4=CARTESIAN_POINT('',({joint_b}));#5=CARTESIAN_POINT('',(3.,-1.,0.));#6=CARTESIAN_POINT('',(4.,0.,0.));\r\n\
+         #7=B_SPLINE_CURVE_WITH_KNOTS('chain',2,(#1,#2,#3,#4,#5,#6),.UNSPECIFIED.,.F.,.F.,(3,3,3),(0.,1.,2.),\
+         .UNSPECIFIED.);\r\nENDSEC;\r\nEND-ISO-10303-21;\r\n"
+    )
+}
+
+#[test]
+fn a_break_in_a_step_curve_is_reduced_where_continuous_and_split_where_not() {
+    // the two Bézier pieces meet (#3 = #4): one curve with a C0 knot, the same shape
+    let f = step::read_all(break_file("2.,0.,0.").as_bytes()).unwrap();
+    assert_eq!(f.objects.len(), 1, "{:?}", f.notices);
+    let c = f.objects[0].as_curve().unwrap();
+    assert_eq!(c.knots().values(), [0., 0., 0., 1., 1., 2., 2., 2.]);
+    assert_eq!(c.n_points(), 5);
+    for (u, q) in [
+        (0.5, DVec3::new(1.0, 0.5, 0.0)),
+        (1.0, DVec3::new(2.0, 0.0, 0.0)),
+        (1.5, DVec3::new(3.0, -0.5, 0.0)),
+    ] {
+        assert!((c.point(u) - q).length() < 1e-15, "{u}: {}", c.point(u));
+    }
+    assert!(
+        f.notices.iter().any(|n| n.contains("reduced to a C0 knot")),
+        "{:?}",
+        f.notices
+    );
+    // they do not meet (#4 moved): two curves, each the Bézier on its side, labelled as pieces
+    let f = step::read_all(break_file("2.,0.5,0.").as_bytes()).unwrap();
+    assert_eq!(f.objects.len(), 2, "{:?}", f.notices);
+    let labels: Vec<&str> = f.entities.iter().map(|e| e.label.as_str()).collect();
+    assert_eq!(labels, ["chain, piece 1 of 2", "chain, piece 2 of 2"]);
+    let (a, b) = (f.objects[0].as_curve().unwrap(), f.objects[1].as_curve().unwrap());
+    assert_eq!(a.knots().values(), [0., 0., 0., 1., 1., 1.]);
+    assert_eq!(b.knots().values(), [1., 1., 1., 2., 2., 2.]);
+    assert_eq!(a.points()[2], DVec3::new(2.0, 0.0, 0.0));
+    assert_eq!(b.points()[0], DVec3::new(2.0, 0.5, 0.0));
+    assert!(
+        f.notices.iter().any(|n| n.contains("split there, 2 pieces")),
+        "{:?}",
+        f.notices
+    );
+}

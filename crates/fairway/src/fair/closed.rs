@@ -372,12 +372,13 @@ pub fn setup_across_seam_with_ends(
         ends,
         phase,
     )
-    .map_err(|e| {
-        Error::InvalidInput(format!(
-            "region [{u1}, {u2}] across the seam (the stretch [{u1}, {b}] then [{a}, {u2}], fairing region \
-             [{u1}, {}] of the re-seamed curve): {e}",
-            u2 + (b - a)
-        ))
+    .map_err(|e| Error::AcrossSeam {
+        u1,
+        u2,
+        start: a,
+        end: b,
+        reseamed_end: u2 + (b - a),
+        source: Box::new(e),
     })?;
     // a G1 / G0 end inserted knots at u1 / u2 + L of the re-seamed curve: the same at u1 / u2 of the
     // original, the form the result is rotated back onto
@@ -525,10 +526,6 @@ fn fair_closed_with(
     if !applies(&input, &opts) {
         return pass(&mut FairingSetup::new(&input, opts)?);
     }
-    let m = opts.tolerance;
-    let b = input.domain().1;
-    let o1 = pass_options(opts);
-    let p = input.degree();
     let mut s1 = first_pass_on(&input, opts)?;
     let r1 = pass(&mut s1)?;
     let held = |reason: String| FairingResult {
@@ -536,18 +533,9 @@ fn fair_closed_with(
         ..r1.clone()
     };
     let tol = removal_tolerance(&input);
-    // rotation point: the interior knot nearest the arc-length midpoint
-    // (to 1e-12: the same table gives the measure's DEV_SAMPLES arc-length samples for the verification)
+    // to 1e-12: the same table gives the measure's DEV_SAMPLES arc-length samples for the verification
     let table = ArcLengthTable::new(&input, 1e-12);
-    let u_mid = table.param_at(&input, 0.5 * table.length());
-    let bp = input.knots().breakpoints();
-    // (the midpoint itself if no knot lies within 5 % of the length of it)
-    let at = bp[1..bp.len() - 1]
-        .iter()
-        .copied()
-        .min_by(|x, y| (x - u_mid).abs().total_cmp(&(y - u_mid).abs()))
-        .filter(|&k| (table.length_at(&input, k) / table.length() - 0.5).abs() <= 0.05)
-        .unwrap_or(u_mid);
+    let at = rotation_point(&input, &table);
     let rot0 = match reseam(&input, at, tol) {
         Ok((c, _)) => c,
         Err(_) => return Ok(held(seam_reason(&input))),
@@ -562,126 +550,22 @@ fn fair_closed_with(
         }
     };
     // pass 2: the same single pass on the rotated original (its held ends are at u_m)
-    let rt = ArcLengthTable::new(&rot0, 1e-10);
-    let total = rt.length();
-    let s_seam = rt.length_at(&rot0, b);
-    let r2 = match FairingSetup::new(&rot0, o1).and_then(|mut s2| pass(&mut s2)) {
+    let r2 = match FairingSetup::new(&rot0, pass_options(opts)).and_then(|mut s2| pass(&mut s2)) {
         Ok(r) => r,
         Err(e) => return Ok(held(format!("the pass on the re-seamed curve failed ({e}): held"))),
     };
-    // verification against the original: the measure's samples and closest points
-    let l = b - input.domain().0;
-    let us = table.equal_arc_params(&input, DEV_SAMPLES);
-    let qs: Vec<DVec3> = us.iter().map(|&u| input.point(u)).collect();
-    // closest points by Newton near the sample's own parameter (the result keeps the parametrization;
-    // next to the seam also near its twin u ± L): points on the curve, so upper bounds of the distances
-    let (d0, _) = input.domain();
-    let h = l / input.knots().n_spans() as f64;
-    let devs_of = |c: &BSplineCurve| -> Vec<f64> {
-        us.iter()
-            .zip(&qs)
-            .map(|(&u, q)| {
-                let mut d = project_near(c, *q, u, h, u, 0.0);
-                if u - d0 < h {
-                    d = d.min(project_near(c, *q, u + l, h, u + l, 0.0));
-                } else if b - u < h {
-                    d = d.min(project_near(c, *q, u - l, h, u - l, 0.0));
-                }
-                d
-            })
-            .collect()
+    let blend = SeamBlend::new(&input, &rot0, &rot1, &r2.curve, at, tol);
+    let Ok(tapered) = blend.taper_into_band(&SeamCheck::new(&input, &table), opts.tolerance) else {
+        return Ok(held(
+            "the blend could not be rotated back to the original knots: held".into(),
+        ));
     };
-    // blend: P = P₁ + φ (P₂ − P₁), φ = 1 near the seam, 0 from BLEND_OUTER on (by Greville abscissa)
-    let greville = rot0.knots().greville();
-    let n_rot = greville.len();
-    let delta: Vec<DVec3> = r2
-        .curve
-        .points()
-        .iter()
-        .zip(rot1.points())
-        .zip(&greville)
-        .enumerate()
-        .map(|(i, ((x, y), &g))| {
-            // the p + 1 points at each end of the rotated form touch u_m: pass 1's, so that the rotation
-            // back removes the knots at u_m exactly
-            if i <= p || i + p + 1 >= n_rot {
-                return DVec3::ZERO;
-            }
-            let d = (rt.length_at(&rot0, g) - s_seam).abs() / total;
-            let t = ((BLEND_OUTER - d) / (BLEND_OUTER - BLEND_INNER)).clamp(0.0, 1.0);
-            (*x - *y) * quintic(t)
-        })
-        .collect();
-    let build = |w: &[f64]| -> Result<BSplineCurve> {
-        let pts: Vec<DVec3> = rot1
-            .points()
-            .iter()
-            .zip(&delta)
-            .zip(w)
-            .map(|((x, d), w)| *x + *d * *w)
-            .collect();
-        unrotate(&rot1.with_points(pts)?, &input, tol)
-    };
-    let n = rot1.n_points();
-    let mut w = vec![1.0; n];
-    let mut accepted = None;
-    let accept = band_accept(m, &input);
-    for _ in 0..TAPER_ROUNDS {
-        let Ok(cand) = build(&w) else {
-            return Ok(held(
-                "the blend could not be rotated back to the original knots: held".into(),
-            ));
-        };
-        let devs = devs_of(&cand);
-        let dmax = devs.iter().fold(0.0f64, |x, &y| x.max(y));
-        // out of the band: the samples beyond it, else (all within) where the sound bound between
-        // them is
-        let mut out_at: Vec<f64> = us
-            .iter()
-            .zip(&devs)
-            .filter(|(_, d)| !(**d <= accept))
-            .map(|(u, _)| *u)
-            .collect();
-        if dmax <= accept {
-            match super::verify::certify(&input, &cand, m) {
-                Some(b) if b.bound > m => out_at.push(b.at),
-                b => {
-                    accepted = Some((cand, b.map_or(dmax, |b| b.bound)));
-                    break;
-                }
-            }
-        }
-        // halve the update around every sample out of the band, tapered over TAPER points on each side
-        let mut phi = vec![0.0f64; n];
-        for u in out_at {
-            let ur = if u >= at { u } else { u + l };
-            let span = rot1.knots().find_span(ur);
-            for i in span - p..=span {
-                for k in 0..=TAPER {
-                    let f = 1.0 - k as f64 / (TAPER + 1) as f64;
-                    for idx in [i.checked_sub(k), Some(i + k)].into_iter().flatten() {
-                        if idx < n {
-                            phi[idx] = phi[idx].max(f);
-                        }
-                    }
-                }
-            }
-        }
-        for (wi, f) in w.iter_mut().zip(&phi) {
-            *wi *= 1.0 - 0.5 * f;
-        }
-    }
-    let Some((out, dev)) = accepted else {
+    let Some((out, dev, wmin)) = tapered else {
         return Ok(held(format!(
             "the seam pass could not hold the band against the original even with its update scaled down by \
              2^-{TAPER_ROUNDS} where it broke: held"
         )));
     };
-    let wmin = delta
-        .iter()
-        .zip(&w)
-        .filter(|(d, _)| **d != DVec3::ZERO)
-        .fold(1.0f64, |x, (_, &y)| x.min(y));
     let energy = s1.energy(&out);
     Ok(FairingResult {
         curve: out,
@@ -693,4 +577,180 @@ fn fair_closed_with(
         seam: Seam::Faired,
         notes: vec![],
     })
+}
+
+/// Where a whole closed curve is re-seamed for the second pass: the interior knot nearest the
+/// arc-length midpoint, or the midpoint itself if no knot lies within 5 % of the length of it.
+fn rotation_point(input: &BSplineCurve, table: &ArcLengthTable) -> f64 {
+    let u_mid = table.param_at(input, 0.5 * table.length());
+    let bp = input.knots().breakpoints();
+    bp[1..bp.len() - 1]
+        .iter()
+        .copied()
+        .min_by(|x, y| (x - u_mid).abs().total_cmp(&(y - u_mid).abs()))
+        .filter(|&k| (table.length_at(input, k) / table.length() - 0.5).abs() <= 0.05)
+        .unwrap_or(u_mid)
+}
+
+/// The band check of a seam blend against the original: the measure's arc-length samples and their
+/// closest points by Newton near the sample's own parameter (the result keeps the parametrization;
+/// next to the seam also near its twin u ± L): points on the curve, so upper bounds of the distances.
+struct SeamCheck<'a> {
+    input: &'a BSplineCurve,
+    us: Vec<f64>,
+    qs: Vec<DVec3>,
+}
+
+impl<'a> SeamCheck<'a> {
+    fn new(input: &'a BSplineCurve, table: &ArcLengthTable) -> Self {
+        let us = table.equal_arc_params(input, DEV_SAMPLES);
+        let qs = us.iter().map(|&u| input.point(u)).collect();
+        Self { input, us, qs }
+    }
+
+    /// The distance of each sample of the original from `c`.
+    fn deviations(&self, c: &BSplineCurve) -> Vec<f64> {
+        let (d0, b) = self.input.domain();
+        let l = b - d0;
+        let h = l / self.input.knots().n_spans() as f64;
+        self.us
+            .iter()
+            .zip(&self.qs)
+            .map(|(&u, q)| {
+                let mut d = project_near(c, *q, u, h, u, 0.0);
+                if u - d0 < h {
+                    d = d.min(project_near(c, *q, u + l, h, u + l, 0.0));
+                } else if b - u < h {
+                    d = d.min(project_near(c, *q, u - l, h, u - l, 0.0));
+                }
+                d
+            })
+            .collect()
+    }
+}
+
+/// The blend of the two passes of a whole closed curve on the re-seamed form: P = P₁ + φ w (P₂ − P₁),
+/// φ = 1 near the seam, 0 from BLEND_OUTER on (by Greville abscissa), w the taper weights.
+struct SeamBlend<'a> {
+    input: &'a BSplineCurve,
+    rot1: &'a BSplineCurve,
+    delta: Vec<DVec3>,
+    at: f64,
+    tol: f64,
+}
+
+impl<'a> SeamBlend<'a> {
+    fn new(
+        input: &'a BSplineCurve,
+        rot0: &BSplineCurve,
+        rot1: &'a BSplineCurve,
+        pass2: &BSplineCurve,
+        at: f64,
+        tol: f64,
+    ) -> Self {
+        let p = input.degree();
+        let b = input.domain().1;
+        let rt = ArcLengthTable::new(rot0, 1e-10);
+        let total = rt.length();
+        let s_seam = rt.length_at(rot0, b);
+        let greville = rot0.knots().greville();
+        let n_rot = greville.len();
+        let delta = pass2
+            .points()
+            .iter()
+            .zip(rot1.points())
+            .zip(&greville)
+            .enumerate()
+            .map(|(i, ((x, y), &g))| {
+                // the p + 1 points at each end of the rotated form touch u_m: pass 1's, so that the
+                // rotation back removes the knots at u_m exactly
+                if i <= p || i + p + 1 >= n_rot {
+                    return DVec3::ZERO;
+                }
+                let d = (rt.length_at(rot0, g) - s_seam).abs() / total;
+                let t = ((BLEND_OUTER - d) / (BLEND_OUTER - BLEND_INNER)).clamp(0.0, 1.0);
+                (*x - *y) * quintic(t)
+            })
+            .collect();
+        Self {
+            input,
+            rot1,
+            delta,
+            at,
+            tol,
+        }
+    }
+
+    /// The blend with taper weights `w`, rotated back onto the original's knots.
+    fn build(&self, w: &[f64]) -> Result<BSplineCurve> {
+        let pts: Vec<DVec3> = self
+            .rot1
+            .points()
+            .iter()
+            .zip(&self.delta)
+            .zip(w)
+            .map(|((x, d), w)| *x + *d * *w)
+            .collect();
+        unrotate(&self.rot1.with_points(pts)?, self.input, self.tol)
+    }
+
+    /// Halve the update around every sample out of the band (tapered over TAPER points on each side)
+    /// until the blend holds the band `m` (samples, then the sound bound between them): the curve, its
+    /// bound and the smallest weight used; `None` if TAPER_ROUNDS are not enough; an error if a blend
+    /// cannot be rotated back.
+    fn taper_into_band(&self, check: &SeamCheck<'_>, m: f64) -> Result<Option<(BSplineCurve, f64, f64)>> {
+        let (p, n) = (self.input.degree(), self.rot1.n_points());
+        let l = self.input.domain().1 - self.input.domain().0;
+        let mut w = vec![1.0; n];
+        let accept = band_accept(m, self.input);
+        for _ in 0..TAPER_ROUNDS {
+            let cand = self
+                .build(&w)
+                .map_err(|_| Error::InvalidInput("the blend could not be rotated back to the original knots".into()))?;
+            let devs = check.deviations(&cand);
+            let dmax = devs.iter().fold(0.0f64, |x, &y| x.max(y));
+            // out of the band: the samples beyond it, else (all within) where the sound bound between
+            // them is
+            let mut out_at: Vec<f64> = check
+                .us
+                .iter()
+                .zip(&devs)
+                .filter(|(_, d)| !(**d <= accept))
+                .map(|(u, _)| *u)
+                .collect();
+            if dmax <= accept {
+                match super::verify::certify(self.input, &cand, m) {
+                    Some(b) if b.bound > m => out_at.push(b.at),
+                    b => {
+                        let wmin = self
+                            .delta
+                            .iter()
+                            .zip(&w)
+                            .filter(|(d, _)| **d != DVec3::ZERO)
+                            .fold(1.0f64, |x, (_, &y)| x.min(y));
+                        return Ok(Some((cand, b.map_or(dmax, |b| b.bound), wmin)));
+                    }
+                }
+            }
+            let mut phi = vec![0.0f64; n];
+            for u in out_at {
+                let ur = if u >= self.at { u } else { u + l };
+                let span = self.rot1.knots().find_span(ur);
+                for i in span - p..=span {
+                    for k in 0..=TAPER {
+                        let f = 1.0 - k as f64 / (TAPER + 1) as f64;
+                        for idx in [i.checked_sub(k), Some(i + k)].into_iter().flatten() {
+                            if idx < n {
+                                phi[idx] = phi[idx].max(f);
+                            }
+                        }
+                    }
+                }
+            }
+            for (wi, f) in w.iter_mut().zip(&phi) {
+                *wi *= 1.0 - 0.5 * f;
+            }
+        }
+        Ok(None)
+    }
 }

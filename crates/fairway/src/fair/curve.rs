@@ -191,6 +191,9 @@ pub struct FairingSetup {
     a3_scale: f64,
     /// μ of the last smoother search (its warm start).
     last_mu_smooth: Option<f64>,
+    /// The variation polish's start candidates that do not depend on the target, kept for the next fair
+    /// ([`polish::PolishCache`]).
+    polish_cache: polish::PolishCache,
     // check samples
     chk_u: Vec<f64>,
     chk_q: Vec<DVec3>,
@@ -241,9 +244,7 @@ pub struct FairingSetup {
 
 pub(crate) fn validate_tolerance(m: f64) -> Result<()> {
     if !(m.is_finite() && m > 0.0) {
-        return Err(Error::InvalidInput(format!(
-            "tolerance must be a positive finite number, got {m}"
-        )));
+        return Err(Error::BadTolerance { value: m });
     }
     Ok(())
 }
@@ -306,8 +307,8 @@ impl FairingSetup {
     }
 
     /// Cap the E polish at `n` Gauss–Newton iterations (default [`POLISH_ITERS`]; it stops earlier when
-    /// a step gains < 0.02 % of E). More iterations lower E further inside the band, at 0.15–0.3 ms
-    /// each for 100 control points (the later ones cost more: more samples sit at the band edge), e.g.
+    /// a step gains < 0.02 % of E). More iterations lower E further inside the band at more cost
+    /// (the later ones cost more: more samples sit at the band edge), e.g.
     /// to reach the iterative baseline's E on a curve where the default does not; 0 skips the polish.
     pub fn set_polish_iterations(&mut self, n: usize) {
         self.opts.polish_iterations = n;
@@ -480,11 +481,10 @@ impl FairingSetup {
                 // Never less fair than the original: where the band-holding fit has a larger E than the
                 // original's (noise larger than the control point spacing, knots crowded at an end), the
                 // polish, which only accepts steps that lower E, starts from the original instead
-                // (without the polish, the original is the result). Before, a 5000-point zigzag went
-                // from E 1.5e11 to 2.5e13 (cusps of curvature 2.4e8), a curve with knots crowded at
-                // its start from E 6.3 to 27. The check comes before the polish, which then runs once
-                // (polishing the fit first and then the original cost the 10,000-point bench curve
-                // 60 % more time: 339 instead of ≈ 210 ms).
+                // (without the polish, the original is the result). Without the check a 5000-point zigzag
+                // goes from E 1.5e11 to 2.5e13 (cusps of curvature 2.4e8), a curve with knots crowded
+                // at its start from E 6.3 to 27. The check comes before the polish, which then runs once
+                // (polishing both, the fit and then the original, would nearly double its cost).
                 // (E of a straight stretch is rounding on both sides: a floor of (1e-10 / length)² per
                 // sample keeps such ties as they are)
                 // (each E is evaluated once: the fit's, the original's — kept while the target stays —, and

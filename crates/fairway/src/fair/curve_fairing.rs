@@ -110,6 +110,9 @@ pub struct CurveFairing {
     route: Route,
     /// A hand-edited target or pins are in the setup(s) ([`Self::set_target`]).
     edited: bool,
+    /// `measure`'s extrema threshold for the input and its curvature extrema at it (computed on the
+    /// first full pass).
+    original_extrema: Option<(f64, usize)>,
 }
 
 impl CurveFairing {
@@ -145,6 +148,7 @@ impl CurveFairing {
             ends,
             route,
             edited: false,
+            original_extrema: None,
         })
     }
 
@@ -457,7 +461,55 @@ impl CurveFairing {
     }
 
     /// Fair (module docs for what each route does; [`Pass`] for how).
+    ///
+    /// A full pass that follows the automatic target never ends with more curvature extrema than the
+    /// input (counted as `measure` counts them, over the whole curve): if its result would, the input is
+    /// returned as it was, with a note. A hand-edited target is followed as edited, and a region end
+    /// inside the curve given G0 or G1 may add the curvature step (and extrema) it asks for.
     pub fn fair(&mut self, pass: Pass) -> Result<CurveFair> {
+        let mut f = self.fair_routed(pass)?;
+        if pass != Pass::Full || self.edited || self.asks_for_curvature_steps() {
+            return Ok(f);
+        }
+        let input = &self.input;
+        let (delta, before) = *self.original_extrema.get_or_insert_with(|| {
+            let delta = crate::measure::extrema_threshold(input);
+            (delta, extrema_count(input, delta))
+        });
+        let after = extrema_count(&f.result.curve, delta);
+        if after > before {
+            let r = &mut f.result;
+            r.notes.push(format!(
+                "left as it was: the fair ended with more curvature extrema than the input ({before} before, {after} after)"
+            ));
+            r.curve = self
+                .rational
+                .as_ref()
+                .map_or_else(|| self.input.clone(), |(c, _)| c.clone());
+            r.max_deviation = 0.0;
+            r.alpha = 0.0;
+            r.energy = f.energy_before;
+        }
+        Ok(f)
+    }
+
+    /// A region end inside the curve has an end condition below G2: the fair may leave a curvature step
+    /// there by the user's choice.
+    fn asks_for_curvature_steps(&self) -> bool {
+        let Some((u1, u2)) = self.opts.region else {
+            return false;
+        };
+        let (d0, d1) = self.input.domain();
+        let eps = 1e-12 * (d1 - d0);
+        let closed = super::closed::is_closed_curve(&self.input);
+        let inside = |u: f64| closed || (u > d0 + eps && u < d1 - eps);
+        [(u1, self.ends[0]), (u2, self.ends[1])]
+            .iter()
+            .any(|&(u, e)| e != EndCondition::G2 && inside(u))
+    }
+
+    /// [`Self::fair`] along the route, without the final extrema guard.
+    fn fair_routed(&mut self, pass: Pass) -> Result<CurveFair> {
         let polish = self.opts.polish && pass != Pass::Draft;
         for s in self.setups_mut() {
             s.set_polish(polish);
@@ -481,7 +533,8 @@ impl CurveFairing {
                         // a result with more curvature extrema than the input falls back to the single
                         // pass with the seam held
                         let r = closed::fair_closed(input, opts)?;
-                        let extrema = |c: &BSplineCurve| crate::measure::curvature_extrema(input, c);
+                        let delta = crate::measure::extrema_threshold(input);
+                        let extrema = |c: &BSplineCurve| extrema_count(c, delta);
                         let before = extrema(input);
                         let after = extrema(&r.curve);
                         if after <= before {
@@ -492,13 +545,13 @@ impl CurveFairing {
                             if held_after <= before {
                                 held.notes.push(format!(
                                     "faired with the seam held: across the seam the fair ended with more \
-                                     curvature extrema than the input ({before} → {after})"
+                                     curvature extrema than the input ({before} before, {after} after)"
                                 ));
                             } else {
                                 // never less fair than the input: it stays as it is
                                 held.notes.push(format!(
                                     "left as it was: the fair ended with more curvature extrema than the \
-                                     input ({before} → {})",
+                                     input ({before} before, {} after)",
                                     after.min(held_after)
                                 ));
                                 held.curve = input.clone();
@@ -609,12 +662,12 @@ pub(crate) fn check_strength(method: TargetMethod, strength: usize, n: usize) ->
         TargetMethod::Heat | TargetMethod::Fit => return Ok(()),
     };
     if strength.saturating_mul(n) > super::curve::MAX_PASS_WORK {
-        return Err(crate::error::Error::InvalidInput(format!(
-            "target strength {strength} is too much work for the {name} target: its passes cost strength × samples, \
-             and {n} samples allow at most {} passes; use the heat target (the implicit heat flow of the \
-             averaging), whose cost stays bounded at any strength",
-            super::curve::MAX_PASS_WORK / n.max(1)
-        )));
+        return Err(crate::error::Error::TargetTooStrong {
+            strength,
+            target: name.into(),
+            samples: n,
+            max_passes: super::curve::MAX_PASS_WORK / n.max(1),
+        });
     }
     Ok(())
 }
@@ -622,4 +675,14 @@ pub(crate) fn check_strength(method: TargetMethod, strength: usize, n: usize) ->
 /// Fair `curve` with `opts` in one call: [`CurveFairing::new`], then a full [`CurveFairing::fair`].
 pub fn fair_curve(curve: &BSplineCurve, opts: FairingOptions) -> Result<FairingResult> {
     Ok(CurveFairing::new(curve, opts)?.fair(Pass::Full)?.result)
+}
+
+/// The curvature extrema the guards compare: `measure`'s count with the dead band `delta`, around the
+/// loop on a closed curve ([`crate::measure::curvature_extrema_around`]).
+fn extrema_count(c: &BSplineCurve, delta: f64) -> usize {
+    if super::closed::is_closed_curve(c) {
+        crate::measure::curvature_extrema_around(c, delta)
+    } else {
+        crate::measure::curvature_extrema_at(c, delta)
+    }
 }

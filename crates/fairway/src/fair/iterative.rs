@@ -99,54 +99,65 @@ impl Local<'_> {
     }
 }
 
+impl<'a> Local<'a> {
+    /// The baseline's state on `setup`: the basis at its samples and at its check samples (across the
+    /// seam: the original's, not the rotated curve's), and those check samples' parameters.
+    fn new(setup: &'a FairingSetup) -> (Self, Vec<f64>) {
+        let work = setup.working_curve();
+        let p = work.degree();
+        let kv = work.knots().values();
+        let params = setup.params();
+        let mut span = Vec::with_capacity(params.len());
+        let mut ders = Vec::with_capacity(params.len());
+        for &u in params {
+            let s = work.knots().find_span(u);
+            let mut d = [[0.0; MAX_ORDER]; 3];
+            ders_basis_funs(kv, s, work.knots().clamp(u), p, &mut d);
+            span.push(s);
+            ders.push(d);
+        }
+        let (a, b) = setup.moving_range();
+        // the setup's own check samples (across the seam: the original's, not the rotated curve's)
+        let chk_u: Vec<f64> = if setup.check_params().is_empty() {
+            ArcLengthTable::new(work, 1e-12)
+                .equal_arc_params(work, CHECK_SAMPLES)
+                .into_iter()
+                .filter(|&u| u > a && u < b)
+                .collect()
+        } else {
+            setup.check_params().to_vec()
+        };
+        let mut chk_span = Vec::with_capacity(chk_u.len());
+        let mut chk_b = Vec::with_capacity(chk_u.len());
+        for &u in &chk_u {
+            let s = work.knots().find_span(u);
+            let mut nb = [0.0; MAX_ORDER];
+            basis_funs(kv, s, work.knots().clamp(u), p, &mut nb);
+            chk_span.push(s);
+            chk_b.push(nb);
+        }
+        let m = band_accept(setup.options().tolerance, work);
+        let loc = Local {
+            setup,
+            p,
+            pts: work.points().to_vec(),
+            orig: work.points().to_vec(),
+            span,
+            ders,
+            chk_span,
+            chk_b,
+            m,
+        };
+        (loc, chk_u)
+    }
+}
+
 /// Run the iterative baseline on `setup` (its target and tolerance).
 pub fn fair_iterative(setup: &FairingSetup, opts: IterativeOptions) -> Result<FairingResult> {
     let work = setup.working_curve();
-    let p = work.degree();
     let dim = work.dim();
-    let kv = work.knots().values();
     let params = setup.params();
-    let mut span = Vec::with_capacity(params.len());
-    let mut ders = Vec::with_capacity(params.len());
-    for &u in params {
-        let s = work.knots().find_span(u);
-        let mut d = [[0.0; MAX_ORDER]; 3];
-        ders_basis_funs(kv, s, work.knots().clamp(u), p, &mut d);
-        span.push(s);
-        ders.push(d);
-    }
-    let (a, b) = setup.moving_range();
-    // the setup's own check samples (across the seam: the original's, not the rotated curve's)
-    let chk_u: Vec<f64> = if setup.check_params().is_empty() {
-        ArcLengthTable::new(work, 1e-12)
-            .equal_arc_params(work, CHECK_SAMPLES)
-            .into_iter()
-            .filter(|&u| u > a && u < b)
-            .collect()
-    } else {
-        setup.check_params().to_vec()
-    };
-    let mut chk_span = Vec::with_capacity(chk_u.len());
-    let mut chk_b = Vec::with_capacity(chk_u.len());
-    for &u in &chk_u {
-        let s = work.knots().find_span(u);
-        let mut nb = [0.0; MAX_ORDER];
-        basis_funs(kv, s, work.knots().clamp(u), p, &mut nb);
-        chk_span.push(s);
-        chk_b.push(nb);
-    }
-    let m = band_accept(setup.options().tolerance, work);
-    let mut loc = Local {
-        setup,
-        p,
-        pts: work.points().to_vec(),
-        orig: work.points().to_vec(),
-        span,
-        ders,
-        chk_span,
-        chk_b,
-        m,
-    };
+    let (mut loc, chk_u) = Local::new(setup);
     // sample / check ranges touching each control point's support
     let range_of = |us: &[f64], lo: f64, hi: f64| (us.partition_point(|&u| u < lo), us.partition_point(|&u| u <= hi));
     let free = setup.free_points();

@@ -38,6 +38,7 @@ pub mod curve;
 pub mod curve_fairing;
 pub mod integrate;
 pub mod iterative;
+pub mod network;
 pub mod nurbs;
 pub mod split;
 pub mod surface;

@@ -4,7 +4,7 @@
 //! control points). A rational curve with unequal weights — a circle or conic from Alias or CATIA — is
 //! first approximated, in its own parameter, by a non-rational B-spline of degree max(p, 3) on its own
 //! breakpoints (interior multiplicities raised with the degree, so the continuity class is kept), refined
-//! by halving every span where the approximation is not yet within [`APPROX_FRACTION`] of the band. The
+//! by halving every span where the approximation is not yet within `APPROX_FRACTION` of the band. The
 //! approximation error is bounded per span from 64 samples plus the interpolation margin `h²/8 · max|e''|`
 //! (doubled), the fair then runs on the approximation with the band narrowed by that bound, and the
 //! reported deviation adds it back: what is reported bounds the distance from the rational original.
@@ -18,7 +18,7 @@ use crate::knots::KnotVector;
 use crate::surface::BSplineSurface;
 
 /// The share of the tolerance the non-rational approximation of a rational curve may use.
-pub const APPROX_FRACTION: f64 = 0.1;
+pub(crate) const APPROX_FRACTION: f64 = 0.1;
 
 /// Rounds of span halving before the approximation gives up.
 const MAX_ROUNDS: usize = 14;

@@ -19,9 +19,9 @@
 //! region across the seam (`u1 > u2`) in the middle of the untouched rest, as
 //! [`super::closed::setup_across_seam`] does. A seam that is itself a kink (a sharp
 //! trailing edge, [`crate::corners::seam_corner`]) is a corner like the others: it ends the first and
-//! the last stretch with G1 (before, the whole loop went to `fair_closed`, which holds such a seam G2:
-//! the first and last three control points fixed), and a region across it is faired as its two sides
-//! `[u1, b]` and `[a, u2]` (before: refused, the seam cannot be re-seamed). If the seam cannot be re-seamed otherwise (not
+//! the last stretch with G1 (`fair_closed` would hold such a seam G2: the first and last three control
+//! points fixed), and a region across it is faired as its two sides `[u1, b]` and `[a, u2]` (it cannot
+//! be re-seamed). If the seam cannot be re-seamed otherwise (not
 //! parametrically C2), a whole loop's seam ends two stretches like G2 region ends, and a region across
 //! it is left to `setup_across_seam`, which says why. A stretch whose setup is refused (too short
 //! to have a free control point, say) is left as it is and said so in [`FairingResult::notes`]; if
@@ -197,40 +197,15 @@ impl CornerSetups {
         } else {
             None
         };
-        // the kink a whole loop is re-seamed at (kept as a corner: it ends the first and last stretch)
-        let mut loop_kink = None;
-        // the curve to set up on, the region on it, where it was re-seamed, the region's own ends
-        let (work, region, at, region_ends) = if u1 > u2 {
-            if !closed {
-                return Ok(None);
-            }
-            if seam_kink.is_some() {
-                // across a seam that is a kink: [u1, b] and [a, u2] (the segments below), G1 at the seam
-                (input.clone(), (u1, u2), None, ends)
-            } else {
-                let at = 0.5 * (u1 + u2);
-                match reseam(&input, at, tol) {
-                    Ok((r, _)) => (r, (u1, u2 + len), Some(at), ends),
-                    Err(_) => return Ok(None),
-                }
-            }
-        } else if !(u1 < u2) {
+        let Some(WorkingForm {
+            work,
+            region,
+            at,
+            region_ends,
+            loop_kink,
+        }) = working_form(&input, (u1, u2), ends, whole_loop, seam_kink.is_some(), tol)
+        else {
             return Ok(None);
-        } else if whole_loop && seam_kink.is_some() {
-            // the seam is a kink (a sharp trailing edge): it ends the first and the last stretch, G1
-            (input.clone(), (u1, u2), None, [EndCondition::G1; 2])
-        } else if whole_loop {
-            // a loop has no ends: G2 where the seam ends two stretches
-            let kink = corners(&input, d0, d1).into_iter().find(|c| !c.stops);
-            match kink.and_then(|k| reseam(&input, k.u, tol).ok().map(|r| (k, r.0))) {
-                Some((k, r)) => {
-                    loop_kink = Some(k);
-                    (r, (k.u, k.u + len), Some(k.u), [EndCondition::G1; 2])
-                }
-                None => (input.clone(), (u1, u2), None, [EndCondition::G2; 2]),
-            }
-        } else {
-            (input.clone(), (u1, u2), None, ends)
         };
         // the stretches of `work` to cut at corners: the region, or its two sides of a seam that is a kink
         let segments = if region.0 > region.1 {
@@ -295,25 +270,12 @@ impl CornerSetups {
         kept.extend(loop_kink);
         kept.extend(seam_kink);
         kept.sort_by(|x, y| x.u.total_cmp(&y.u));
-        let seam = if let Some(k) = seam_kink {
-            Seam::Held(format!(
-                "the seam is a corner ({}): kept as a corner, G1 on both sides (its point and both tangent \
-                 directions stay, the curvature next to it is faired)",
-                k.describe()
-            ))
-        } else if rotation.is_some() {
-            Seam::Faired
-        } else if !closed {
-            Seam::Open
-        } else if whole_loop || u1 <= d0 + eps || u2 >= d1 - eps {
-            Seam::Held(
-                "the curve has corners and its seam could not be re-seamed at one: the stretches between \
-                 them were faired one by one, and the seam ends two of them like G2 region ends"
-                    .into(),
-            )
-        } else {
-            Seam::Untouched
-        };
+        let seam = seam_state(
+            seam_kink,
+            rotation.is_some(),
+            closed,
+            whole_loop || u1 <= d0 + eps || u2 >= d1 - eps,
+        );
         Ok(Some(Self {
             input,
             work,
@@ -509,5 +471,91 @@ pub fn fair_between_corners(
     match CornerSetups::new(curve, opts, [opts.ends; 2])? {
         Some(mut s) => s.fair_with(pass).map(Some),
         None => Ok(None),
+    }
+}
+
+/// The curve a corner split is set up on, the region on it, where it was re-seamed, the region's own
+/// end conditions, and the kink a whole loop was re-seamed at (kept as a corner: it ends the first and
+/// last stretch).
+struct WorkingForm {
+    work: BSplineCurve,
+    region: (f64, f64),
+    at: Option<f64>,
+    region_ends: [EndCondition; 2],
+    loop_kink: Option<Corner>,
+}
+
+/// [`WorkingForm`] of `input` for the region `(u1, u2)`; `None` where the split does not apply (an
+/// empty region, a region across the seam of an open curve or of a seam that cannot be re-seamed).
+fn working_form(
+    input: &BSplineCurve,
+    (u1, u2): (f64, f64),
+    ends: [EndCondition; 2],
+    whole_loop: bool,
+    seam_is_kink: bool,
+    tol: f64,
+) -> Option<WorkingForm> {
+    let (d0, d1) = input.domain();
+    let len = d1 - d0;
+    let form = |work: BSplineCurve, region, at, region_ends, loop_kink| WorkingForm {
+        work,
+        region,
+        at,
+        region_ends,
+        loop_kink,
+    };
+    if u1 > u2 {
+        if !is_closed_curve(input) {
+            return None;
+        }
+        if seam_is_kink {
+            // across a seam that is a kink: [u1, b] and [a, u2] (the segments), G1 at the seam
+            return Some(form(input.clone(), (u1, u2), None, ends, None));
+        }
+        let at = 0.5 * (u1 + u2);
+        let (r, _) = reseam(input, at, tol).ok()?;
+        return Some(form(r, (u1, u2 + len), Some(at), ends, None));
+    }
+    if !(u1 < u2) {
+        return None;
+    }
+    if whole_loop && seam_is_kink {
+        // the seam is a kink (a sharp trailing edge): it ends the first and the last stretch, G1
+        return Some(form(input.clone(), (u1, u2), None, [EndCondition::G1; 2], None));
+    }
+    if whole_loop {
+        // a loop has no ends: G2 where the seam ends two stretches
+        let kink = corners(input, d0, d1).into_iter().find(|c| !c.stops);
+        return Some(
+            match kink.and_then(|k| reseam(input, k.u, tol).ok().map(|r| (k, r.0))) {
+                Some((k, r)) => form(r, (k.u, k.u + len), Some(k.u), [EndCondition::G1; 2], Some(k)),
+                None => form(input.clone(), (u1, u2), None, [EndCondition::G2; 2], None),
+            },
+        );
+    }
+    Some(form(input.clone(), (u1, u2), None, ends, None))
+}
+
+/// What happens to the seam of a corner split: kept as a corner (`seam_kink`), faired (re-seamed),
+/// open, held (a closed curve whose region reaches the seam), or untouched.
+fn seam_state(seam_kink: Option<Corner>, rotated: bool, closed: bool, reaches_seam: bool) -> Seam {
+    if let Some(k) = seam_kink {
+        Seam::Held(format!(
+            "the seam is a corner ({}): kept as a corner, G1 on both sides (its point and both tangent \
+             directions stay, the curvature next to it is faired)",
+            k.describe()
+        ))
+    } else if rotated {
+        Seam::Faired
+    } else if !closed {
+        Seam::Open
+    } else if reaches_seam {
+        Seam::Held(
+            "the curve has corners and its seam could not be re-seamed at one: the stretches between \
+             them were faired one by one, and the seam ends two of them like G2 region ends"
+                .into(),
+        )
+    } else {
+        Seam::Untouched
     }
 }

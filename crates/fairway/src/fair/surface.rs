@@ -57,32 +57,13 @@
 //!    (a discrete mean-curvature flow) on the combined grid, border rows held
 //!    — the "modified" variant that smooths curvature in 2D.
 //!
-//!    **Measured** (`cargo run --release -p fairway --example surface_combine`:
-//!    20×20 bicubic graphs, noise σ = 1e-3 on z, m = 3e-3; RMS principal
-//!    curvature error against the noise-free surface, original → result;
-//!    with the fairness-energy choice of step 6):
-//!
-//!    | surface, region | original | Average | Border | Weighted | Smoothed |
-//!    |---|---|---|---|---|---|
-//!    | cylinder, whole | 0.437 | 0.065 | 0.065 | **0.064** | **0.064** |
-//!    | bump, whole | 0.369 | **0.119** | **0.119** | 0.141 | 0.148 |
-//!    | saddle, whole | 0.456 | **0.0035** | **0.0035** | 0.0036 | 0.0036 |
-//!    | wave, whole | 0.439 | 0.045 | 0.045 | 0.045 | 0.045 |
-//!    | cylinder, local | 0.479 | **0.311** | 0.315 | 0.335 | 0.335 |
-//!    | bump, local | 0.280 | 0.290 | 0.303 | **0.238** | 0.239 |
-//!    | saddle, local | 0.465 | **0.311** | 0.313 | 0.349 | 0.339 |
-//!    | wave, local | 0.451 | **0.306** | 0.309 | 0.337 | 0.324 |
-//!
-//!    No variant wins everywhere. In local regions `Weighted` is 8–12 %
-//!    behind the average on the cylinder, saddle and wave, but it is the only
-//!    one that improves the bump (the average makes it worse than the
-//!    original there), and where one direction carries the correction (an
-//!    extrusion) it reproduces the curve engine exactly — test
-//!    `extruded_curve_matches_the_curve_engine` — while the average does
-//!    half the correction; so it is the default. (Before step 6 chose by
-//!    fairness, the same table had e.g. bump whole 0.289 / 0.258, wave local
-//!    0.419 / 0.336 for Average / Weighted.) `Smoothed` (umbrella smoothing
-//!    also shrinks curved regions) is offered, not default.
+//!    No variant wins everywhere (docs/QUALITY.md, `cargo run --release -p
+//!    fairway --example surface_combine`). `Weighted` is the default: it is
+//!    the only one that improves a bump in a local region, and where one
+//!    direction carries the correction (an extrusion) it reproduces the curve
+//!    engine exactly (test `extruded_curve_matches_the_curve_engine`), while the
+//!    average does half the correction. `Smoothed` (umbrella smoothing also
+//!    shrinks curved regions) is offered, not default.
 //! 5. **Fit** the control block to `S + Δ` on the grid with the original
 //!    knots and parameters ([`GridFit`], separable, O(n)).
 //! 6. **Choice of the isocurve tolerance and the fit smoothing** (with
@@ -95,26 +76,13 @@
 //!    *fairness energy* is taken: the Dirichlet energy of the mean curvature
 //!    H on a grid of [`ENERGY_PER_SPAN`] samples per knot span of the moving
 //!    rectangle, `Σ_edges (H_a − H_b)² w_⊥/|P_a − P_b|` (a discrete
-//!    `∫∫|∇H|² dA`). **Why** (measured, `cargo run --release -p fairway
-//!    --example surface_region_quality`, assets/bumpy_surface.json, region
-//!    [0.1, 0.9]²): the former rule — m_iso = m and the *largest* strength
-//!    that holds the band — made interior regions *less* fair at larger m
-//!    (Σ∫(dκ/ds)² over the region ×1.08 at m = 4e-3, ×3.8 at m = 2e-2;
-//!    ∫∫|∇H|² ×0.92 / ×2.3). Two causes: (i) each isocurve is faired on its
-//!    own with its own band-limited μ; with a band of m the corrections are of
-//!    size m but differ from one isocurve to the next, so the combined cloud
-//!    is wavy *across* the isocurves (with no fit smoothing the region's
-//!    Σ∫(dκ/ds)² grows ×0.93 → ×5.7 from m = 2e-3 to 2e-2, the whole
-//!    surface's ×1 → ×60); (ii) a strong separable derivative penalty next
-//!    to held border rows pulls the free block towards a stiff interpolant of
-//!    the border (strength 1e2 held the band at m = 2e-2 and gave ×3.8), while
-//!    with no held border (whole surface) the same strength is what makes the
-//!    result fair. Measuring the candidates instead of trusting "more
-//!    smoothing is fairer" fixes both: the region's Σ∫(dκ/ds)² is now ×0.72–0.75
-//!    and ∫∫|∇H|² ×0.73–0.74 for m = 2e-3…2e-2, the whole surface ×0.94 / ×0.93
-//!    (it is not fairer outside; the held G2 strip next to the border keeps its
-//!    noise). The whole-surface fairing also gains at small m (bumpy surface,
-//!    m = 2e-3: Σ∫(dκ/ds)² ×0.99 → ×0.041).
+//!    `∫∫|∇H|²`). **Why**: taking the *largest* strength that holds the band
+//!    made interior regions less fair at larger m: each isocurve's own
+//!    band-limited correction differs from its neighbour's, so the combined
+//!    cloud is wavy across the isocurves, and a strong penalty next to held
+//!    border rows pulls the block towards a stiff interpolant of the border.
+//!    Measuring the candidates instead of trusting "more smoothing is fairer"
+//!    fixes both (docs/QUALITY.md).
 //!
 //!    **How the levels are made.** By default the isocurves are faired once,
 //!    at m, and level k's cloud is the original plus the combined correction
@@ -122,19 +90,10 @@
 //!    m/3, m/9, … (its setup is reused, so a level costs the band search and
 //!    integration only). Scaling is what a smaller band mostly does to the
 //!    correction's size; what it does not reproduce is the isocurve's own
-//!    re-balancing at the smaller band. Measured (`cargo run --release -p
-//!    fairway --example surface_combine`, curvature error against the exact
-//!    surface, default `Weighted`, refair → scaled): cylinder whole 0.0643 →
-//!    0.0643, local 0.3220 → 0.3119; bump 0.1410 → 0.1410, local 0.2379 →
-//!    0.2406; saddle 0.0036 → 0.0040, local 0.3493 → 0.3493; wave 0.0453 →
-//!    0.0455, local 0.3365 → 0.3365. Interior regions of the bumpy sample
-//!    (`surface_region_quality`): region Σ∫(dκ/ds)² ×0.721–0.753 refaired,
-//!    ×0.722–0.738 scaled. Cost of the isocurves: one pass instead of up to
-//!    `iso_levels` (100 × 100: 118 ms instead of 220 ms wall on 2 threads), so
-//!    scaling is the default. After the first level, only the picked strength
-//!    and its two neighbours on `AUTO_STRENGTHS` are fitted (3 fits and
-//!    energies instead of 8 per level; `surface_combine` and
-//!    `surface_region_quality` give the same or lower curvature errors).
+//!    re-balancing at the smaller band, which changes the curvature errors
+//!    little on the measured cases (docs/QUALITY.md), at up to `iso_levels` times the isocurve
+//!    cost: so scaling is the default. After the first level, only the picked
+//!    strength and its two neighbours on `AUTO_STRENGTHS` are fitted.
 //! 7. **Hard tolerance.** The result is checked on a grid of
 //!    `CHECK_PER_SPAN` samples per knot span of the moving rectangle (outside
 //!    it nothing moved): `|S_f(u,v) − S(u,v)|` bounds both one-sided
@@ -168,20 +127,14 @@
 //!    than the original; if none, the fairest no less fair than the reference with no more extrema than
 //!    the original; if none, the fairest of all. The result's `pick` says which.
 //!
-//!    **Why** (measured, `cargo run --release -p fairway --example surface_quality_table`, 5 noisy
-//!    surfaces × 3 tolerances, docs/QUALITY.md): step 7 alone was less fair than the reference in 13 of
-//!    15 rows (Σ extrema 1329 against the reference's 1040; on a nearly quadratic car roof at 1σ 232
-//!    against 35 extrema), the reference alone less fair than step 7 in others (the bumpy asset at 3σ:
-//!    41 against 37). Step 8 is at least as fair as both on both measures in 13 of 15 rows (Σ extrema
-//!    938); the two others are the apex dome, where the reference has more extrema than the original and
-//!    the original's count comes first. The thin-plate energy (order 2) was the weaker peer: Σ extrema
-//!    1987, and on the car roof at 1σ it leaves ∫∫|∇H|² at 0.60 where order 3 reaches 1.5·10⁻³ (on a
-//!    10 × 10 net it raised it above the original's: a thin plate penalizes the crown's curvature itself
-//!    and flattens it unevenly within the band). **Cost**: the two searches and the ranking (≈ 5 ms per
-//!    candidate on a 20 × 16 net, 13 candidates on 2 threads) make the default 8–15 × step 7's time (≈ 90 ms instead of 5–12 on the bumpy
-//!    asset; 0.8 s instead of 20–70 ms on 40 × 40 nets).
+//!    **Why**: step 7 alone is less fair than the reference on most rows of the surface quality table,
+//!    the reference alone less fair than step 7 on others; ranking both (and their blends) by the
+//!    independent measures takes the better of each. Order 3 (not the thin plate, order 2, which
+//!    penalizes the crown's curvature itself). The ranking costs several times step 7's time.
+//!    Measurements: docs/QUALITY.md, "Surface engine".
 //!
-//! Rational surfaces with equal weights are converted; others are rejected.
+//! Rational surfaces with equal weights are converted; others are faired through a close non-rational
+//! stand-in (`fair::nurbs`, [`fair_surface`]'s notes say so).
 //! Degree 2 gives C1 (G1) joins only; any degree ≥ 1 and any clamped knot
 //! vectors work otherwise.
 
@@ -298,18 +251,13 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
 
 /// A rational surface with unequal weights (NURBS from Alias, CATIA: surfaces of revolution, fillets),
 /// faired through a non-rational stand-in ([`super::nurbs::surface_polynomial_approximation`]) within
-/// [`APPROX_FRACTION`](super::nurbs::APPROX_FRACTION) of the band: the stand-in is faired with the band
+/// `APPROX_FRACTION`(super::nurbs::APPROX_FRACTION) of the band: the stand-in is faired with the band
 /// narrowed by its error, and the reported deviation and bound add that error back, so they bound the
 /// distance from the rational original. The result is non-rational, of degrees max(p, 3), on the
 /// stand-in's knots (the original's breakpoints and more).
 fn fair_rational_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Result<SurfaceFairingResult> {
     let m = opts.tolerance;
-    let size = surface
-        .points()
-        .iter()
-        .map(|p| p.abs().max_element())
-        .fold(0.0, f64::max);
-    crate::range::check_tolerance_at(m, size)?;
+    check_tolerance(surface, m)?;
     let a = super::nurbs::surface_polynomial_approximation(surface, RATIONAL_APPROX_FRACTION * m)?;
     let mut r = fair_surface(
         &a.surface,
@@ -501,6 +449,17 @@ fn fair_surface_unbounded(surface: &BSplineSurface, opts: SurfaceFairingOptions)
     fairest_candidate(&g, iso_result)
 }
 
+/// The tolerance `m` is usable on `surface`: positive, finite, and not below what f64 resolves at the
+/// size of its control points.
+fn check_tolerance(surface: &BSplineSurface, m: f64) -> Result<()> {
+    let size = surface
+        .points()
+        .iter()
+        .map(|p| p.abs().max_element())
+        .fold(0.0, f64::max);
+    crate::range::check_tolerance_at(m, size)
+}
+
 /// What [`free_block`] returns: (surface, region in u, region in v, free rows, free columns).
 type FreeBlock = (BSplineSurface, (f64, f64), (f64, f64), Range<usize>, Range<usize>);
 
@@ -508,12 +467,7 @@ type FreeBlock = (BSplineSurface, (f64, f64), (f64, f64), Range<usize>, Range<us
 /// in its polynomial form, and the free control rows and columns found (poles and seams held).
 fn free_block(surface: &BSplineSurface, opts: &SurfaceFairingOptions) -> Result<FreeBlock> {
     let m = opts.tolerance;
-    let size = surface
-        .points()
-        .iter()
-        .map(|p| p.abs().max_element())
-        .fold(0.0, f64::max);
-    crate::range::check_tolerance_at(m, size)?;
+    check_tolerance(surface, m)?;
     if opts.samples_per_span < 2 {
         return Err(Error::InvalidInput("samples_per_span must be at least 2".into()));
     }

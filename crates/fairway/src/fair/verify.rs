@@ -306,7 +306,8 @@ impl<'a> BandSearch<'a> {
     /// The spans of c covering [t_a, t_b]: max |c''| there.
     fn m2_faired(&self, ta: f64, tb: f64) -> f64 {
         let (lo, hi) = (ta.min(tb), ta.max(tb));
-        let (s0, s1) = (self.c.knots().find_span(lo), self.c.knots().find_span(hi));
+        let s0 = self.c.knots().find_span(lo);
+        let s1 = self.c.knots().find_span_from(hi, s0);
         (s0..=s1).fold(0.0f64, |a, s| a.max(self.bc.m2[s]))
     }
 
@@ -323,17 +324,17 @@ impl<'a> BandSearch<'a> {
 
     /// Sampling one point c₀(u): its foot on the faired curve by Newton from `t_guess` (across
     /// the seam of a closed curve, or at a corner), and how far that foot is trusted.
-    fn sample(&self, u: f64, t_guess: f64, level: u8, evals: &mut usize) -> Sample {
+    fn sample(&self, u: f64, t_guess: f64, level: u8, span: usize, evals: &mut usize) -> Sample {
         let (c0, c, p, d0, d1) = (self.c0, self.c, self.p, self.d0, self.d1);
         *evals += 1;
-        let e0 = c0.derivs(u);
+        let e0 = c0.derivs2_from(u, span).0;
         let q = e0.p;
-        let pdist = (q - c.point(u)).length();
-        let ((mut t, mut dist, mut speed), mut converged) = closest_near(c, q, t_guess, d0, d1);
+        let pdist = (q - c.point_from(u, span)).length();
+        let ((mut t, mut dist, mut speed), mut converged) = closest_near(c, q, t_guess, d0, d1, span);
         // a closed curve: a foot stopped at one end of the domain may continue past the seam
         if self.closed && (t == d0 || t == d1) {
             let other = if t == d0 { d1 } else { d0 };
-            let ((t2, dist2, speed2), conv2) = closest_near(c, q, other, d0, d1);
+            let ((t2, dist2, speed2), conv2) = closest_near(c, q, other, d0, d1, 0);
             if dist2 < dist {
                 (t, dist, speed, converged) = (t2, dist2, speed2, conv2);
             }
@@ -454,7 +455,7 @@ impl<'a> BandSearch<'a> {
                 a + (b - a) * k as f64 / PIECES as f64
             };
             let guess = v.last().map_or(u, |x| x.t + (u - x.u));
-            v.push(self.sample(u, guess, 0, &mut out.evaluations));
+            v.push(self.sample(u, guess, 0, s, &mut out.evaluations));
         }
         Some(v)
     }
@@ -508,11 +509,11 @@ impl<'a> BandSearch<'a> {
         // back), each half keeps its own end's branch
         let um = 0.5 * (l.u + r.u);
         let (shift_l, shift_r) = (l.t - l.u, r.t - r.u);
-        let ml = self.sample(um, um + shift_l, 0, &mut out.evaluations);
+        let ml = self.sample(um, um + shift_l, 0, s, &mut out.evaluations);
         let mr = if (shift_l - shift_r).abs() <= 1e-9 * (self.d1 - self.d0) || out.evaluations + 1 > budget {
             ml
         } else {
-            self.sample(um, um + shift_r, 0, &mut out.evaluations)
+            self.sample(um, um + shift_r, 0, s, &mut out.evaluations)
         };
         Some(vec![l, ml, mr, r])
     }
@@ -570,8 +571,8 @@ fn searched(x: &Sample) -> f64 {
 /// from the best point of a polyline over the knot spans around `t`. The best point met, as
 /// (parameter, distance), and whether a Newton iteration converged to it. Any parameter gives an upper bound of the distance, so a start that leads
 /// nowhere costs sharpness, not soundness.
-fn closest_near(c: &BSplineCurve, q: DVec3, t: f64, d0: f64, d1: f64) -> ((f64, f64, f64), bool) {
-    let (best, converged) = newton(c, q, t, d0, d1);
+fn closest_near(c: &BSplineCurve, q: DVec3, t: f64, d0: f64, d1: f64, hint: usize) -> ((f64, f64, f64), bool) {
+    let (best, converged) = newton(c, q, t, d0, d1, hint);
     if converged {
         return (best, true);
     }
@@ -587,7 +588,7 @@ fn closest_near(c: &BSplineCurve, q: DVec3, t: f64, d0: f64, d1: f64) -> ((f64, 
             scan = (x, d);
         }
     }
-    let (again, converged) = newton(c, q, scan.0, d0, d1);
+    let (again, converged) = newton(c, q, scan.0, d0, d1, hint);
     if again.1 < scan.1 {
         (again, converged)
     } else {
@@ -608,11 +609,13 @@ pub(crate) fn certify(original: &BSplineCurve, faired: &BSplineCurve, m: f64) ->
 
 /// Newton iteration for the closest point of `c` to `q` from `t` (clamped to [d0, d1]): the best
 /// point met as (parameter, distance, speed |c'| there), and whether the steps converged.
-fn newton(c: &BSplineCurve, q: DVec3, t: f64, d0: f64, d1: f64) -> ((f64, f64, f64), bool) {
+fn newton(c: &BSplineCurve, q: DVec3, t: f64, d0: f64, d1: f64, hint: usize) -> ((f64, f64, f64), bool) {
     let mut t = t.clamp(d0, d1);
     let mut best = (t, f64::INFINITY, 0.0);
+    let mut span = hint;
     for _ in 0..10 {
-        let d = c.derivs(t);
+        let d;
+        (d, span) = c.derivs2_from(t, span);
         let r = d.p - q;
         let dist = r.length();
         if dist < best.1 {

@@ -5,8 +5,17 @@
 //! (format: "fairway", version: 1, geometry: Curve((degree: 3, knots: [...], points: [...])),
 //!  settings: (tolerance: Some(0.01), region: Some((0.2, 0.6))))
 //! ```
-//! Unknown fields are rejected; fields missing in older versions take their
-//! defaults.
+//! Version 2 holds several named objects, each with its own settings, and the length unit of the file
+//! they came from ([`super::scene::Scene`]):
+//! ```ron
+//! (format: "fairway", version: 2, unit: Some("mm"), objects: [
+//!   (name: "sheer", geometry: Curve((...)), settings: (tolerance: Some(0.01))),
+//!   (name: "deck", geometry: Surface((...))),
+//! ])
+//! ```
+//! A [`Document`] is one object: it reads version 1 and a version 2 file holding one object, and writes
+//! version 1 (which every Fairway reads). Unknown fields are rejected; fields missing in older versions
+//! take their defaults.
 
 use serde::{Deserialize, Serialize};
 
@@ -14,8 +23,11 @@ use super::record::GeometryRecord;
 use crate::error::{Error, Result};
 use crate::geometry::Geometry;
 
-/// The current document version.
-pub const DOCUMENT_VERSION: u32 = 1;
+/// The newest document version this Fairway reads and writes (2: several named objects).
+pub const DOCUMENT_VERSION: u32 = 2;
+
+/// The version of a single-object document ([`Document::to_ron`]).
+pub const SINGLE_OBJECT_VERSION: u32 = 1;
 
 /// Editor state saved with the geometry. Every field is optional so older
 /// files keep loading.
@@ -52,14 +64,101 @@ pub struct Document {
     pub settings: DocumentSettings,
 }
 
+/// A version 1 file: one geometry and its settings.
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct DocumentFile {
+pub(crate) struct DocumentFile {
+    pub(crate) format: String,
+    pub(crate) version: u32,
+    pub(crate) geometry: GeometryRecord,
+    #[serde(default)]
+    pub(crate) settings: DocumentSettings,
+}
+
+/// A version 2 file: named objects and the length unit of the file they came from.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct SceneFile {
+    pub(crate) format: String,
+    pub(crate) version: u32,
+    #[serde(default)]
+    pub(crate) unit: Option<String>,
+    pub(crate) objects: Vec<ObjectFile>,
+}
+
+/// One object of a version 2 file.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct ObjectFile {
+    #[serde(default)]
+    pub(crate) name: String,
+    pub(crate) geometry: GeometryRecord,
+    #[serde(default)]
+    pub(crate) settings: DocumentSettings,
+}
+
+/// The header every version has (the rest is read by the version's own struct).
+#[derive(Deserialize)]
+struct Header {
     format: String,
     version: u32,
-    geometry: GeometryRecord,
-    #[serde(default)]
-    settings: DocumentSettings,
+}
+
+/// A document file of either version.
+pub(crate) enum AnyFile {
+    /// Version 1.
+    One(Box<DocumentFile>),
+    /// Version 2.
+    Scene(SceneFile),
+}
+
+/// A parse error of a RON document.
+pub(crate) fn ron_error(m: impl Into<String>) -> Error {
+    Error::Parse {
+        format: "RON".into(),
+        message: m.into(),
+    }
+}
+
+/// Check a settings block: a saved tolerance must be a positive number.
+pub(crate) fn check_settings(st: &DocumentSettings, what: &str) -> Result<()> {
+    match st.tolerance {
+        Some(t) if !(t.is_finite() && t > 0.0) => Err(ron_error(format!(
+            "{what}settings.tolerance: {t} must be a positive number"
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// Parse the RON text of any version: the header first (format, version in 1..=[`DOCUMENT_VERSION`]),
+/// then the fields of its version.
+pub(crate) fn parse_file(text: &str) -> Result<AnyFile> {
+    if let Some(m) = super::blank_text_message(text.as_bytes()) {
+        return Err(ron_error(m));
+    }
+    let h: Header = ron::from_str(text).map_err(|e| ron_error(e.to_string()))?;
+    if h.format != "fairway" {
+        return Err(ron_error(format!("format is {:?}, expected \"fairway\"", h.format)));
+    }
+    match h.version {
+        1 => Ok(AnyFile::One(Box::new(
+            ron::from_str(text).map_err(|e| ron_error(e.to_string()))?,
+        ))),
+        2 => Ok(AnyFile::Scene(
+            ron::from_str(text).map_err(|e| ron_error(e.to_string()))?,
+        )),
+        v => Err(ron_error(format!(
+            "document version {v} is not supported (this Fairway reads 1 to {DOCUMENT_VERSION})"
+        ))),
+    }
+}
+
+/// A document file as pretty RON text, ending in a newline.
+pub(crate) fn write_ron(f: &impl Serialize) -> Result<String> {
+    let cfg = ron::ser::PrettyConfig::new().depth_limit(3).indentor(" ".to_string());
+    let mut s = ron::ser::to_string_pretty(f, cfg).map_err(|e| ron_error(e.to_string()))?;
+    s.push('\n');
+    Ok(s)
 }
 
 impl Document {
@@ -71,53 +170,38 @@ impl Document {
         }
     }
 
-    /// Parse and validate a RON document.
+    /// Parse and validate a RON document: version 1, or a version 2 document holding one object (one
+    /// with several is refused with the count: read it as a [`super::scene::Scene`]).
     pub fn from_ron(text: &str) -> Result<Self> {
-        let perr = |m: String| Error::Parse {
-            format: "RON".into(),
-            message: m,
+        let (geometry, settings) = match parse_file(text)? {
+            AnyFile::One(f) => (f.geometry, f.settings),
+            AnyFile::Scene(mut f) if f.objects.len() == 1 => {
+                let o = f.objects.remove(0);
+                (o.geometry, o.settings)
+            }
+            AnyFile::Scene(f) => {
+                return Err(ron_error(format!(
+                    "the document holds {} objects, not one: open it as a scene (`fairway::io::Scene`; \
+                     `fairway info` and `fairway fair` read every object)",
+                    f.objects.len()
+                )));
+            }
         };
-        if let Some(m) = super::blank_text_message(text.as_bytes()) {
-            return Err(perr(m.into()));
-        }
-        let f: DocumentFile = ron::from_str(text).map_err(|e| perr(e.to_string()))?;
-        if f.format != "fairway" {
-            return Err(perr(format!("format is {:?}, expected \"fairway\"", f.format)));
-        }
-        if f.version == 0 || f.version > DOCUMENT_VERSION {
-            return Err(perr(format!(
-                "document version {} is not supported (this Fairway reads 1 to {DOCUMENT_VERSION})",
-                f.version
-            )));
-        }
-        if let Some(t) = f.settings.tolerance
-            && !(t.is_finite() && t > 0.0)
-        {
-            return Err(perr(format!("settings.tolerance: {t} must be a positive number")));
-        }
-        let geometry: Geometry = f.geometry.try_into()?;
+        check_settings(&settings, "")?;
+        let geometry: Geometry = geometry.try_into()?;
         crate::range::check_geometry(&geometry)?;
-        Ok(Self {
-            geometry,
-            settings: f.settings,
-        })
+        Ok(Self { geometry, settings })
     }
 
-    /// The document as RON text.
+    /// The document as RON text (version [`SINGLE_OBJECT_VERSION`]).
     pub fn to_ron(&self) -> Result<String> {
         let f = DocumentFile {
             format: "fairway".into(),
-            version: DOCUMENT_VERSION,
+            version: SINGLE_OBJECT_VERSION,
             geometry: (&self.geometry).into(),
             settings: self.settings.clone(),
         };
-        let cfg = ron::ser::PrettyConfig::new().depth_limit(3).indentor(" ".to_string());
-        let mut s = ron::ser::to_string_pretty(&f, cfg).map_err(|e| Error::Parse {
-            format: "RON".into(),
-            message: e.to_string(),
-        })?;
-        s.push('\n');
-        Ok(s)
+        write_ron(&f)
     }
 
     /// Make the saved settings fit the geometry, and say what had to change: one message per

@@ -30,6 +30,20 @@ pub enum Unit {
 }
 
 impl Unit {
+    /// Every unit, in IGES flag order.
+    pub const ALL: [Unit; 10] = [
+        Unit::Inch,
+        Unit::Millimeter,
+        Unit::Foot,
+        Unit::Mile,
+        Unit::Meter,
+        Unit::Kilometer,
+        Unit::Mil,
+        Unit::Micron,
+        Unit::Centimeter,
+        Unit::Microinch,
+    ];
+
     /// The IGES unit flag (G14).
     pub fn flag(self) -> i64 {
         match self {
@@ -83,20 +97,7 @@ impl Unit {
         let t = s.trim();
         Unit::from_name(t).or_else(|| {
             let l = t.to_lowercase().replace('µ', "u");
-            [
-                Unit::Inch,
-                Unit::Millimeter,
-                Unit::Foot,
-                Unit::Mile,
-                Unit::Meter,
-                Unit::Kilometer,
-                Unit::Mil,
-                Unit::Micron,
-                Unit::Centimeter,
-                Unit::Microinch,
-            ]
-            .into_iter()
-            .find(|u| u.symbol().replace('µ', "u") == l)
+            Unit::ALL.into_iter().find(|u| u.symbol().replace('µ', "u") == l)
         })
     }
 

@@ -10,12 +10,14 @@
 //! [`points::FitOptions::default`]; call it directly to choose the number of
 //! control points, the degree and the parametrisation.
 
+mod breaks;
 pub mod document;
 pub mod iges;
 pub mod interchange;
 pub mod json;
 pub mod points;
 pub mod record;
+pub mod scene;
 pub mod step;
 pub mod svg;
 
@@ -27,6 +29,7 @@ use crate::geometry::Geometry;
 
 pub use document::{Document, DocumentSettings};
 pub use interchange::{InterchangeFile, Unit};
+pub use scene::{Scene, SceneObject, load_scene, save_scene};
 
 /// A file format known by its extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -105,135 +105,183 @@ fn diagonal(c: &BSplineCurve) -> f64 {
     (xy(hi) - xy(lo)).length()
 }
 
-/// The SVG drawing of `curve` (and of `faired`, if given, in another colour).
-pub fn curve_svg(curve: &BSplineCurve, faired: Option<&BSplineCurve>, opts: &SvgOptions) -> String {
-    let us = samples(curve, opts.samples_per_span);
-    let pts: Vec<DVec2> = us.iter().map(|&u| xy(curve.point(u))).collect();
-    let frames: Vec<(DVec2, f64)> = us.iter().map(|&u| normal_xy(curve, u)).collect();
-    let mut bounds = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-    let grow = |b: &mut (DVec2, DVec2), p: DVec2| {
-        if p.is_finite() {
-            b.0 = b.0.min(p);
-            b.1 = b.1.max(p);
-        }
-    };
-    for p in &pts {
-        grow(&mut bounds, *p);
+/// What an SVG drawing shows, in model xy: the curve's samples, its comb needles and their scale,
+/// the band's two sides, the faired curve's samples, the control polygon, and their bounds.
+struct Layers {
+    pts: Vec<DVec2>,
+    needles: Vec<DVec2>,
+    scale: f64,
+    band: Option<(Vec<DVec2>, Vec<DVec2>)>,
+    faired: Option<Vec<DVec2>>,
+    polygon: Vec<DVec2>,
+    /// The diagonal of the curve and its control points (1 if degenerate).
+    diag: f64,
+    bounds: (DVec2, DVec2),
+}
+
+/// Grow `b` by the finite points of `pts`.
+fn grow(b: &mut (DVec2, DVec2), pts: &[DVec2]) {
+    for &p in pts.iter().filter(|p| p.is_finite()) {
+        b.0 = b.0.min(p);
+        b.1 = b.1.max(p);
     }
-    for p in curve.points() {
-        grow(&mut bounds, xy(*p));
-    }
-    let diag0 = (bounds.1 - bounds.0).length();
-    let diag = if diag0 > 0.0 && diag0.is_finite() { diag0 } else { 1.0 };
-    let kmax = frames.iter().map(|f| f.1.abs()).fold(0.0, f64::max);
-    let scale = opts.comb_scale.unwrap_or(if kmax > 0.0 {
-        opts.comb_length * diag / kmax
-    } else {
-        0.0
-    });
-    let needles: Vec<DVec2> = pts
-        .iter()
-        .zip(&frames)
-        .map(|(p, (n, k))| *p - *n * (scale * k))
-        .collect();
-    if opts.comb {
-        for q in &needles {
-            grow(&mut bounds, *q);
-        }
-    }
-    let band: Option<(Vec<DVec2>, Vec<DVec2>)> = opts.band.filter(|m| *m > 0.0 && curve.dim() == 2).map(|m| {
-        (
-            pts.iter().zip(&frames).map(|(p, (n, _))| *p + *n * m).collect(),
-            pts.iter().zip(&frames).map(|(p, (n, _))| *p - *n * m).collect(),
-        )
-    });
-    if let Some((a, b)) = &band {
-        for q in a.iter().chain(b) {
-            grow(&mut bounds, *q);
-        }
-    }
-    let fpts: Option<Vec<DVec2>> = faired.map(|f| {
-        samples(f, opts.samples_per_span)
+}
+
+impl Layers {
+    fn new(curve: &BSplineCurve, faired: Option<&BSplineCurve>, opts: &SvgOptions) -> Self {
+        let us = samples(curve, opts.samples_per_span);
+        let pts: Vec<DVec2> = us.iter().map(|&u| xy(curve.point(u))).collect();
+        let frames: Vec<(DVec2, f64)> = us.iter().map(|&u| normal_xy(curve, u)).collect();
+        let polygon: Vec<DVec2> = curve.points().iter().map(|p| xy(*p)).collect();
+        let mut bounds = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+        grow(&mut bounds, &pts);
+        grow(&mut bounds, &polygon);
+        let diag0 = (bounds.1 - bounds.0).length();
+        let diag = if diag0 > 0.0 && diag0.is_finite() { diag0 } else { 1.0 };
+        let kmax = frames.iter().map(|f| f.1.abs()).fold(0.0, f64::max);
+        let scale = opts.comb_scale.unwrap_or(if kmax > 0.0 {
+            opts.comb_length * diag / kmax
+        } else {
+            0.0
+        });
+        let needles: Vec<DVec2> = pts
             .iter()
-            .map(|&u| xy(f.point(u)))
-            .collect()
-    });
-    if let Some(f) = &fpts {
-        for q in f {
-            grow(&mut bounds, *q);
+            .zip(&frames)
+            .map(|(p, (n, k))| *p - *n * (scale * k))
+            .collect();
+        if opts.comb {
+            grow(&mut bounds, &needles);
+        }
+        let band = opts.band.filter(|m| *m > 0.0 && curve.dim() == 2).map(|m| {
+            let side = |sign: f64| -> Vec<DVec2> {
+                pts.iter()
+                    .zip(&frames)
+                    .map(|(p, (n, _))| *p + *n * (sign * m))
+                    .collect()
+            };
+            (side(1.0), side(-1.0))
+        });
+        if let Some((a, b)) = &band {
+            grow(&mut bounds, a);
+            grow(&mut bounds, b);
+        }
+        let faired: Option<Vec<DVec2>> = faired.map(|f| {
+            samples(f, opts.samples_per_span)
+                .iter()
+                .map(|&u| xy(f.point(u)))
+                .collect()
+        });
+        if let Some(f) = &faired {
+            grow(&mut bounds, f);
+        }
+        Self {
+            pts,
+            needles,
+            scale,
+            band,
+            faired,
+            polygon,
+            diag,
+            bounds,
         }
     }
-    let (mut lo, mut hi) = bounds;
-    if !lo.is_finite() || !hi.is_finite() {
-        lo = DVec2::ZERO;
-        hi = DVec2::ONE;
+}
+
+/// The drawing's pixel frame: model xy → pixels (y up), with a 5 % margin around the bounds.
+struct Frame {
+    origin: DVec2,
+    k: f64,
+    px: f64,
+    py: f64,
+}
+
+impl Frame {
+    fn new(l: &Layers, width: f64) -> Self {
+        let (mut lo, mut hi) = l.bounds;
+        if !lo.is_finite() || !hi.is_finite() {
+            lo = DVec2::ZERO;
+            hi = DVec2::ONE;
+        }
+        let size = (hi - lo).max(DVec2::splat(l.diag * 1e-3));
+        let margin = 0.05 * size.max_element();
+        let (w, h) = (size.x + 2.0 * margin, size.y + 2.0 * margin);
+        let px = width.max(1.0);
+        Self {
+            origin: lo - DVec2::splat(margin),
+            k: px / w,
+            px,
+            py: px * h / w,
+        }
     }
-    let size = (hi - lo).max(DVec2::splat(diag * 1e-3));
-    let margin = 0.05 * size.max_element();
-    let (x0, y0) = (lo.x - margin, lo.y - margin);
-    let (w, h) = (size.x + 2.0 * margin, size.y + 2.0 * margin);
-    let px = opts.width.max(1.0);
-    let py = px * h / w;
-    let k = px / w;
-    // model → pixels, y up
-    let map = |p: DVec2| DVec2::new((p.x - x0) * k, py - (p.y - y0) * k);
-    let path = |v: &[DVec2]| -> String {
+
+    fn map(&self, p: DVec2) -> DVec2 {
+        DVec2::new((p.x - self.origin.x) * self.k, self.py - (p.y - self.origin.y) * self.k)
+    }
+
+    /// An SVG path through `v`.
+    fn path(&self, v: &[DVec2]) -> String {
         let mut s = String::new();
         for (i, p) in v.iter().enumerate() {
-            let q = map(*p);
+            let q = self.map(*p);
             let _ = write!(s, "{}{:.3},{:.3}", if i == 0 { "M" } else { " L" }, q.x, q.y);
         }
         s
-    };
+    }
+}
+
+/// The SVG drawing of `curve` (and of `faired`, if given, in another colour).
+pub fn curve_svg(curve: &BSplineCurve, faired: Option<&BSplineCurve>, opts: &SvgOptions) -> String {
+    let l = Layers::new(curve, faired, opts);
+    let f = Frame::new(&l, opts.width);
+    let (px, py) = (f.px, f.py);
     let mut out = String::new();
     let _ = writeln!(
         out,
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{px:.0}" height="{py:.0}" viewBox="0 0 {px:.3} {py:.3}">"#
     );
     let _ = writeln!(out, r#"<rect width="100%" height="100%" fill="white"/>"#);
-    if let Some((a, b)) = &band {
+    if let Some((a, b)) = &l.band {
         let _ = writeln!(
             out,
             r##"<g id="band" fill="none" stroke="#8fc98f" stroke-width="1" stroke-dasharray="4 3"><path d="{}"/><path d="{}"/></g>"##,
-            path(a),
-            path(b)
+            f.path(a),
+            f.path(b)
         );
     }
-    if opts.comb && scale > 0.0 {
+    if opts.comb && l.scale > 0.0 {
         let mut d = String::new();
-        for (p, q) in pts.iter().zip(&needles) {
-            let (a, b) = (map(*p), map(*q));
+        for (p, q) in l.pts.iter().zip(&l.needles) {
+            let (a, b) = (f.map(*p), f.map(*q));
             let _ = write!(d, "M{:.3},{:.3} L{:.3},{:.3} ", a.x, a.y, b.x, b.y);
         }
         let _ = writeln!(
             out,
             r##"<g id="comb" fill="none" stroke-width="0.7"><path d="{d}" stroke="#7a9cd6"/><path d="{}" stroke="#3060b0"/></g>"##,
-            path(&needles)
+            f.path(&l.needles)
         );
     }
     if opts.control_polygon {
-        let cp: Vec<DVec2> = curve.points().iter().map(|p| xy(*p)).collect();
         let mut dots = String::new();
-        for p in &cp {
-            let q = map(*p);
+        for p in &l.polygon {
+            let q = f.map(*p);
             let _ = write!(dots, r#"<circle cx="{:.3}" cy="{:.3}" r="2.5"/>"#, q.x, q.y);
         }
         let _ = writeln!(
             out,
             r##"<g id="control-polygon" fill="#888" stroke="#888" stroke-width="0.8"><path fill="none" d="{}"/>{dots}</g>"##,
-            path(&cp)
+            f.path(&l.polygon)
         );
     }
     let _ = writeln!(
         out,
         r##"<path id="curve" fill="none" stroke="black" stroke-width="1.6" d="{}"/>"##,
-        path(&pts)
+        f.path(&l.pts)
     );
-    if let Some(f) = &fpts {
+    if let Some(fp) = &l.faired {
         let _ = writeln!(
             out,
             r##"<path id="faired" fill="none" stroke="#d03030" stroke-width="1.4" d="{}"/>"##,
-            path(f)
+            f.path(fp)
         );
     }
     out.push_str("</svg>\n");

@@ -250,8 +250,10 @@ fn newton_distance(c: &BSplineCurve, q: DVec3, u: f64, w: f64, start: f64, enoug
     if best <= enough {
         return best;
     }
+    let mut span = 0;
     for _ in 0..if widen { 40 } else { 12 } {
-        let d = c.derivs(t);
+        let d;
+        (d, span) = c.derivs2_from(t, span);
         let r = d.p - q;
         best = best.min(r.length());
         if best <= enough {

@@ -10,9 +10,9 @@ impl FairingSetup {
     /// The term of E at sample k for a curve with derivatives `d` there and target g_k. 2D: (κ − g)², κ the
     /// signed curvature. 3D: |κN − g n|² without its tangential part, i.e. (κN·n − g)² + (κN·b)², with n
     /// the setup's sign-consistent normal and b = t × n: the signed curvature along n, and the curvature
-    /// that turns out of the osculating plane. (Before session 14 only the first term: the polish could
-    /// turn the curvature vector out of n for free, and on `assets/spatial_curve.json` at m = 0.02 it
-    /// matched g along n to E = 3e-4 while ∫(dκ/ds)² went from 9.1 to 33 and the curvature extrema
+    /// that turns out of the osculating plane. (With the first term alone the polish can
+    /// turn the curvature vector out of n for free: on `assets/spatial_curve.json` at m = 0.02 it
+    /// matches g along n to E = 3e-4 while ∫(dκ/ds)² goes from 9.1 to 33 and the curvature extrema
     /// from 36 to 50.) A planar 3D curve (its update stays in the plane) has no second term: it fairs as in 2D.
     pub(crate) fn residual_sq(&self, d: &CurveDerivs, k: usize, g: f64) -> f64 {
         if self.work.dim() == 2 {
@@ -177,6 +177,9 @@ impl FairingSetup {
         let p = self.work.degree();
         let dim = self.work.dim();
         let np1 = p + 1;
+        if N > 0 && W == 2 * N && dim == 2 {
+            return self.gn_system_2d::<N, W>(g, h, rhs);
+        }
         let mut jrow = vec![0.0; dim * np1];
         for k in 0..self.params.len() {
             let f = self.first[k];
@@ -238,6 +241,86 @@ impl FairingSetup {
                 }
                 h.add_outer(base * dim, &jrow[..width]);
             }
+        }
+    }
+
+    /// [`Self::gn_system`] of a 2D curve (`W` = 2 `N`, `N` > 0) in three passes: c', c'' at every sample,
+    /// then the curvature and its gradients ([`kappa_and_gradients`]'s operations, whose divisions then
+    /// run on independent lanes), then the assembly (the same sums in the same order).
+    fn gn_system_2d<const N: usize, const W: usize>(&self, g: &[f64], h: &mut BandedSpd, rhs: &mut [DVec3]) {
+        let p = self.work.degree();
+        let np1 = p + 1;
+        let ns = self.params.len();
+        let mut ders = Vec::with_capacity(ns);
+        for k in 0..ns {
+            let f = self.first[k];
+            let (mut d1, mut d2) = (self.d1[k], self.d2[k]);
+            if f >= 0 && f as usize + N <= self.nf {
+                let base = f as usize;
+                let (b1, b2) = (&self.b1[k * N..(k + 1) * N], &self.b2[k * N..(k + 1) * N]);
+                let rows = &self.best[base..base + N];
+                for i in 0..N {
+                    d1 += rows[i] * b1[i];
+                    d2 += rows[i] * b2[i];
+                }
+            } else {
+                for i in 0..=p {
+                    let li = f + i as isize;
+                    if li >= 0 && (li as usize) < self.nf {
+                        d1 += self.best[li as usize] * self.b1[k * np1 + i];
+                        d2 += self.best[li as usize] * self.b2[k * np1 + i];
+                    }
+                }
+            }
+            ders.push([d1.x, d1.y, d2.x, d2.y]);
+        }
+        // kappa_and_gradients(2, ..): κ, ∂κ/∂c' and ∂κ/∂c'' (x, y)
+        let grads: Vec<[f64; 5]> = ders
+            .iter()
+            .map(|&[x1, y1, x2, y2]| {
+                let s2 = x1 * x1 + y1 * y1;
+                let v3 = s2 * s2.sqrt();
+                let cr = x1 * y2 - y1 * x2;
+                let t = 3.0 * cr / (v3 * s2);
+                [cr / v3, y2 / v3 - x1 * t, -x2 / v3 - y1 * t, -y1 / v3, x1 / v3]
+            })
+            .collect();
+        for k in 0..ns {
+            let f = self.first[k];
+            let [kap, g1x, g1y, g2x, g2y] = grads[k];
+            let r = kap - g[k];
+            if f >= 0 && f as usize + N <= self.nf {
+                let base = f as usize;
+                let (b1, b2) = (&self.b1[k * N..(k + 1) * N], &self.b2[k * N..(k + 1) * N]);
+                let mut jr = [0.0; W];
+                for i in 0..N {
+                    jr[2 * i] = g1x * b1[i] + g2x * b2[i];
+                    jr[2 * i + 1] = g1y * b1[i] + g2y * b2[i];
+                }
+                let block: &mut [DVec3; W] = (&mut rhs[base * 2..base * 2 + W]).try_into().expect("W rows");
+                for (y, x) in block.iter_mut().zip(&jr) {
+                    y.x -= x * r;
+                }
+                h.add_outer_fixed(base * 2, &jr);
+                continue;
+            }
+            let base = f.max(0) as usize;
+            let mut jrow = [0.0; W];
+            for i in 0..=p {
+                let li = f + i as isize;
+                if li < 0 || li as usize >= self.nf {
+                    continue;
+                }
+                let (b1, b2) = (self.b1[k * np1 + i], self.b2[k * np1 + i]);
+                let off = (li as usize - base) * 2;
+                jrow[off] = g1x * b1 + g2x * b2;
+                jrow[off + 1] = g1y * b1 + g2y * b2;
+            }
+            let width = ((f + np1 as isize).min(self.nf as isize) - f.max(0)).max(0) as usize * 2;
+            for a in 0..width {
+                rhs[base * 2 + a].x -= jrow[a] * r;
+            }
+            h.add_outer(base * 2, &jrow[..width]);
         }
     }
 

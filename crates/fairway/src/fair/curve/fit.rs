@@ -129,9 +129,10 @@ impl FairingSetup {
     /// linearized about the *original* speed profile: where that profile is noisy (a zig-zag stretch) its
     /// largest weights pin the fit to the noise, and E(μ) has its minimum below the largest μ the band
     /// allows. Where the band binds, E still falls as μ rises to the band's limit, and the first step
-    /// down (one solve) leaves the result as it was. Before session 14 the second stretch of
-    /// `assets/kinked_profile.json` faired at m = 0.03 stopped at μ = 1e10 with E 9.5, where μ = 1e6
-    /// gives 2.2: a looser tolerance gave a less fair curve than m = 0.01 (∫(dκ/ds)² 58 against 25).
+    /// down (one solve) leaves the result as it was. Stopping at the band's limit instead, the second
+    /// stretch of `assets/kinked_profile.json` faired at m = 0.03 stops at μ = 1e10 with E 9.5, where
+    /// μ = 1e6 gives 2.2: a looser tolerance would give a less fair curve than m = 0.01 (∫(dκ/ds)² 58
+    /// against 25).
     fn finish_mu_fairest(&mut self, a: f64, da: f64, accept: f64, solves: &mut usize) -> (f64, f64, f64) {
         if self.smoothing_system {
             // the smoother's weight is the largest the band allows, as a smoothing-factor search gives

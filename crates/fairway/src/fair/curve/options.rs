@@ -113,7 +113,7 @@ pub struct FairingOptions {
     /// Gauss–Newton iterations of that polish at most ([`POLISH_ITERS`] by default; it stops earlier
     /// when a step gains < 0.02 % of E). More lower E further inside the band at more cost: on the
     /// benchmark curve (100 control points, 1000 samples) 8 / 24 give E 537 / 259 (the iterative
-    /// baseline 265) in 1.3–1.5 / 3.8–4.5 ms for the whole fair (docs/PERFORMANCE.md, sessions 15–17).
+    /// baseline 265) at about three times the cost (docs/PERFORMANCE.md).
     /// 0 is the same as `polish: false`.
     pub polish_iterations: usize,
     /// Ease the target into a G2 *curve* end over the end knot span (default off). A curve end has no

@@ -13,18 +13,22 @@ use crate::error::{Error, Result};
 /// stay, and the regions to fair instead.
 fn crossed_corners(curve: &BSplineCurve, u1: f64, u2: f64, found: &[Corner]) -> Error {
     let list: Vec<String> = found.iter().map(Corner::describe).collect();
-    let pieces: Vec<String> = stretches_between(curve, u1, u2, found)
-        .iter()
-        .map(|(a, b)| format!("[{a}, {b}]"))
-        .collect();
-    Error::InvalidInput(format!(
-        "region [{u1}, {u2}] crosses {} of the curve {}: fairing across a corner would round it off inside the \
-         band, a curvature spike; fair the stretches between corners as regions of their own ({}), as \
-         fair_curve and `fairway fair` do by themselves",
-        counted(found),
-        list.join(", "),
-        pieces.join(", ")
-    ))
+    let stretches = stretches_between(curve, u1, u2, found);
+    let pieces: Vec<String> = stretches.iter().map(|(a, b)| format!("[{a}, {b}]")).collect();
+    Error::RegionCrossesCorner {
+        u1,
+        u2,
+        corners: found.iter().map(|c| c.u).collect(),
+        stretches,
+        description: format!(
+            "{} of the curve {}: fairing across a corner would round it off inside the band, a curvature spike; \
+             fair the stretches between corners as regions of their own ({}), as fair_curve and `fairway fair` \
+             do by themselves",
+            counted(found),
+            list.join(", "),
+            pieces.join(", ")
+        ),
+    }
 }
 
 /// The knots that cut off a sliver knot span at the start and at the end of `curve`: a span whose control
@@ -86,14 +90,12 @@ impl Region {
         };
         let p = input.degree();
         if p < 2 {
-            return Err(Error::InvalidInput(format!(
-                "fairing needs a curve of degree ≥ 2 (curvature), got degree {p}"
-            )));
+            return Err(Error::DegreeTooLowToFair { degree: p });
         }
         let (d0, d1) = input.domain();
         let (u1, u2) = opts.region.unwrap_or((d0, d1));
         if !(u1.is_finite() && u2.is_finite()) {
-            return Err(Error::InvalidInput(format!("region [{u1}, {u2}] is not finite")));
+            return Err(Error::RegionNotFinite { u1, u2 });
         }
         let eps = 1e-12 * (d1 - d0);
         for u in [u1, u2] {
@@ -107,9 +109,7 @@ impl Region {
             }
         }
         if u2 <= u1 {
-            return Err(Error::InvalidInput(format!(
-                "region [{u1}, {u2}] is empty (u1 must be < u2)"
-            )));
+            return Err(Error::EmptyRegion { u1, u2 });
         }
         let (mut u1, mut u2) = (u1.max(d0), u2.min(d1));
         let (mut at_start, mut at_end) = (u1 <= d0 + eps, u2 >= d1 - eps);
@@ -226,12 +226,12 @@ impl Region {
             .collect();
         free.sort_unstable();
         if free.is_empty() && at_start && at_end {
-            return Err(Error::InvalidInput(format!(
-                "the curve has only {n} control points: with {:?} ends the first and last {keep_end} are held, \
-                 so fairing needs at least {} (insert knots to refine the curve)",
-                ends[1],
-                keep_start + keep_end + 1
-            )));
+            return Err(Error::TooFewControlPoints {
+                points: n,
+                ends: format!("{:?}", ends[1]),
+                held: keep_end,
+                needed: keep_start + keep_end + 1,
+            });
         }
         if free.is_empty() && n_inside > 0 {
             // the region has control points of its own, but all are held at the curve end it reaches
@@ -241,18 +241,26 @@ impl Region {
                 ("end", keep_end, ends[1])
             };
             let side = if at_start { "first" } else { "last" };
-            return Err(Error::InvalidInput(format!(
-                "region [{u1}, {u2}] is too small: it reaches the curve's {which}, where the {side} {k} control points \
-                 are held ({e:?} end), and its {n_inside} control point(s) are among them (widen the region, or \
-                 insert knots to refine the curve)"
-            )));
+            return Err(Error::RegionTooSmall {
+                u1,
+                u2,
+                reason: format!(
+                    "it reaches the curve's {which}, where the {side} {k} control points are held ({e:?} end), and \
+                     its {n_inside} control point(s) are among them (widen the region, or insert knots to refine \
+                     the curve)"
+                ),
+            });
         }
         if free.is_empty() {
-            return Err(Error::InvalidInput(format!(
-                "region [{u1}, {u2}] is too small: no control point of this degree-{p} curve has its support inside it \
-                 (a region must span at least {} knot spans)",
-                p + 1
-            )));
+            return Err(Error::RegionTooSmall {
+                u1,
+                u2,
+                reason: format!(
+                    "no control point of this degree-{p} curve has its support inside it (a region must span at \
+                     least {} knot spans)",
+                    p + 1
+                ),
+            });
         }
         let i0 = free[0];
         let nf = free.len();
@@ -301,15 +309,13 @@ impl Samples {
             + 1;
         let ns = opts.samples.unwrap_or((10 * spans + 1).max(41).max(4 * nf + 1));
         if ns > MAX_SAMPLES {
-            return Err(Error::InvalidInput(format!(
-                "{ns} samples are too many: at most {MAX_SAMPLES} (each million takes about 0.4 GB of memory); \
-                 ask for fewer samples, or fair a region of the curve"
-            )));
+            return Err(Error::TooManySamples {
+                samples: ns,
+                max: MAX_SAMPLES,
+            });
         }
         if ns < 3 || ns < nf + 1 {
-            return Err(Error::InvalidInput(format!(
-                "{ns} samples are too few for {nf} free control points (need more than {nf})"
-            )));
+            return Err(Error::TooFewSamples { samples: ns, free: nf });
         }
         // One table over the whole curve serves the fairing samples of the stretch and the check samples
         // (with check_samples = 0, a table over the stretch only).

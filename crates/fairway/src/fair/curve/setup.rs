@@ -208,6 +208,7 @@ impl FairingSetup {
             smoothing_system: false,
             a3_scale: 1.0,
             last_mu_smooth: None,
+            polish_cache: Default::default(),
             chk_u: vec![],
             chk_q: vec![],
             chk_first: vec![],
@@ -673,21 +674,7 @@ impl FairingSetup {
             TargetMethod::Fit => 20,
             _ => default_passes(ns),
         });
-        let passes = match opts.target {
-            TargetMethod::Average => Some("average"),
-            TargetMethod::Binomial => Some("binomial"),
-            TargetMethod::Heat | TargetMethod::Fit => None,
-        };
-        if let Some(name) = passes
-            && strength.saturating_mul(ns) > MAX_PASS_WORK
-        {
-            return Err(Error::InvalidInput(format!(
-                "target strength {strength} is too much work for the {name} target: its passes cost strength × samples, \
-                 and {ns} samples allow at most {} passes; use the heat target (the implicit heat flow of the \
-                 averaging), whose cost stays bounded at any strength",
-                MAX_PASS_WORK / ns
-            )));
-        }
+        crate::fair::curve_fairing::check_strength(opts.target, strength, ns)?;
         self.target.smooth(opts.target, strength);
         Ok(())
     }

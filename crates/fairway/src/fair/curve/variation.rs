@@ -69,17 +69,27 @@ impl VarRows {
     /// [`VAR_GAUSS`] Gauss–Legendre nodes of every span.
     pub(crate) fn new(work: &BSplineCurve, range: (f64, f64), i0: usize, nf: usize) -> Self {
         let gl = GaussLegendre::new(VAR_GAUSS);
-        Self::at_nodes(work, range, i0, nf, &gl.nodes, &gl.weights)
+        Self::at_nodes::<4>(work, range, i0, nf, &gl.nodes, &gl.weights)
     }
 
     /// The rows at [`PROBES`] points of every span, equally spaced in the parameter with both ends (the
-    /// curvature-extrema count; weights unused).
+    /// curvature-extrema count, which reads c' and c'' only: the third derivative's rows are 0; weights and
+    /// `eps` unused).
     pub(crate) fn probes(work: &BSplineCurve, range: (f64, f64), i0: usize, nf: usize) -> Self {
         let x: Vec<f64> = (0..PROBES).map(|k| -1.0 + 2.0 * k as f64 / PROBES as f64).collect();
-        Self::at_nodes(work, range, i0, nf, &x, &[0.0; PROBES])
+        Self::at_nodes::<3>(work, range, i0, nf, &x, &[0.0; PROBES])
     }
 
-    fn at_nodes(work: &BSplineCurve, range: (f64, f64), i0: usize, nf: usize, nodes: &[f64], weights: &[f64]) -> Self {
+    /// The rows at `nodes` (on [−1, 1]) of every knot span inside `range`, with the basis derivatives up to
+    /// order `D − 1` (3: all the rows; 2: the third derivative's rows 0, and no curvature threshold).
+    fn at_nodes<const D: usize>(
+        work: &BSplineCurve,
+        range: (f64, f64),
+        i0: usize,
+        nf: usize,
+        nodes: &[f64],
+        weights: &[f64],
+    ) -> Self {
         let p = work.degree();
         let kv = work.knots().values();
         let cp = work.points();
@@ -92,7 +102,12 @@ impl VarRows {
             .copied()
             .filter(|&x| x >= range.0 && x <= range.1)
             .collect();
-        let mut ders = [[0.0; MAX_ORDER]; 4];
+        let mut ders = [[0.0; MAX_ORDER]; D];
+        let nodes_total = bps.len().saturating_sub(1) * nodes.len();
+        rows.w.reserve(nodes_total);
+        rows.first.reserve(nodes_total);
+        rows.c.reserve(nodes_total);
+        rows.b.reserve(nodes_total * 3 * (p + 1));
         for w in bps.windows(2) {
             let (a, b) = (w[0], w[1]);
             let half = 0.5 * (b - a);
@@ -102,7 +117,7 @@ impl VarRows {
                 ders_basis_funs(kv, span, u, p, &mut ders);
                 let mut c = [DVec3::ZERO; 3];
                 for j in 0..=p {
-                    for (o, co) in c.iter_mut().enumerate() {
+                    for (o, co) in c.iter_mut().enumerate().take(D - 1) {
                         *co += cp[span - p + j] * ders[o + 1][j];
                     }
                 }
@@ -111,11 +126,11 @@ impl VarRows {
                     for j in 0..=p {
                         let li = f + j as isize;
                         let inside = li >= 0 && (li as usize) < nf;
-                        rows.b.push(if inside { ders[o][j] } else { 0.0 });
+                        rows.b.push(if inside && o < D { ders[o][j] } else { 0.0 });
                     }
                 }
                 let v2 = c[0].length_squared();
-                if v2 > 0.0 {
+                if D == 4 && v2 > 0.0 {
                     kmax = kmax.max(c[0].cross(c[1]).length() / (v2 * v2.sqrt()));
                 }
                 rows.w.push(wt * half);
@@ -196,6 +211,30 @@ impl VarRows {
         (a, rhs)
     }
 
+    /// [`Self::derivs`] with `N` = p + 1 known at compile time (0: read `np1`): a node whose p + 1 rows are
+    /// all free takes an unrolled path without index checks (the same sums in the same order); the third
+    /// derivative is updated only with `THIRD` (else it is the original's).
+    #[inline(always)]
+    fn derivs_n<const N: usize, const THIRD: bool>(&self, q: usize, np1: usize, d: &[DVec3]) -> [DVec3; 3] {
+        let f = self.first[q];
+        if N > 0 && f >= 0 && f as usize + N <= d.len() {
+            let base = f as usize;
+            let mut c = self.c[q];
+            let b = &self.b[q * 3 * N..(q + 1) * 3 * N];
+            let rows = &d[base..base + N];
+            for i in 0..N {
+                let x = rows[i];
+                c[0] += x * b[i];
+                c[1] += x * b[N + i];
+                if THIRD {
+                    c[2] += x * b[2 * N + i];
+                }
+            }
+            return c;
+        }
+        self.derivs(q, np1, d)
+    }
+
     /// c', c'', c''' of `c₀ + Σ N_i d_i` at node q.
     #[inline]
     fn derivs(&self, q: usize, np1: usize, d: &[DVec3]) -> [DVec3; 3] {
@@ -219,6 +258,7 @@ impl VarRows {
 /// `κ_u / |c'|^{1/2}` from c', c'', c''' (so that its square is `(dκ/ds)² |c'|`), and its gradients with
 /// respect to c', c'', c'''. With a plane normal `n` (2D: z; a planar 3D curve: its plane's) the curvature
 /// signed about n; otherwise the unsigned one, rounded off below `eps`.
+#[inline(always)]
 pub(crate) fn dkds_residual(plane: Option<DVec3>, c1: DVec3, c2: DVec3, c3: DVec3, eps: f64) -> (f64, [DVec3; 3]) {
     let s = c1.length_squared();
     if !(s > 0.0) {
@@ -266,6 +306,33 @@ pub(crate) fn dkds_residual(plane: Option<DVec3>, c1: DVec3, c2: DVec3, c3: DVec
     let g1 = c1 * (2.0 * rs) + c2 * rd12 + c3 * rd13;
     let g2 = c1 * rd12 + c2 * (2.0 * rd22) + c3 * rd23;
     let g3 = c1 * rd13 + c2 * rd23;
+    (r, [g1, g2, g3])
+}
+
+/// [`dkds_residual`] of a 2D curve (signed about z, every z component 0): the same operations on x and y
+/// alone, so the same values (the gradients' z is 0).
+#[inline(always)]
+pub(crate) fn dkds_residual_2d(c1: DVec3, c2: DVec3, c3: DVec3) -> (f64, [DVec3; 3]) {
+    let s = c1.x * c1.x + c1.y * c1.y;
+    if !(s > 0.0) {
+        return (0.0, [DVec3::ZERO; 3]);
+    }
+    let d12 = c1.x * c2.x + c1.y * c2.y;
+    let (r2, r4) = (s.sqrt(), s.sqrt().sqrt());
+    let sm74 = 1.0 / (s * r2 * r4);
+    let sm114 = sm74 / s;
+    let cr = c1.x * c2.y - c2.x * c1.y;
+    let cr3 = c1.x * c3.y - c3.x * c1.y;
+    let r = cr3 * sm74 - 3.0 * cr * d12 * sm114;
+    // perp(a) = a × z = (a.y, −a.x), rot = z × c1 = (−c1.y, c1.x)
+    let (k1, k2, k3) = (3.5 * cr3 * sm114, 3.0 * sm114, 16.5 * cr * d12 * sm114 / s);
+    let g1 = DVec3::new(
+        c3.y * sm74 - c1.x * k1 - (c2.y * d12 + c2.x * cr) * k2 + c1.x * k3,
+        -c3.x * sm74 - c1.y * k1 - (-c2.x * d12 + c2.y * cr) * k2 + c1.y * k3,
+        0.0,
+    );
+    let g2 = DVec3::new(-(-c1.y * d12 + c1.x * cr) * k2, -(c1.x * d12 + c1.y * cr) * k2, 0.0);
+    let g3 = DVec3::new(-c1.y * sm74, c1.x * sm74, 0.0);
     (r, [g1, g2, g3])
 }
 
@@ -333,34 +400,100 @@ impl FairingSetup {
     /// Curvature extrema of `c₀ + Σ N_i d_i` at the probes ([`PROBES`] a span), zig-zag pivots with the
     /// hysteresis [`VarRows::delta`] (`measure`'s count, at the probes instead of 4000 arc-length samples).
     pub(crate) fn node_extrema(&self, d: &[DVec3]) -> usize {
+        match self.work.degree() {
+            2 => self.node_extrema_n::<3>(d),
+            3 => self.node_extrema_n::<4>(d),
+            4 => self.node_extrema_n::<5>(d),
+            5 => self.node_extrema_n::<6>(d),
+            _ => self.node_extrema_n::<0>(d),
+        }
+    }
+
+    /// [`Self::node_extrema`] with `N` = p + 1 known at compile time (0: read p from the curve).
+    fn node_extrema_n<const N: usize>(&self, d: &[DVec3]) -> usize {
         let np1 = self.work.degree() + 1;
         let plane = self.signed_plane();
         let v = &self.probes;
-        let k: Vec<f64> = (0..v.w.len())
-            .map(|q| {
-                let c = v.derivs(q, np1, d);
-                match plane {
-                    Some(n) => n.dot(c[0].cross(c[1])) / (c[0].length_squared() * c[0].length()),
-                    None => c[0].cross(c[1]).length() / (c[0].length_squared() * c[0].length()),
-                }
-            })
-            .collect();
+        let n = v.w.len();
+        let k: Vec<f64> = if self.work.dim() == 2 {
+            // z is 0: the plane's formula below on x and y alone (the same values), in two passes so that
+            // the square roots and divisions of the second run on independent lanes
+            let mut num = Vec::with_capacity(n);
+            let mut den = Vec::with_capacity(n);
+            for q in 0..n {
+                let c = v.derivs_n::<N, false>(q, np1, d);
+                num.push(c[0].x * c[1].y - c[1].x * c[0].y);
+                den.push(c[0].x * c[0].x + c[0].y * c[0].y);
+            }
+            num.iter().zip(&den).map(|(a, s)| a / (s * s.sqrt())).collect()
+        } else {
+            (0..n)
+                .map(|q| {
+                    let c = v.derivs_n::<N, false>(q, np1, d);
+                    match plane {
+                        Some(n) => n.dot(c[0].cross(c[1])) / (c[0].length_squared() * c[0].length()),
+                        None => c[0].cross(c[1]).length() / (c[0].length_squared() * c[0].length()),
+                    }
+                })
+                .collect()
+        };
         crate::measure::zigzag_extrema(&k, self.var.delta)
     }
 
     /// `E_var` of `c₀ + Σ N_i d_i` over the moving stretch (module docs) with the curvature steps, and the
     /// torsion-variation energy of a non-planar 3D curve ([`TwistRows`]).
     pub(crate) fn variation_parts(&self, d: &[DVec3]) -> (f64, f64) {
+        match self.work.degree() {
+            2 => self.variation_parts_n::<3>(d),
+            3 => self.variation_parts_n::<4>(d),
+            4 => self.variation_parts_n::<5>(d),
+            5 => self.variation_parts_n::<6>(d),
+            _ => self.variation_parts_n::<0>(d),
+        }
+    }
+
+    /// [`Self::variation_parts`] with `N` = p + 1 known at compile time (0: read p from the curve).
+    fn variation_parts_n<const N: usize>(&self, d: &[DVec3]) -> (f64, f64) {
         let np1 = self.work.degree() + 1;
         let plane = self.signed_plane();
         let v = &self.var;
-        let inner: f64 = (0..v.w.len())
-            .map(|q| {
-                let c = v.derivs(q, np1, d);
-                let (r, _) = dkds_residual(plane, c[0], c[1], c[2], v.eps);
-                v.w[q] * r * r
-            })
-            .sum();
+        let inner: f64 = if self.work.dim() == 2 {
+            // dkds_residual_2d's value in two passes: the products first, then the roots and divisions on
+            // independent lanes (the same operations, the same values and sum)
+            let n = v.w.len();
+            let mut parts = Vec::with_capacity(n);
+            for q in 0..n {
+                let [c1, c2, c3] = v.derivs_n::<N, true>(q, np1, d);
+                let s = c1.x * c1.x + c1.y * c1.y;
+                let d12 = c1.x * c2.x + c1.y * c2.y;
+                let cr = c1.x * c2.y - c2.x * c1.y;
+                let cr3 = c1.x * c3.y - c3.x * c1.y;
+                parts.push([s, d12, cr, cr3]);
+            }
+            parts
+                .iter()
+                .zip(&v.w)
+                .map(|(&[s, d12, cr, cr3], w)| {
+                    let r = if s > 0.0 {
+                        let (r2, r4) = (s.sqrt(), s.sqrt().sqrt());
+                        let sm74 = 1.0 / (s * r2 * r4);
+                        let sm114 = sm74 / s;
+                        cr3 * sm74 - 3.0 * cr * d12 * sm114
+                    } else {
+                        0.0
+                    };
+                    w * r * r
+                })
+                .sum()
+        } else {
+            (0..v.w.len())
+                .map(|q| {
+                    let c = v.derivs_n::<N, true>(q, np1, d);
+                    let r = dkds_residual(plane, c[0], c[1], c[2], v.eps).0;
+                    v.w[q] * r * r
+                })
+                .sum()
+        };
         let steps: f64 = v
             .jumps
             .iter()
@@ -379,6 +512,27 @@ impl FairingSetup {
     /// Adds `weight · JᵀJ` to `h` and `−weight · Jᵀr` to `rhs` for `E_var` at the update `d` (unknown
     /// `li · dim + c`, as the polish's systems).
     pub(crate) fn variation_system(&self, d: &[DVec3], weight: f64, h: &mut BandedSpd, rhs: &mut [DVec3]) {
+        match (self.work.degree(), self.work.dim()) {
+            (2, 2) => self.variation_system_n::<3, 2, 6>(d, weight, h, rhs),
+            (2, 3) => self.variation_system_n::<3, 3, 9>(d, weight, h, rhs),
+            (3, 2) => self.variation_system_n::<4, 2, 8>(d, weight, h, rhs),
+            (3, 3) => self.variation_system_n::<4, 3, 12>(d, weight, h, rhs),
+            (4, 2) => self.variation_system_n::<5, 2, 10>(d, weight, h, rhs),
+            (5, 2) => self.variation_system_n::<6, 2, 12>(d, weight, h, rhs),
+            _ => self.variation_system_n::<0, 0, 0>(d, weight, h, rhs),
+        }
+    }
+
+    /// [`Self::variation_system`] with `N` = p + 1, `D` = dim and `W` = N·D known at compile time (0: read
+    /// them from the curve): a node whose p + 1 rows are all free takes an unrolled path (the same sums in
+    /// the same order).
+    fn variation_system_n<const N: usize, const D: usize, const W: usize>(
+        &self,
+        d: &[DVec3],
+        weight: f64,
+        h: &mut BandedSpd,
+        rhs: &mut [DVec3],
+    ) {
         let np1 = self.work.degree() + 1;
         let dim = self.work.dim();
         let plane = self.signed_plane();
@@ -386,10 +540,31 @@ impl FairingSetup {
         let nf = self.nf;
         let mut jrow = vec![0.0; dim * np1];
         for q in 0..v.w.len() {
-            let c = v.derivs(q, np1, d);
-            let (r, g) = dkds_residual(plane, c[0], c[1], c[2], v.eps);
+            let c = v.derivs_n::<N, true>(q, np1, d);
+            let (r, g) = if D == 2 {
+                dkds_residual_2d(c[0], c[1], c[2])
+            } else {
+                dkds_residual(plane, c[0], c[1], c[2], v.eps)
+            };
             let sw = (weight * v.w[q]).sqrt();
             let f = v.first[q];
+            if N > 0 && f >= 0 && f as usize + N <= nf {
+                let base = f as usize;
+                let b = &v.b[q * 3 * N..(q + 1) * 3 * N];
+                let mut jr = [0.0; W];
+                for i in 0..N {
+                    let gi = g[0] * b[i] + g[1] * b[N + i] + g[2] * b[2 * N + i];
+                    for cc in 0..D {
+                        jr[i * D + cc] = sw * gi[cc];
+                    }
+                }
+                let block: &mut [DVec3; W] = (&mut rhs[base * D..base * D + W]).try_into().expect("W rows");
+                for (y, x) in block.iter_mut().zip(&jr) {
+                    y.x -= x * sw * r;
+                }
+                h.add_outer_fixed(base * D, &jr);
+                continue;
+            }
             let base = f.max(0) as usize;
             let b = &v.b[q * 3 * np1..(q + 1) * 3 * np1];
             jrow.fill(0.0);

@@ -689,7 +689,7 @@ fn ridge_angle(s: &BSplineSurface, v: f64) -> f64 {
 /// too, the angle changes by up to 4.1° (that noise wiggles the crease angle along the line by 4.5–5.9°;
 /// the fair evens it out to 0.4–1.3°).
 ///
-/// Measured and not kept (session 13): fairing the two sides as separate regions, the crease row held and
+/// Measured and not kept: fairing the two sides as separate regions, the crease row held and
 /// the isocurves ending G1 there (as the curve engine does at a kink), changed the angle by up to 2.8°
 /// on these clean-neighbour roofs, evened it out less (spread 1.5–3.6°) and left ∫∫|∇H|² within 0.1 of the
 /// crease 1.8–7× higher; also holding the rows next to the crease kept the angle exactly but left the sides
@@ -781,8 +781,8 @@ fn a_pinch_inside_the_domain_is_refused() {
 
 /// A closed surface (a full turn of a paraboloid of revolution, r ∈ [0.3, 1]: the first and last control
 /// columns coincide) stays closed: the three columns at each side of the seam stay bit for bit, the band
-/// holds, and away from the seam the curvature error against the noise-free surface drops. (Before, the
-/// two sides were faired independently and the seam opened by 2.4e-3 at m = 3e-3.) Also with the seam in u
+/// holds, and away from the seam the curvature error against the noise-free surface drops. (Faired
+/// independently, the two sides open the seam by 2.4e-3 at m = 3e-3.) Also with the seam in u
 /// (transposed net).
 #[test]
 fn a_closed_surface_stays_closed_at_its_seam() {

@@ -18,7 +18,7 @@
 use std::collections::HashMap;
 
 /// The deepest nesting of lists and typed parameters accepted.
-pub const MAX_DEPTH: usize = 64;
+pub(crate) const MAX_DEPTH: usize = 64;
 
 /// One parameter of a record.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,6 +1,7 @@
 //! From Part 21 instances to Fairway geometry: the B-spline curves and
 //! surfaces, their points and weights, and the file's length unit.
 
+use crate::io::breaks::{curve_pieces, surface_pieces};
 use std::collections::{BTreeMap, HashSet};
 
 use glam::{DVec3, DVec4};
@@ -441,7 +442,9 @@ fn cartesian(h: &[DVec4], rational: bool) -> (Vec<DVec3>, Option<Vec<f64>>) {
 const CLAMPED: &str = "unclamped knots (a periodic or uniform B-spline) made clamped by knot insertion: the same \
                        shape on the same domain";
 
-fn read_curve(ex: &Exchange, p: &Parts<'_>) -> Result<(Geometry, bool)> {
+/// A B-spline curve entity: one curve, or its pieces where it breaks (a knot above the degree's
+/// multiplicity, [`crate::io::breaks`]); and whether its knots were clamped.
+fn read_curve(ex: &Exchange, p: &Parts<'_>, what: &str, notices: &mut Vec<String>) -> Result<(Vec<Geometry>, bool)> {
     let degree = degree(&p.base[0], "degree")?;
     let refs = list(&p.base[1], "control points")?;
     if refs.len() < degree + 1 {
@@ -456,14 +459,16 @@ fn read_curve(ex: &Exchange, p: &Parts<'_>) -> Result<(Geometry, bool)> {
     let knots = knots_of(p, 0, 1, degree, pts.len(), "")?;
     let w = weights(p, pts.len(), None)?;
     if is_clamped(&knots, degree) {
-        return Ok((BSplineCurve::try_new(degree, knots, pts, w, dim)?.into(), false));
+        return Ok((curve_pieces(what, notices, degree, knots, pts, w, dim)?, false));
     }
     let (knots, h) = clamp(degree, &knots, &homogeneous(&pts, w.as_deref()))?;
     let (pts, w) = cartesian(&h, w.is_some());
-    Ok((BSplineCurve::try_new(degree, knots, pts, w, dim)?.into(), true))
+    Ok((curve_pieces(what, notices, degree, knots, pts, w, dim)?, true))
 }
 
-fn read_surface(ex: &Exchange, p: &Parts<'_>) -> Result<(Geometry, bool)> {
+/// A B-spline surface entity: one surface, or its pieces where it breaks; and whether its knots were
+/// clamped.
+fn read_surface(ex: &Exchange, p: &Parts<'_>, what: &str, notices: &mut Vec<String>) -> Result<(Vec<Geometry>, bool)> {
     let du = degree(&p.base[0], "u degree")?;
     let dv = degree(&p.base[1], "v degree")?;
     let rows = list(&p.base[2], "control points")?;
@@ -496,7 +501,7 @@ fn read_surface(ex: &Exchange, p: &Parts<'_>) -> Result<(Geometry, bool)> {
     let kv = knots_of(p, 1, 3, dv, nv, "v ")?;
     let w = weights(p, nu * nv, Some(nu))?;
     if is_clamped(&ku, du) && is_clamped(&kv, dv) {
-        return Ok((BSplineSurface::try_new(du, dv, ku, kv, nu, nv, pts, w)?.into(), false));
+        return Ok((surface_pieces(what, notices, (du, dv), (ku, kv), nv, pts, w)?, false));
     }
     // rows (fixed i) in v, then columns (fixed j) in u
     let h = homogeneous(&pts, w.as_deref());
@@ -517,10 +522,13 @@ fn read_surface(ex: &Exchange, p: &Parts<'_>) -> Result<(Geometry, bool)> {
     let nu2 = cols[0].len();
     let h: Vec<DVec4> = (0..nu2).flat_map(|i| cols.iter().map(move |c| c[i])).collect();
     let (pts, w) = cartesian(&h, w.is_some());
-    Ok((
-        BSplineSurface::try_new(du, dv, ku2, kv2, nu2, nv2, pts, w)?.into(),
-        true,
-    ))
+    if pts.len() != nu2 * nv2 {
+        return Ok((
+            vec![BSplineSurface::try_new(du, dv, ku2, kv2, nu2, nv2, pts, w)?.into()],
+            true,
+        ));
+    }
+    Ok((surface_pieces(what, notices, (du, dv), (ku2, kv2), nv2, pts, w)?, true))
 }
 
 /// The instances that are items of a `DEFINITIONAL_REPRESENTATION`: curves in a surface's parameter
@@ -541,11 +549,27 @@ fn parameter_space_items(ex: &Exchange) -> HashSet<u64> {
 }
 
 /// One B-spline instance as geometry, the unit factor applied and the coordinates range-checked.
-fn read_instance(ex: &Exchange, p: &Parts<'_>, factor: f64) -> Result<(Geometry, bool)> {
-    let (g, clamped) = match p.kind {
-        Kind::Curve => read_curve(ex, p)?,
-        Kind::Surface => read_surface(ex, p)?,
+fn read_instance(
+    ex: &Exchange,
+    p: &Parts<'_>,
+    factor: f64,
+    what: &str,
+    notices: &mut Vec<String>,
+) -> Result<(Vec<Geometry>, bool)> {
+    let (pieces, clamped) = match p.kind {
+        Kind::Curve => read_curve(ex, p, what, notices)?,
+        Kind::Surface => read_surface(ex, p, what, notices)?,
     };
+    let pieces = pieces
+        .into_iter()
+        .map(|g| instance_geometry(g, p, factor))
+        .collect::<Result<Vec<_>>>()?;
+    Ok((pieces, clamped))
+}
+
+/// A piece of an instance as Fairway holds it: a 2D curve as Fairway writes it (named so, z = 0) made
+/// 2D, converted to the requested unit, and checked against the range Fairway computes in.
+fn instance_geometry(g: Geometry, p: &Parts<'_>, factor: f64) -> Result<Geometry> {
     // a 2D curve as Fairway writes it: named so, z = 0
     let g = match g {
         Geometry::Curve(c)
@@ -565,7 +589,7 @@ fn read_instance(ex: &Exchange, p: &Parts<'_>, factor: f64) -> Result<(Geometry,
     };
     let g = if factor == 1.0 { g } else { scale(g, factor)? };
     crate::range::check_geometry(&g)?;
-    Ok((g, clamped))
+    Ok(g)
 }
 
 fn scale(g: Geometry, f: f64) -> Result<Geometry> {
@@ -619,17 +643,36 @@ pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile
             notices.push(format!("{what} skipped: a curve in a surface's parameter space"));
             continue;
         }
-        let read = parts(inst, kind, form, entity).and_then(|p| Ok((read_instance(ex, &p, factor)?, p.name)));
+        let mut piece_notes = vec![];
+        let read = parts(inst, kind, form, entity)
+            .and_then(|p| Ok((read_instance(ex, &p, factor, &what, &mut piece_notes)?, p.name)));
         match read {
-            Ok(((g, clamped), name)) => {
+            Ok(((pieces, clamped), name)) => {
                 if clamped {
                     notices.push(format!("{what}: {CLAMPED}"));
                 }
-                objects.push(g);
-                entities.push(EntityInfo {
-                    entity: inst.id as usize,
-                    label: name,
-                });
+                notices.append(&mut piece_notes);
+                let count = pieces.len();
+                for (k, g) in pieces.into_iter().enumerate() {
+                    // a named 2D curve as Fairway writes it: "2D curve: NAME" (`step::write_labeled`)
+                    let base = match (
+                        &g,
+                        name.strip_prefix(super::PLANAR_NAME).and_then(|n| n.strip_prefix(": ")),
+                    ) {
+                        (Geometry::Curve(c), Some(n)) if c.dim() == 2 => n.to_string(),
+                        _ => name.clone(),
+                    };
+                    let label = match (count, base.is_empty()) {
+                        (1, _) => base,
+                        (_, true) => format!("piece {} of {count}", k + 1),
+                        (_, false) => format!("{base}, piece {} of {count}", k + 1),
+                    };
+                    objects.push(g);
+                    entities.push(EntityInfo {
+                        entity: inst.id as usize,
+                        label,
+                    });
+                }
             }
             Err(e) => {
                 notices.push(format!("{what} on line {} skipped: {}", inst.line, reason(&e)));

@@ -33,18 +33,7 @@ pub fn conversion_name(u: Unit) -> &'static str {
     }
 }
 
-const ALL: [Unit; 10] = [
-    Unit::Inch,
-    Unit::Millimeter,
-    Unit::Foot,
-    Unit::Mile,
-    Unit::Meter,
-    Unit::Kilometer,
-    Unit::Mil,
-    Unit::Micron,
-    Unit::Centimeter,
-    Unit::Microinch,
-];
+const ALL: [Unit; 10] = Unit::ALL;
 
 fn from_prefix(prefix: &Param) -> Option<Unit> {
     match prefix {

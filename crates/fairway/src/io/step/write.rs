@@ -236,7 +236,7 @@ fn representation(d: &mut Data, opts: &WriteOptions, shape: u64, items: &[u64], 
 }
 
 /// The whole file; see [`super::write`].
-pub fn write(objects: &[Geometry], opts: &WriteOptions) -> String {
+pub fn write(objects: &[Geometry], names: &[String], opts: &WriteOptions) -> String {
     let stamp = opts.date.clone().unwrap_or_else(|| {
         let [y, m, d, h, n, s] = crate::io::iges::now_utc();
         format!("{y:04}-{m:02}-{d:02}T{h:02}:{n:02}:{s:02}")
@@ -254,10 +254,16 @@ pub fn write(objects: &[Geometry], opts: &WriteOptions) -> String {
     let items: Vec<u64> = objects
         .iter()
         .enumerate()
-        .map(|(k, g)| match g {
-            Geometry::Curve(c) if c.dim() == 2 => d.curve(c, &format!("{PLANAR_NAME} {}", k + 1)),
-            Geometry::Curve(c) => d.curve(c, &format!("curve {}", k + 1)),
-            Geometry::Surface(s) => d.surface(s, &format!("surface {}", k + 1)),
+        .map(|(k, g)| {
+            let name = names.get(k).filter(|n| !n.is_empty());
+            match (g, name) {
+                (Geometry::Curve(c), None) if c.dim() == 2 => d.curve(c, &format!("{PLANAR_NAME} {}", k + 1)),
+                (Geometry::Curve(c), Some(n)) if c.dim() == 2 => d.curve(c, &format!("{PLANAR_NAME}: {n}")),
+                (Geometry::Curve(c), None) => d.curve(c, &format!("curve {}", k + 1)),
+                (Geometry::Surface(s), None) => d.surface(s, &format!("surface {}", k + 1)),
+                (Geometry::Curve(c), Some(n)) => d.curve(c, n),
+                (Geometry::Surface(s), Some(n)) => d.surface(s, n),
+            }
         })
         .collect();
     let curves_only = objects.iter().all(|g| matches!(g, Geometry::Curve(_)));

@@ -1,0 +1,331 @@
+//! End-to-end tests of files with several objects (issue 30): `info` lists the joins (text and JSON),
+//! `fair` fairs every object (or those `--object` names) keeping the joins and writes the file back in
+//! order with its names, the report has each object's measures and each join before and after;
+//! `--index` still fairs one object alone.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use fairway::fair::closed::split;
+use fairway::io::{DocumentSettings, Scene, SceneObject, Unit, load_scene, save_scene};
+use fairway::network::{Continuity, find_joins};
+use fairway::{BSplineCurve, DVec3, Geometry};
+use serde_json::Value;
+
+fn fairway(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_fairway"))
+        .args(args)
+        .output()
+        .expect("run the fairway binary")
+}
+
+struct Scratch(PathBuf);
+
+impl Scratch {
+    fn new(tag: &str) -> Self {
+        let d = std::env::temp_dir().join(format!("fairway-network-test-{}-{tag}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        Scratch(d)
+    }
+    fn path(&self, name: &str) -> PathBuf {
+        self.0.join(name)
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn run_ok(args: &[&str]) -> (String, String) {
+    let out = fairway(args);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(out.status.success(), "{args:?}: exit {:?}: {err}", out.status.code());
+    (String::from_utf8_lossy(&out.stdout).into_owned(), err)
+}
+
+fn run_fails(args: &[&str], needles: &[&str]) {
+    let out = fairway(args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+    for n in needles {
+        assert!(err.contains(n), "{args:?}: {n:?} not in {err}");
+    }
+}
+
+/// A noisy planar cubic (a sine arc, 30 control points, deterministic noise of ±4e-3) split at two
+/// interior knots: three curves meeting with G2.
+fn chain() -> Vec<BSplineCurve> {
+    let n = 30;
+    let mut state = 0x2545_F491_4F6C_DD1Du64;
+    let pts: Vec<DVec3> = (0..n)
+        .map(|i| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let noise = if i == 0 || i == n - 1 {
+                0.0
+            } else {
+                ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 8e-3
+            };
+            let x = 4.0 * i as f64 / (n - 1) as f64;
+            DVec3::new(x, 0.5 * (1.2 * x).sin() + noise, 0.0)
+        })
+        .collect();
+    let knots = fairway::KnotVector::uniform(3, n).unwrap().values().to_vec();
+    let c = BSplineCurve::try_new(3, knots, pts, None, 2).unwrap();
+    let bp = c.knots().breakpoints();
+    let (a, rest) = split(&c, bp[9]).unwrap();
+    let (b, cc) = split(&rest, bp[18]).unwrap();
+    vec![a, b, cc]
+}
+
+fn write_chain(path: &Path) -> Scene {
+    let names = ["BOW", "MID", "STERN"];
+    let scene = Scene {
+        objects: chain()
+            .into_iter()
+            .zip(names)
+            .map(|(c, n)| SceneObject {
+                name: n.into(),
+                geometry: c.into(),
+                settings: DocumentSettings::default(),
+            })
+            .collect(),
+        unit: Some(Unit::Millimeter),
+    };
+    save_scene(path, &scene).unwrap();
+    scene
+}
+
+#[test]
+fn info_lists_the_joins_as_text_and_json() {
+    let sc = Scratch::new("info");
+    let igs = sc.path("chain.igs");
+    write_chain(&igs);
+    let (text, err) = run_ok(&["info", s(&igs)]);
+    assert!(err.contains("3 objects, using number 0"), "{err}");
+    assert!(
+        text.contains("objects         3: 0 curve \"BOW\", 1 curve \"MID\", 2 curve \"STERN\""),
+        "{text}"
+    );
+    assert!(text.contains("joins           2"), "{text}");
+    assert_eq!(text.matches(": G2  gap").count(), 2, "{text}");
+    let (json, _) = run_ok(&["info", s(&igs), "--json"]);
+    let v: Value = serde_json::from_str(&json).unwrap();
+    let joins = v["network"]["curve_joins"].as_array().unwrap();
+    assert_eq!(joins.len(), 2);
+    assert_eq!(joins[0]["continuity"], "G2");
+    assert_eq!(joins[0]["objects"], serde_json::json!([0, 1]));
+    assert_eq!(joins[0]["ends"], serde_json::json!(["end", "start"]));
+    assert!(joins[0]["angle_deg"].as_f64().unwrap() < 1e-9);
+    assert_eq!(v["network"]["objects"][2]["name"], "STERN");
+}
+
+#[test]
+fn fair_on_a_file_with_several_objects_fairs_them_all_keeping_the_joins() {
+    let sc = Scratch::new("fair");
+    let igs = sc.path("chain.igs");
+    let scene = write_chain(&igs);
+    let (out, rep) = (sc.path("faired.igs"), sc.path("report.json"));
+    let m = "0.004";
+    let (_, err) = run_ok(&["fair", s(&igs), "--tolerance", m, "-o", s(&out), "--report", s(&rep)]);
+    assert!(err.contains("3 objects, fairing all together"), "{err}");
+    let (back, _) = load_scene(&out).unwrap();
+    assert_eq!(back.names(), scene.names(), "names and order kept");
+    assert_eq!(back.unit, Some(Unit::Millimeter));
+    let joins = find_joins(&back.geometries());
+    assert_eq!(joins.curves.len(), 2);
+    for j in &joins.curves {
+        let c = j.continuity;
+        assert_eq!(c.class, Continuity::G2, "{c:?}");
+        assert!(c.angle <= 1e-9 && c.curvature_jump <= 1e-9, "{c:?}");
+    }
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&rep).unwrap()).unwrap();
+    assert_eq!(v["kind"], "scene");
+    let objects = v["objects"].as_array().unwrap();
+    assert_eq!(objects.len(), 3);
+    let mut extrema = (0, 0);
+    for (o, orig) in objects.iter().zip(&scene.objects) {
+        assert_eq!(o["faired"], true, "{o}");
+        assert_eq!(o["group"], serde_json::json!([0, 1, 2]));
+        assert!(o["measures"]["dev_max"].as_f64().unwrap() <= 0.004);
+        extrema.1 += o["measures"]["n_curv_extrema"].as_u64().unwrap();
+        let c = orig.geometry.as_curve().unwrap();
+        extrema.0 += fairway::measure::measure(c, c).n_curv_extrema as u64;
+    }
+    assert!(extrema.1 < extrema.0, "curvature extrema {extrema:?}");
+    for j in v["curve_joins"].as_array().unwrap() {
+        assert_eq!(j["kept"], true, "{j}");
+        assert_eq!(
+            (j["before"]["continuity"].as_str(), j["after"]["continuity"].as_str()),
+            (Some("G2"), Some("G2"))
+        );
+    }
+    assert!(
+        v["notes"][0].as_str().unwrap().contains("concatenated"),
+        "{}",
+        v["notes"]
+    );
+    // a .ron document of version 2 in and out
+    let ron = sc.path("chain.ron");
+    save_scene(&ron, &scene).unwrap();
+    let ron_out = sc.path("faired.ron");
+    run_ok(&["fair", s(&ron), "--tolerance", m, "-o", s(&ron_out)]);
+    assert_eq!(load_scene(&ron_out).unwrap().0.objects.len(), 3);
+    // JSON holds one object: refused before any work
+    run_fails(
+        &["fair", s(&igs), "--tolerance", m, "-o", s(&sc.path("x.json"))],
+        &["x.json", "holds one object", "--index"],
+    );
+    assert!(!sc.path("x.json").exists());
+}
+
+#[test]
+fn object_picks_what_is_faired_and_index_still_fairs_one_object_alone() {
+    let sc = Scratch::new("object");
+    let stp = sc.path("chain.stp");
+    let scene = write_chain(&stp);
+    let out = sc.path("mid.stp");
+    let (_, err) = run_ok(&[
+        "fair",
+        s(&stp),
+        "--tolerance",
+        "0.004",
+        "-o",
+        s(&out),
+        "--object",
+        "MID",
+    ]);
+    assert!(
+        err.contains("held"),
+        "the joins with the curves not faired are held: {err}"
+    );
+    let (back, _) = load_scene(&out).unwrap();
+    assert_eq!(
+        back.objects[0].geometry, scene.objects[0].geometry,
+        "not chosen: bit-exact"
+    );
+    assert_eq!(back.objects[2].geometry, scene.objects[2].geometry);
+    assert_ne!(back.objects[1].geometry, scene.objects[1].geometry, "chosen: faired");
+    for (b, a) in find_joins(&scene.geometries())
+        .curves
+        .iter()
+        .zip(find_joins(&back.geometries()).curves)
+    {
+        assert!(a.continuity.class >= b.continuity.class, "{a:?}");
+        assert!(a.continuity.gap <= 1e-12 && a.continuity.angle <= 1e-9, "{a:?}");
+    }
+    // by index, repeated
+    run_ok(&[
+        "fair",
+        s(&stp),
+        "--tolerance",
+        "0.004",
+        "-o",
+        s(&out),
+        "--object",
+        "0",
+        "--object",
+        "2",
+    ]);
+    run_fails(
+        &[
+            "fair",
+            s(&stp),
+            "--tolerance",
+            "0.004",
+            "-o",
+            s(&out),
+            "--object",
+            "KEEL",
+        ],
+        &["--object KEEL", "holds no such object", "\"STERN\""],
+    );
+    // --index: the one object alone, written alone (as before)
+    let one = sc.path("one.json");
+    run_ok(&["fair", s(&stp), "--tolerance", "0.004", "-o", s(&one), "--index", "1"]);
+    let g: Geometry = fairway::io::load_geometry(&one).unwrap();
+    assert!(g.as_curve().is_some());
+}
+
+/// The bundled bumpy surface split across u into two patches (the edge C2: G2).
+fn two_patches() -> Vec<Geometry> {
+    use fairway::BSplineSurface;
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/bumpy_surface.json");
+    let s = fairway::io::load_geometry(&path).unwrap().as_surface().unwrap().clone();
+    let u = s.knots_u().values()[10];
+    let (mut left, mut right) = (vec![], vec![]);
+    for j in 0..s.nv() {
+        let pts = (0..s.nu()).map(|i| s.point_at(i, j)).collect();
+        let c = BSplineCurve::try_new(3, s.knots_u().values().to_vec(), pts, None, 3).unwrap();
+        let (l, r) = split(&c, u).unwrap();
+        left.push(l);
+        right.push(r);
+    }
+    let net = |cs: &[BSplineCurve]| -> Geometry {
+        let (nu, nv) = (cs[0].n_points(), cs.len());
+        let pts = (0..nu).flat_map(|i| (0..nv).map(move |j| cs[j].points()[i])).collect();
+        BSplineSurface::try_new(
+            3,
+            3,
+            cs[0].knots().values().to_vec(),
+            s.knots_v().values().to_vec(),
+            nu,
+            nv,
+            pts,
+            None,
+        )
+        .unwrap()
+        .into()
+    };
+    vec![net(&left), net(&right)]
+}
+
+#[test]
+fn patches_sharing_an_edge_are_listed_and_faired_together() {
+    let sc = Scratch::new("patches");
+    let stp = sc.path("patches.stp");
+    let scene = Scene {
+        objects: two_patches()
+            .into_iter()
+            .zip(["PORT", "STARBOARD"])
+            .map(|(g, n)| SceneObject {
+                name: n.into(),
+                geometry: g,
+                settings: DocumentSettings::default(),
+            })
+            .collect(),
+        unit: None,
+    };
+    save_scene(&stp, &scene).unwrap();
+    let (text, _) = run_ok(&["info", s(&stp)]);
+    assert!(text.contains("surface 0 u1 – surface 1 u0: G2"), "{text}");
+    let (out, rep) = (sc.path("out.stp"), sc.path("rep.json"));
+    run_ok(&[
+        "fair",
+        s(&stp),
+        "--tolerance",
+        "0.004",
+        "-o",
+        s(&out),
+        "--report",
+        s(&rep),
+    ]);
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&rep).unwrap()).unwrap();
+    let e = &v["surface_joins"][0];
+    assert_eq!(e["kept"], true, "{e}");
+    assert!(e["after"]["normal_angle_deg"].as_f64().unwrap() <= 0.01, "{e}");
+    for o in v["objects"].as_array().unwrap() {
+        assert_eq!(o["group"], serde_json::json!([0, 1]));
+        assert!(o["measures"]["hausdorff"].as_f64().unwrap() <= 0.004);
+        assert!(o["measures"]["n_curv_extrema"].as_u64().unwrap() < 60, "{o}");
+    }
+    assert_eq!(load_scene(&out).unwrap().0.names(), vec!["PORT", "STARBOARD"]);
+}

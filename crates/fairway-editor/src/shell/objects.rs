@@ -1,0 +1,398 @@
+//! Documents with many objects: every curve and surface of a scene (an IGES / STEP file, a RON
+//! document of version 2) is one document. One object is active: its workspace shows, edits and fairs
+//! it, the others are drawn dimmed on the canvas. Selecting another object, and "Fair all (keep joins)"
+//! (the core's [`fair_network`] on every curve), are commands with one undo step each; the objects
+//! panel lists the objects and the joins the core measured between them.
+
+use std::path::PathBuf;
+
+use eframe::egui;
+use egui::{Color32, RichText};
+use fairway::Geometry;
+use fairway::fair::network::{NetworkOptions, fair_network};
+use fairway::io::{Document, Scene, SceneObject};
+use fairway::network::Continuity;
+
+use super::{doc_curve, settings_notes};
+use crate::history::Snapshot;
+use crate::scene_view::{SceneView, ViewPlane, object_label};
+use crate::surface_ui::SurfaceWorkspace;
+use crate::{App, Command};
+
+/// An unnamed object holding `doc`.
+pub(crate) fn unnamed(doc: Document) -> SceneObject {
+    SceneObject {
+        name: String::new(),
+        geometry: doc.geometry,
+        settings: doc.settings,
+    }
+}
+
+/// The colour of a join's marker and list entry: G2 green, G1 yellow, G0 red.
+pub fn continuity_color(c: Continuity) -> Color32 {
+    match c {
+        Continuity::G2 => Color32::from_rgb(90, 220, 110),
+        Continuity::G1 => Color32::from_rgb(240, 200, 60),
+        Continuity::G0 => Color32::from_rgb(240, 90, 70),
+    }
+}
+
+impl App {
+    /// Every object of the document, the active one as it is now.
+    pub fn objects_now(&self) -> Vec<SceneObject> {
+        let mut o = self.objects.clone();
+        if let Some(a) = o.get_mut(self.active) {
+            a.geometry = self.doc.geometry.clone();
+            a.settings = self.doc.settings.clone();
+        }
+        o
+    }
+
+    /// The document as a scene (what is saved): every object in order with its name, and the unit.
+    pub fn scene(&self) -> Scene {
+        Scene {
+            objects: self.objects_now(),
+            unit: self.unit,
+        }
+    }
+
+    /// Replace the open document by `objects` (the first curve active, else the first object); `saved`
+    /// is their state on disk (`None`: never saved). False (with the error shown) if the active object
+    /// could not be shown. The history is cleared and the view plane is XY again.
+    pub fn set_scene(
+        &mut self,
+        mut objects: Vec<SceneObject>,
+        path: Option<PathBuf>,
+        saved: Option<Vec<SceneObject>>,
+    ) -> bool {
+        if objects.is_empty() {
+            self.error = Some("The document holds no curve or surface".into());
+            return false;
+        }
+        // absolute, so an autosave's source still names the file after a restart elsewhere
+        let path = path.map(|p| std::path::absolute(&p).unwrap_or(p));
+        let many = objects.len() > 1;
+        let mut notes = vec![];
+        for (k, o) in objects.iter_mut().enumerate() {
+            let mut d = Document {
+                geometry: o.geometry.clone(),
+                settings: std::mem::take(&mut o.settings),
+            };
+            let label = object_label(k, &o.name, &o.geometry);
+            notes.extend(
+                d.sanitize_settings()
+                    .into_iter()
+                    .map(|n| if many { format!("{label}: {n}") } else { n }),
+            );
+            o.settings = d.settings;
+        }
+        let active = objects
+            .iter()
+            .position(|o| o.geometry.as_curve().is_some())
+            .unwrap_or(0);
+        let doc = Document {
+            geometry: objects[active].geometry.clone(),
+            settings: objects[active].settings.clone(),
+        };
+        let old = (
+            std::mem::replace(&mut self.objects, objects),
+            self.active,
+            self.view_plane,
+        );
+        (self.active, self.view_plane) = (active, ViewPlane::Xy);
+        self.curve_ws.scene = self.scene_view_of(&self.objects.clone(), &doc);
+        if let Err(e) = self.open_workspace(&doc, true) {
+            (self.objects, self.active, self.view_plane) = old;
+            self.refresh_scene_view();
+            self.error = Some(format!("Could not open the surface: {e}"));
+            return false;
+        }
+        self.saved = saved;
+        self.doc = doc;
+        self.path_input = path.as_ref().map(|p| p.display().to_string()).unwrap_or_default();
+        self.path = path;
+        self.history.clear();
+        // a new document is unitless until its opener says otherwise (open_interchange)
+        self.unit = None;
+        self.error = settings_notes(notes);
+        true
+    }
+
+    /// The scene view of `objects` with `doc` as the active one, on the document's view plane.
+    fn scene_view_of(&self, objects: &[SceneObject], doc: &Document) -> SceneView {
+        let geometries: Vec<Geometry> = objects
+            .iter()
+            .enumerate()
+            .map(|(k, o)| {
+                if k == self.active {
+                    doc.geometry.clone()
+                } else {
+                    o.geometry.clone()
+                }
+            })
+            .collect();
+        let names: Vec<String> = objects.iter().map(|o| o.name.clone()).collect();
+        SceneView::new(&geometries, &names, self.view_plane)
+    }
+
+    /// Show `doc` in its workspace: a curve in the curve workspace (the view fitted with `fit`), a
+    /// surface in a new surface workspace.
+    fn open_workspace(&mut self, doc: &Document, fit: bool) -> Result<(), String> {
+        // the surface shading is kept for the next surface and for eframe storage
+        if let Some(s) = &self.surface {
+            self.curve_ws.curve3d.surface_shading = s.shading;
+        }
+        self.curve_ws.active_object = self.active;
+        match doc_curve(doc) {
+            Some(curve) => {
+                self.surface = None;
+                if fit {
+                    self.curve_ws.set_curve(curve);
+                } else {
+                    self.curve_ws.show_curve(curve);
+                }
+            }
+            None => {
+                let s = SurfaceWorkspace::new(doc, self.curve_ws.curve3d.surface_shading).map_err(|e| e.to_string())?;
+                self.surface = Some(Box::new(s));
+            }
+        }
+        Ok(())
+    }
+
+    /// Make object `k` the active one (the current one's edits kept in its entry); true if it changed.
+    pub(crate) fn select_object(&mut self, k: usize) -> bool {
+        if k == self.active || k >= self.objects.len() {
+            return false;
+        }
+        let objects = self.objects_now();
+        let doc = Document {
+            geometry: objects[k].geometry.clone(),
+            settings: objects[k].settings.clone(),
+        };
+        let old = self.active;
+        self.active = k;
+        if let Err(e) = self.open_workspace(&doc, false) {
+            self.active = old;
+            self.error = Some(format!("Could not show {}: {e}", self.object_name(k)));
+            return false;
+        }
+        self.objects = objects;
+        self.doc = doc;
+        self.refresh_scene_view();
+        self.status = format!("Selected {} (Ctrl+Z to go back)", self.object_name(k));
+        true
+    }
+
+    /// The label of object `k` ([`object_label`]).
+    pub fn object_name(&self, k: usize) -> String {
+        self.objects
+            .get(k)
+            .map_or(String::new(), |o| object_label(k, &o.name, &o.geometry))
+    }
+
+    /// Restore an undo / redo step: the objects, the active one and the fairing options.
+    pub(crate) fn restore(&mut self, s: Snapshot) {
+        let switched = s.active != self.active || doc_curve(&s.doc).is_some() != self.surface.is_none();
+        let geometry_changed = s.doc.geometry != self.doc.geometry;
+        (self.doc, self.prefs.fair, self.objects, self.active) = (s.doc, s.fair, s.objects, s.active);
+        if switched {
+            let doc = self.doc.clone();
+            if let Err(e) = self.open_workspace(&doc, false) {
+                self.error = Some(format!("Could not show {}: {e}", self.object_name(self.active)));
+            }
+        } else {
+            let (ws, sh) = self.split();
+            ws.document_changed(sh.doc, geometry_changed);
+        }
+        self.refresh_scene_view();
+    }
+
+    /// Rebuild the canvas's view of every object and their joins (after a change of geometry, of the
+    /// active object or of the view plane); a new plane redraws the active curve on it.
+    pub(crate) fn refresh_scene_view(&mut self) {
+        let view = self.scene_view_of(&self.objects, &self.doc);
+        let new_frame = view.frame != self.curve_ws.scene.frame;
+        self.curve_ws.scene = view;
+        self.curve_ws.active_object = self.active;
+        if new_frame && self.surface.is_none() {
+            let doc = self.doc.clone();
+            if let Some(c) = doc_curve(&doc) {
+                self.curve_ws.set_curve(c);
+            }
+        }
+    }
+
+    /// Draw 3D curves on plane `p` of the canvas.
+    pub(crate) fn set_view_plane(&mut self, p: ViewPlane) {
+        if self.view_plane != p {
+            self.view_plane = p;
+            self.refresh_scene_view();
+            self.status = format!("Curves drawn on the {}", p.name());
+        }
+    }
+
+    /// The tolerance in effect for object `k`: its own, else the active one's default for the active
+    /// object and 1e-3 of the control net's diagonal for the others (as the curve workspace's default).
+    fn object_tolerance(&self, k: usize, o: &SceneObject) -> f64 {
+        if k == self.active {
+            return self.tolerance();
+        }
+        o.settings.tolerance.unwrap_or_else(|| match &o.geometry {
+            Geometry::Curve(c) => {
+                let (a, b) = c.control_bounds();
+                (b - a).length().max(1e-12) * 1e-3
+            }
+            Geometry::Surface(_) => f64::INFINITY,
+        })
+    }
+
+    /// Fair every curve of the document together keeping their joins (the core's network fair, at the
+    /// smallest tolerance in effect among the curves, so each stays within its own band); true if a
+    /// curve changed. Faired curves lose their region and hand-edited target (they belong to the old
+    /// curve); surfaces are left as they are.
+    pub(crate) fn fair_all(&mut self) -> bool {
+        let mut objects = self.objects_now();
+        let curves: Vec<usize> = (0..objects.len())
+            .filter(|&k| objects[k].geometry.as_curve().is_some())
+            .collect();
+        if curves.is_empty() {
+            self.status = "Fair all: the document has no curve".into();
+            return false;
+        }
+        let tol = curves
+            .iter()
+            .map(|&k| self.object_tolerance(k, &objects[k]))
+            .fold(f64::INFINITY, f64::min);
+        let opts = NetworkOptions {
+            curve: crate::fairing::curve_options(tol, &self.prefs.fair),
+            ..Default::default()
+        };
+        let geometries: Vec<Geometry> = objects.iter().map(|o| o.geometry.clone()).collect();
+        let res = crate::guard::catch_panic("network fairing", || fair_network(&geometries, &curves, &opts));
+        let r = match res {
+            Ok(r) => r,
+            Err(e) => {
+                self.error = Some(format!("Fair all: {e}"));
+                return false;
+            }
+        };
+        let mut changed = 0;
+        for (k, (o, g)) in objects.iter_mut().zip(r.objects.iter().cloned()).enumerate() {
+            if o.geometry != g {
+                changed += 1;
+                o.geometry = g;
+                o.settings.region = None;
+                o.settings.target = None;
+                o.settings.pinned.clear();
+                o.settings.target_params = None;
+                if k == self.active {
+                    self.doc.geometry = o.geometry.clone();
+                    self.doc.settings = o.settings.clone();
+                }
+            }
+        }
+        self.status = fair_all_summary(&r, changed, curves.len(), tol);
+        if changed == 0 {
+            return false;
+        }
+        self.objects = objects;
+        let (ws, sh) = self.split();
+        ws.document_changed(sh.doc, true);
+        self.refresh_scene_view();
+        true
+    }
+
+    /// The objects panel (left; documents with several objects): the objects (a click selects), "Fair
+    /// all (keep joins)" and the joins with their continuity (hover: the measures).
+    pub(crate) fn objects_panel_ui(&mut self, ui: &mut egui::Ui) {
+        if self.objects.len() < 2 {
+            return;
+        }
+        egui::Panel::left("objects")
+            .resizable(true)
+            .default_size(210.0)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    self.object_list_ui(ui);
+                    ui.separator();
+                    self.joins_list_ui(ui);
+                });
+            });
+    }
+
+    fn object_list_ui(&mut self, ui: &mut egui::Ui) {
+        ui.heading("Objects");
+        for k in 0..self.objects.len() {
+            let o = &self.objects[k];
+            let text = format!("{}. {}", k + 1, object_label(k, &o.name, &o.geometry));
+            let tip = crate::interchange::describe_object(&o.geometry, None);
+            if ui
+                .selectable_label(k == self.active, text)
+                .on_hover_text(format!("{tip}; click to edit and fair it"))
+                .clicked()
+            {
+                self.push(Command::Select(k));
+            }
+        }
+        ui.add_space(4.0);
+        if ui
+            .button("Fair all (keep joins)")
+            .on_hover_text(
+                "Fair every curve together: curves meeting with G1/G2 are faired as one and split back, so \
+                 each join keeps its continuity; each curve stays within the smallest tolerance (one undo step)",
+            )
+            .clicked()
+        {
+            self.push(Command::FairAll);
+        }
+    }
+
+    fn joins_list_ui(&mut self, ui: &mut egui::Ui) {
+        let view = &self.curve_ws.scene;
+        ui.heading(format!("Joins ({})", view.joins.len() + view.measured.surfaces.len()));
+        if view.joins.is_empty() && view.measured.surfaces.is_empty() {
+            ui.weak("No curve ends meet and no patches share an edge");
+        }
+        for j in &view.joins {
+            ui.label(RichText::new(&j.label).color(continuity_color(j.class)))
+                .on_hover_text(&j.detail);
+        }
+        for s in &view.measured.surfaces {
+            let c = &s.continuity;
+            let text = format!(
+                "{} edge: {} {:?} – {} {:?}",
+                c.class.name(),
+                self.object_name(s.a.0),
+                s.a.1,
+                self.object_name(s.b.0),
+                s.b.1
+            );
+            ui.label(RichText::new(text).color(continuity_color(c.class)))
+                .on_hover_text(format!(
+                    "{}: gap {:.2e}, normal angle {:.4}°, normal curvature jump {:.2e}",
+                    c.class.name(),
+                    c.gap,
+                    c.normal_angle.to_degrees(),
+                    c.curvature_jump
+                ));
+        }
+    }
+}
+
+/// The status line after "Fair all".
+fn fair_all_summary(r: &fairway::fair::network::NetworkFair, changed: usize, curves: usize, tol: f64) -> String {
+    let kept = r
+        .joins_before
+        .curves
+        .iter()
+        .zip(&r.joins_after.curves)
+        .filter(|(a, b)| b.continuity.class >= a.continuity.class)
+        .count();
+    let dev = r.outcome.iter().map(|o| o.max_deviation).fold(0.0, f64::max);
+    format!(
+        "Fair all: {changed} of {curves} curves changed (m = {tol:.3e}, max deviation {dev:.3e}); {kept} of {} joins \
+         keep their continuity (Ctrl+Z to undo)",
+        r.joins_before.curves.len()
+    )
+}

@@ -1,0 +1,178 @@
+//! The surface workspace's 3D views: before / after (blended, or side by side), ray-picked region
+//! with Ctrl+drag, hover readout; scenes cached per view.
+
+use std::sync::Arc;
+
+use eframe::egui;
+use egui::{Color32, Rect, Sense};
+use fairway::mesh::{SurfaceMesh, pick_uv};
+use fairway::{BSplineSurface, DVec3};
+
+use super::{SceneCache, SurfaceCx, SurfaceWorkspace, points_hash};
+use crate::Command;
+use crate::view3d::scene::{effective_range, mode_values, surface_scene};
+use crate::view3d::{self, ShadeMode, Shading};
+
+impl SurfaceWorkspace {
+    /// The surface shown as "after": the preview blended with the original.
+    fn after_surface(&mut self, surface: &BSplineSurface) -> Option<(u64, BSplineSurface, SurfaceMesh)> {
+        let p = self.preview.as_ref()?;
+        let t = self.compare.blend.clamp(0.0, 1.0);
+        let id = points_hash(&p.surface) ^ t.to_bits().rotate_left(17);
+        if t == 1.0 {
+            return Some((id, p.surface.clone(), p.mesh.clone()));
+        }
+        if let Some((k, s, m)) = &self.blend_cache
+            && *k == (self.rev, id)
+        {
+            return Some((id, s.clone(), m.clone()));
+        }
+        let orig = surface;
+        let pts: Vec<DVec3> = orig
+            .points()
+            .iter()
+            .zip(p.surface.points())
+            .map(|(a, b)| a.lerp(*b, t))
+            .collect();
+        let s = p.surface.with_points(pts).ok()?;
+        let n = self.shading.density;
+        let m = SurfaceMesh::tessellate(&s, n, n).ok()?;
+        self.blend_cache = Some(((self.rev, id), s.clone(), m.clone()));
+        Some((id, s, m))
+    }
+
+    fn scene(
+        &mut self,
+        slot: usize,
+        id: u64,
+        s: &BSplineSurface,
+        mesh: &SurfaceMesh,
+        region: Option<super::UvRect>,
+    ) -> Arc<view3d::Scene> {
+        let values = mode_values(&self.mesh, self.shading.mode).unwrap_or(&[]);
+        let range = effective_range(&self.shading, values);
+        // stripe width and light are uniforms of the paint callback, not part of the scene
+        let baked = Shading {
+            stripe_deg: 0.0,
+            light_azimuth: 0.0,
+            light_elevation: 0.0,
+            ..self.shading
+        };
+        let key = (self.rev, id, baked, range.to_bits(), region);
+        if let Some(c) = &self.scenes[slot]
+            && c.key == key
+        {
+            return c.scene.clone();
+        }
+        let origin = 0.5 * (self.view.bbox.0 + self.view.bbox.1);
+        let scene = Arc::new(surface_scene(s, mesh, &self.shading, range, region, origin));
+        self.scenes[slot] = Some(SceneCache {
+            key,
+            scene: scene.clone(),
+        });
+        scene
+    }
+}
+
+impl SurfaceCx<'_> {
+    pub(super) fn views_ui(&mut self, ui: &mut egui::Ui) {
+        let full = ui.available_rect_before_wrap();
+        let orig = self.surface().clone();
+        let orig_mesh = self.ws.mesh.clone();
+        let after = if self.ws.compare.show_after || self.ws.compare.side_by_side {
+            self.ws.after_surface(self.surface())
+        } else {
+            None
+        };
+        let mut panes: Vec<(Rect, &str, u64, BSplineSurface, SurfaceMesh, usize)> = vec![];
+        if self.ws.compare.side_by_side {
+            let (l, r) = full.split_left_right_at_fraction(0.5);
+            panes.push((l.shrink(1.0), "Before", 0, orig.clone(), orig_mesh.clone(), 0));
+            match after {
+                Some((id, s, m)) => panes.push((r.shrink(1.0), "After", id, s, m, 1)),
+                None => panes.push((r.shrink(1.0), "After (no preview)", 0, orig, orig_mesh, 1)),
+            }
+        } else {
+            match after {
+                Some((id, s, m)) => panes.push((full, "After", id, s, m, 1)),
+                None => panes.push((full, "Before", 0, orig, orig_mesh, 0)),
+            }
+        }
+        let origin = 0.5 * (self.ws.view.bbox.0 + self.ws.view.bbox.1);
+        for (k, (rect, name, id, s, mesh, slot)) in panes.into_iter().enumerate() {
+            let resp = ui.interact(rect, ui.scope_id().with(("surf3d", k)), Sense::click_and_drag());
+            resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "3D view"));
+            self.ws.view.fit_if_needed(rect);
+            let ctrl = ui.input(|i| i.modifiers.command);
+            // Ctrl+drag: region by ray picking on the surface
+            if ctrl || self.ws.pick_drag.is_some() {
+                if resp.drag_started()
+                    && let Some(p) = ui.input(|i| i.pointer.press_origin())
+                {
+                    let (o, d) = self.ws.view.ray(p, rect);
+                    self.ws.pick_drag = pick_uv(&s, &mesh, o, d);
+                }
+                if let (Some(a), Some(p)) = (self.ws.pick_drag, resp.interact_pointer_pos())
+                    && resp.dragged()
+                {
+                    let (o, d) = self.ws.view.ray(p, rect);
+                    if let Some(b) = pick_uv(&s, &mesh, o, d)
+                        && (b.x - a.x).abs() > 1e-9
+                        && (b.y - a.y).abs() > 1e-9
+                    {
+                        self.push(Command::SetRegionUv(Some(((a.x, b.x), (a.y, b.y)))));
+                    }
+                }
+                if resp.drag_stopped() {
+                    self.ws.pick_drag = None;
+                }
+                self.ws.view.interact(ui, &resp, false);
+            } else {
+                self.ws.view.interact(ui, &resp, true);
+            }
+            if let Some(p) = resp.hover_pos() {
+                let (o, d) = self.ws.view.ray(p, rect);
+                let hv = pick_uv(&s, &mesh, o, d).map(|uv| {
+                    let c = s.curvature(uv.x, uv.y);
+                    let v = match self.ws.shading.mode {
+                        ShadeMode::Gauss => c.gauss,
+                        ShadeMode::KMax => c.k_max,
+                        ShadeMode::KMin => c.k_min,
+                        _ => c.mean,
+                    };
+                    (uv, v)
+                });
+                if hv != self.ws.hover {
+                    self.ws.hover = hv;
+                }
+            }
+            let scene = self.ws.scene(slot, id, &s, &mesh, self.region());
+            self.ws.view.paint(
+                ui,
+                rect,
+                ui.scope_id().with(("surf3d_paint", k)),
+                &scene,
+                origin,
+                &self.ws.shading,
+            );
+            let painter = ui.painter_at(rect);
+            painter.text(
+                rect.left_top() + egui::vec2(8.0, 6.0),
+                egui::Align2::LEFT_TOP,
+                name,
+                egui::FontId::proportional(15.0),
+                Color32::WHITE,
+            );
+            if self.ws.shading.mode.is_curvature() {
+                let values = mode_values(&self.ws.mesh, self.ws.shading.mode).unwrap_or(&[]);
+                let range = effective_range(&self.ws.shading, values);
+                view3d::legend(&painter, rect, self.ws.shading.mode.label(), range);
+            }
+        }
+    }
+}
+
+/// Bounding box of a mesh's vertices.
+pub fn bbox_of(mesh: &SurfaceMesh) -> (DVec3, DVec3) {
+    view3d::camera::bbox(mesh.positions.iter().copied()).unwrap_or((DVec3::splat(-1.0), DVec3::splat(1.0)))
+}

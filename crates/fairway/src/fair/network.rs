@@ -1,0 +1,262 @@
+//! Fairing many objects together, keeping their joins ([`crate::network`]): curve networks and patch
+//! layouts.
+//!
+//! **Curves.** Curves joined end to end are *concatenated* into one B-spline where the join allows it,
+//! faired as one curve by [`CurveFairing`], and split back at the join parameters:
+//!
+//! * a G1 / G2 join that is parametrically C1 / C2 after a linear rescale of the next curve's parameter
+//!   (its speed at the join made equal to the previous one's) becomes a knot of multiplicity p − 1 /
+//!   p − 2, or lower where knot removal is exact (1e-9 × the control net's size): the fit on those knots
+//!   keeps the continuity by construction, and the joint moves freely within the band;
+//! * a corner (G0 with a tangent break above [`CORNER_ANGLE_DEG`]) becomes a knot of multiplicity p, which
+//!   the engine keeps as a corner (its point and both tangent directions stay: the angle is exact); a
+//!   closed loop of curves becomes a closed curve (its seam at a corner if it has one);
+//! * curves of different degrees are raised to the higher one first
+//!   ([`BSplineCurve::elevate_degree`], exact) and come back raised.
+//!
+//! Each curve's band is its own: the concatenated curve equals the pieces (but for the knot removal's
+//! tolerance and half of the join's gap, both subtracted from the band), so the band around it is the
+//! pieces' bands. Where a join cannot be concatenated (a G2 join that is only C1 after the rescale, a
+//! G1 join not C1, a tangent break below the corner angle, three or more ends at one point, a neighbour
+//! not being faired, a rational curve), each curve *holds* its end there with the join's continuity (at
+//! least G1, so an angle stays): a G1 end keeps its point and tangent direction, a G2 end its curvature
+//! too (by a region ending at the last interior knot before it, so the end span stays as it is, where
+//! the other end is free); [`NetworkFair::notes`] says which joins were held and why.
+//!
+//! **Surfaces.** Patches sharing edges with G1 (G2) that are parametrically C1 (C2) after a linear
+//! rescale across them are concatenated into one surface where they form a strip (each patch joined on at
+//! most two opposite sides; a ring is opened at one edge): each edge becomes a knot line of multiplicity
+//! p − 1 (p − 2), or lower where exact; the strip is faired by [`fair_surface`] and split back, each
+//! patch on its own knots across the edges. Knot vectors along an edge are first merged (knot
+//! insertion, exact), and patches of different degrees raised to the higher ones (exact; they come back
+//! raised). Any other shared edge (a 2 × 2 layout's, a crease, a neighbour not faired, a rational patch,
+//! an edge parametrized differently on its two sides) is held: each patch is faired with a region
+//! stopping one knot span short of it (the span next to the edge stays as it is, so the edge and the
+//! cross derivatives there do).
+
+use glam::DVec3;
+
+use super::curve::{EndCondition, FairingOptions};
+use super::curve_fairing::{CurveFairing, Pass};
+use super::surface::SurfaceFairingOptions;
+use crate::corners::CORNER_ANGLE_DEG;
+use crate::curve::BSplineCurve;
+use crate::error::{Error, Result};
+use crate::geometry::Geometry;
+use crate::network::{Continuity, CurveEnd, End, Joins, find_joins};
+
+mod surfaces;
+
+/// Options of [`fair_network`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct NetworkOptions {
+    /// The curve fairing's options (tolerance, end conditions at free curve ends, method…); the region
+    /// is ignored (each object is faired whole).
+    pub curve: FairingOptions,
+    /// The surface fairing's options (the region is ignored).
+    pub surface: SurfaceFairingOptions,
+    /// Concatenate across joins that allow it (the default, module docs); `false` holds every join:
+    /// the objects faired one by one, each end at a join keeping its continuity.
+    pub hold_all: bool,
+}
+
+/// What happened to one object.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ObjectFair {
+    /// Whether it was faired (it may still be unchanged if the fair kept the original).
+    pub faired: bool,
+    /// The objects faired together with it as one curve or surface (indices, in order along it; itself
+    /// alone if it was faired on its own).
+    pub group: Vec<usize>,
+    /// A sound bound of its deviation from the original (0 if not faired).
+    pub max_deviation: f64,
+    /// Notes of the fair (the engine's, and what was done to the joins).
+    pub notes: Vec<String>,
+}
+
+/// The outcome of [`fair_network`].
+#[derive(Debug, Clone)]
+pub struct NetworkFair {
+    /// Every object, faired or as it was, in the input's order.
+    pub objects: Vec<Geometry>,
+    /// Per object.
+    pub outcome: Vec<ObjectFair>,
+    /// The joins of the input, measured on the input.
+    pub joins_before: Joins,
+    /// The same joins measured on the result.
+    pub joins_after: Joins,
+    /// What was done to each join of an object faired: concatenated, held and why.
+    pub notes: Vec<String>,
+}
+
+/// How a curve join is kept.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Link {
+    /// Concatenated as a corner (knot of multiplicity p).
+    Corner,
+    /// Concatenated with parametric continuity C^k (k = 1, 2).
+    Smooth(usize),
+}
+
+/// Fair the objects `selected` of `objects` (all if empty) together, keeping their joins (module docs).
+/// Objects not selected stay as they are; a selected object's join with one of them is held.
+pub fn fair_network(objects: &[Geometry], selected: &[usize], opts: &NetworkOptions) -> Result<NetworkFair> {
+    let joins = find_joins(objects);
+    let chosen: Vec<bool> = (0..objects.len())
+        .map(|i| selected.is_empty() || selected.contains(&i))
+        .collect();
+    let mut out = objects.to_vec();
+    let mut outcome: Vec<ObjectFair> = (0..objects.len())
+        .map(|i| ObjectFair {
+            faired: false,
+            group: vec![i],
+            max_deviation: 0.0,
+            notes: vec![],
+        })
+        .collect();
+    let mut notes = vec![];
+    let plan = curves::plan(objects, &joins, &chosen, opts, &mut notes);
+    for chain in &plan {
+        curves::fair_chain(objects, chain, opts, &mut out, &mut outcome);
+    }
+    surfaces::fair_surfaces(objects, &joins, &chosen, opts, &mut out, &mut outcome, &mut notes);
+    let joins_after = remeasure(&joins, &out);
+    Ok(NetworkFair {
+        objects: out,
+        outcome,
+        joins_before: joins,
+        joins_after,
+        notes,
+    })
+}
+
+/// The joins `before` measured again on `objects` (the same ends and edges).
+pub fn remeasure(before: &Joins, objects: &[Geometry]) -> Joins {
+    let mut j = before.clone();
+    for c in &mut j.curves {
+        c.continuity = crate::network::curve_continuity(objects, c.a, c.b);
+        let curve = |e: CurveEnd| objects[e.object].as_curve().expect("a curve");
+        c.point = (crate::network::end_frame(curve(c.a), c.a.end, true).0
+            + crate::network::end_frame(curve(c.b), c.b.end, false).0)
+            * 0.5;
+    }
+    for s in &mut j.surfaces {
+        s.continuity = crate::network::surface_join_continuity(objects, s);
+    }
+    j
+}
+
+/// The knot-removal tolerance of a concatenation: 1e-9 × the control net's size.
+fn removal_tolerance(c: &BSplineCurve) -> f64 {
+    let (lo, hi) = c.control_bounds();
+    1e-9 * (hi - lo).length()
+}
+
+/// `c` on the domain `[t0, t0 + len]` (a linear map of its parameter).
+pub(crate) fn rescaled(c: &BSplineCurve, t0: f64, len: f64) -> Result<BSplineCurve> {
+    let (a, b) = c.domain();
+    let s = len / (b - a);
+    let n = c.knots().values().len();
+    let p = c.degree();
+    let mut k: Vec<f64> = c.knots().values().iter().map(|&u| t0 + (u - a) * s).collect();
+    k[..=p].fill(t0);
+    k[n - 1 - p..].fill(t0 + len);
+    BSplineCurve::try_new(p, k, c.points().to_vec(), None, c.dim())
+}
+
+/// `c` with the knot values of `reference` (same count; else its domain mapped linearly onto the
+/// reference's): a piece split back from a concatenation on its original knots.
+pub(crate) fn on_knots_of(c: &BSplineCurve, reference: &BSplineCurve) -> Result<BSplineCurve> {
+    if c.knots().values().len() == reference.knots().values().len() && c.degree() == reference.degree() {
+        BSplineCurve::try_new(
+            c.degree(),
+            reference.knots().values().to_vec(),
+            c.points().to_vec(),
+            None,
+            c.dim(),
+        )
+    } else {
+        let (a, b) = reference.domain();
+        rescaled(c, a, b - a)
+    }
+}
+
+/// Concatenate `first` (ending at the join) and `second` (starting there, its parameter rescaled so its
+/// speed at the join is `first`'s) with `link`: the curve, the join's parameter and the error made
+/// (half the gap, plus the knot removals' tolerance). Errors if the join is not C^k after the rescale.
+pub(crate) fn concatenate(first: &BSplineCurve, second: &BSplineCurve, link: Link) -> Result<(BSplineCurve, f64, f64)> {
+    let (_, y) = first.domain();
+    let (b0, b1) = second.domain();
+    let (d_first, d_second) = (first.d1(y).length(), second.d1(b0).length());
+    if !(d_first > 0.0 && d_second > 0.0) {
+        return Err(Error::InvalidInput("a curve stops at the join".into()));
+    }
+    let len = (b1 - b0) * d_second / d_first;
+    let second = rescaled(second, y, len)?;
+    let gap = first.point(y).distance(second.point(y));
+    let mut c = super::closed::join(first, &second)?;
+    let p = c.degree();
+    let tol = removal_tolerance(&c);
+    let mut err = 0.5 * gap;
+    if let Link::Smooth(k) = link {
+        let mut mult = p;
+        while mult > 0 {
+            match c.remove_knot(y, 1, tol) {
+                Ok(x) => {
+                    c = x;
+                    mult -= 1;
+                    err += tol;
+                }
+                Err(_) => break,
+            }
+        }
+        if mult + k > p {
+            return Err(Error::InvalidInput(format!(
+                "not parametrically C{k} after a linear rescale (C{} at most)",
+                p - mult
+            )));
+        }
+    }
+    Ok((c, y, err))
+}
+
+/// The end condition a held join asks of a curve end: the join's continuity, at least G1 (an angle
+/// stays).
+pub(crate) fn hold_condition(c: Continuity) -> EndCondition {
+    match c {
+        Continuity::G2 => EndCondition::G2,
+        _ => EndCondition::G1,
+    }
+}
+
+/// Is a join with this tangent break (radians) a corner the engine keeps?
+pub(crate) fn is_corner(angle: f64) -> bool {
+    angle.to_degrees() > CORNER_ANGLE_DEG
+}
+
+/// A point for messages: `(x, y, z)` shortened.
+pub(crate) fn at(p: DVec3) -> String {
+    use crate::range::short;
+    format!("({}, {}, {})", short(p.x), short(p.y), short(p.z))
+}
+
+/// The fair of one prepared curve (a chain's concatenation, or a curve alone) with its end conditions.
+pub(crate) fn fair_one_curve(
+    c: &BSplineCurve,
+    opts: FairingOptions,
+    needs: [Option<EndCondition>; 2],
+) -> Result<super::curve::FairingResult> {
+    let (opts, ends) = curves::end_setup(c, opts, needs);
+    Ok(CurveFairing::with_ends(c, opts, ends)?.fair(Pass::Full)?.result)
+}
+
+/// The end of a curve seen from a chain running along it reversed or not.
+pub(crate) fn oriented(end: End, reversed: bool) -> End {
+    match (end, reversed) {
+        (e, false) => e,
+        (End::Start, true) => End::End,
+        (End::End, true) => End::Start,
+    }
+}
+
+mod curves;

@@ -1,0 +1,445 @@
+//! Reading a file: sections, global section (delimiters, units), directory, the entities with
+//! their transformation matrices.
+
+use super::*;
+
+/// Read every curve (126) and surface (128) of an IGES file, coordinates in
+/// the file's unit. Other entities are skipped and listed in `notices`.
+pub fn read_all(bytes: &[u8]) -> Result<IgesFile> {
+    read_all_with(bytes, ReadOptions::default())
+}
+
+/// [`read_all`] with options (unit conversion).
+pub fn read_all_with(bytes: &[u8], opts: ReadOptions) -> Result<IgesFile> {
+    if let Some(m) = crate::io::blank_text_message(bytes) {
+        return Err(perr(m));
+    }
+    let recs = records(bytes)?;
+    let (gtext, dlines, plines) = split_sections(&recs);
+    if gtext.is_empty() {
+        return Err(perr("no global (G) section"));
+    }
+    let (pd, rd) = global_delimiters(&gtext)?;
+    let gtoks = tokenize(&gtext, pd, rd);
+    let mut notices = Vec::new();
+    let (scale, unit, factor) = global_units(&gtoks, opts, &mut notices)?;
+    let entries = directory_entries(&dlines)?;
+    let data = DataSections {
+        entries: &entries,
+        plines: &plines,
+        pd,
+        rd,
+        factor,
+    };
+    let (objects, infos, first_error) = data.read_entities(&mut notices);
+    // nothing readable: the first entity's reason is the file's
+    if objects.is_empty()
+        && let Some(err) = first_error
+    {
+        return Err(err);
+    }
+    Ok(IgesFile {
+        objects,
+        unit,
+        scale,
+        notices,
+        entities: infos,
+    })
+}
+
+/// Sections: the records sorted into the global text, the directory records and the parameter
+/// records' columns 1–64 (start and terminate sections are not read).
+pub(super) fn split_sections<'a>(recs: &[(u8, &'a [u8])]) -> (Vec<u8>, Vec<&'a [u8]>, Vec<&'a [u8]>) {
+    let mut gtext: Vec<u8> = Vec::new();
+    let mut dlines: Vec<&[u8]> = Vec::new();
+    let mut plines: Vec<&[u8]> = Vec::new();
+    for (letter, body) in recs {
+        match letter {
+            b'G' => gtext.extend_from_slice(body),
+            b'D' => dlines.push(body),
+            b'P' => plines.push(&body[..64]),
+            _ => {}
+        }
+    }
+    (gtext, dlines, plines)
+}
+
+/// Global section, delimiters first: the parameter and record delimiters (fields 1–2, default
+/// `,` and `;`), which every later field's tokenizing needs.
+pub(super) fn global_delimiters(gtext: &[u8]) -> Result<(u8, u8)> {
+    let mut pd = b',';
+    let mut rd = b';';
+    let g = gtext;
+    let mut k = 0;
+    while k < g.len() && g[k] == b' ' {
+        k += 1;
+    }
+    if g.len() >= k + 3 && g[k] == b'1' && (g[k + 1] == b'H' || g[k + 1] == b'h') {
+        pd = g[k + 2];
+        k += 3;
+    }
+    // after field 1 comes pd, then field 2
+    if k < g.len() && g[k] == pd {
+        k += 1;
+        while k < g.len() && g[k] == b' ' {
+            k += 1;
+        }
+        if g.len() >= k + 3 && g[k] == b'1' && (g[k + 1] == b'H' || g[k + 1] == b'h') {
+            rd = g[k + 2];
+        }
+    }
+    if pd == rd || pd == b' ' || rd == b' ' || pd.is_ascii_digit() || rd.is_ascii_digit() {
+        return Err(perr("global section: invalid delimiters"));
+    }
+    Ok((pd, rd))
+}
+
+/// Global section, units: the model-space scale (G13), the file's unit (G14/G15) and the factor
+/// converting coordinates to `opts.unit` (1 when not converting), as (scale, unit, factor).
+pub(super) fn global_units(
+    gtoks: &[Tok],
+    opts: ReadOptions,
+    notices: &mut Vec<String>,
+) -> Result<(f64, Option<Unit>, f64)> {
+    let greal = |i: usize| -> Option<f64> {
+        match gtoks.get(i) {
+            Some(Tok::Num(s)) => parse_real(s),
+            _ => None,
+        }
+    };
+    let gstr = |i: usize| -> String {
+        match gtoks.get(i) {
+            Some(Tok::Str(s)) => s.clone(),
+            _ => String::new(),
+        }
+    };
+    let scale = match greal(12) {
+        Some(s) if s.is_finite() && s > 0.0 => s,
+        None => 1.0,
+        Some(s) => {
+            notices.push(format!("global section: model-space scale {s} is invalid; 1 is used"));
+            1.0
+        }
+    };
+    let unit_flag = greal(13)
+        .filter(|f| f.fract() == 0.0 && f.abs() < 1e6)
+        .map(|f| f as i64);
+    let unit = match unit_flag {
+        Some(f) => Unit::from_flag(f, &gstr(14)),
+        None => Unit::from_name(&gstr(14)),
+    };
+    let factor = match opts.unit {
+        None => 1.0,
+        Some(target) => {
+            let Some(from) = unit else {
+                return Err(perr(format!(
+                    "global section: unit flag {unit_flag:?} / name {:?} not recognised, cannot convert to {}",
+                    gstr(14),
+                    target.name()
+                )));
+            };
+            from.in_mm() / target.in_mm() / scale
+        }
+    };
+    Ok((scale, unit, factor))
+}
+
+/// Directory: the entries, one per pair of `D` records (the fields the reader uses).
+pub(super) fn directory_entries(dlines: &[&[u8]]) -> Result<Vec<DirEntry>> {
+    if !dlines.len().is_multiple_of(2) {
+        return Err(perr(format!(
+            "directory section has {} records; entries are pairs of records",
+            dlines.len()
+        )));
+    }
+    let mut entries = Vec::with_capacity(dlines.len() / 2);
+    for (k, pair) in dlines.chunks_exact(2).enumerate() {
+        let seq = 2 * k + 1;
+        let what = format!("directory entry {seq}");
+        let (a, b) = (pair[0], pair[1]);
+        entries.push(DirEntry {
+            seq,
+            etype: int8(a, 0, &what)?,
+            pstart: int8(a, 1, &what)?,
+            transform: int8(a, 6, &what)?,
+            status: String::from_utf8_lossy(field8(a, 8)).replace(' ', "0"),
+            plines: int8(b, 3, &what)?,
+            form: int8(b, 4, &what)?,
+            label: {
+                // fields 18-19 are informative only: a malformed subscript is ignored
+                let name = String::from_utf8_lossy(field8(b, 7)).trim().to_string();
+                match int8(b, 8, &what) {
+                    Ok(sub) if sub != 0 => format!("{name}({sub})"),
+                    _ => name,
+                }
+            },
+        });
+    }
+    Ok(entries)
+}
+
+/// What reading the entities needs of the file: the directory, the parameter records, the
+/// delimiters and the unit conversion factor.
+pub(super) struct DataSections<'a> {
+    pub(super) entries: &'a [DirEntry],
+    pub(super) plines: &'a [&'a [u8]],
+    pub(super) pd: u8,
+    pub(super) rd: u8,
+    pub(super) factor: f64,
+}
+
+impl DataSections<'_> {
+    /// Entities: each curve and surface read (one bad entity skips that entity, listed in the
+    /// notices, not the file), as (objects, their entity infos, the first error met).
+    pub(super) fn read_entities(&self, notices: &mut Vec<String>) -> (Vec<Geometry>, Vec<EntityInfo>, Option<Error>) {
+        let mut budget = self.plines.len().saturating_mul(4).saturating_add(64);
+        let mut objects = Vec::new();
+        let mut infos = Vec::new();
+        let mut first_error: Option<Error> = None;
+        for e in self.entries {
+            let Some(what) = entity_what(e, notices) else {
+                continue;
+            };
+            let pieces = match self.read_entity(e, &what, &mut budget, notices) {
+                Ok(g) => g,
+                Err(err) => {
+                    let reason = match &err {
+                        Error::Parse { message, .. } => message
+                            .strip_prefix(&format!("{what}: "))
+                            .unwrap_or(message)
+                            .to_string(),
+                        other => other.to_string(),
+                    };
+                    notices.push(format!("{what} skipped: {reason}"));
+                    first_error.get_or_insert(err);
+                    continue;
+                }
+            };
+            let count = pieces.len();
+            for (k, geom) in pieces.into_iter().enumerate() {
+                objects.push(geom);
+                let piece = if count > 1 {
+                    format!("piece {} of {count}", k + 1)
+                } else {
+                    String::new()
+                };
+                infos.push(EntityInfo {
+                    entity: e.seq,
+                    label: [e.label.as_str(), piece.as_str()]
+                        .iter()
+                        .filter(|t| !t.is_empty())
+                        .copied()
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                });
+            }
+        }
+        (objects, infos, first_error)
+    }
+
+    /// One entity: its parameters parsed, its transformation chain and the unit factor applied,
+    /// its coordinates range-checked; several objects where a break (a knot above the degree's
+    /// multiplicity) splits it ([`crate::knots::resolve_breaks`]).
+    pub(super) fn read_entity(
+        &self,
+        e: &DirEntry,
+        what: &str,
+        budget: &mut usize,
+        notices: &mut Vec<String>,
+    ) -> Result<Vec<Geometry>> {
+        let (pd, rd, factor) = (self.pd, self.rd, self.factor);
+        let toks = entity_params(self.plines, e, what, pd, rd, budget)?;
+        let mut p = Params {
+            toks: &toks,
+            pos: 1,
+            what: what.to_string(),
+        };
+        let xf = transform_chain(self.entries, self.plines, e.transform, pd, rd, budget)?;
+        let pieces = if e.etype == 126 {
+            read_126(&mut p, notices)?
+        } else {
+            read_128(&mut p, notices)?
+        };
+        let mut out = Vec::with_capacity(pieces.len());
+        for mut geom in pieces {
+            if let Some(m) = xf {
+                geom = apply(geom, |q| m.apply(q))?;
+            }
+            if factor != 1.0 {
+                geom = apply(geom, |q| q * factor)?;
+            }
+            crate::range::check_geometry(&geom).map_err(|e| perr(format!("{what}: {e}")))?;
+            out.push(geom);
+        }
+        Ok(out)
+    }
+}
+
+/// Entity filter: the name of a curve (126) or surface (128) entry for the messages, or `None`
+/// (with a notice, except for transformation matrices, 124) for an entry that is not read.
+pub(super) fn entity_what(e: &DirEntry, notices: &mut Vec<String>) -> Option<String> {
+    let kind = match e.etype {
+        126 => "curve",
+        128 => "surface",
+        _ => {
+            if e.etype != 124 {
+                notices.push(format!(
+                    "entity {} (type {}, form {}) skipped: only B-spline curves (126) and surfaces (128) are read",
+                    e.seq, e.etype, e.form
+                ));
+            }
+            return None;
+        }
+    };
+    // use flag (status digits 5-6) 05 = 2D parametric: a curve on a surface
+    if e.etype == 126 && e.status.get(4..6) == Some("05") {
+        notices.push(format!(
+            "entity {} (126) skipped: a curve in a surface's parameter space",
+            e.seq
+        ));
+        return None;
+    }
+    let what = format!("entity {} ({kind} 126/128)", e.seq).replace("(curve 126/128)", "(curve, 126)");
+    Some(what.replace("(surface 126/128)", "(surface, 128)"))
+}
+
+pub(super) fn entity_params(
+    plines: &[&[u8]],
+    e: &DirEntry,
+    what: &str,
+    pd: u8,
+    rd: u8,
+    budget: &mut usize,
+) -> Result<Vec<Tok>> {
+    if e.pstart < 1 || e.plines < 1 {
+        return Err(perr(format!(
+            "{what}: parameter pointer {} / line count {} invalid",
+            e.pstart, e.plines
+        )));
+    }
+    let start = (e.pstart - 1) as usize;
+    let count = e.plines as usize;
+    if start >= plines.len() || count > plines.len() - start {
+        return Err(perr(format!(
+            "{what}: parameter lines {}..{} outside the P section ({} lines)",
+            e.pstart,
+            e.pstart.saturating_add(e.plines),
+            plines.len()
+        )));
+    }
+    if count > *budget {
+        return Err(perr(format!("{what}: parameter data pointers overlap too much")));
+    }
+    *budget -= count;
+    let mut text = Vec::with_capacity(count * 64);
+    for l in &plines[start..start + count] {
+        text.extend_from_slice(l);
+    }
+    let toks = tokenize(&text, pd, rd);
+    match toks.first() {
+        Some(Tok::Num(s)) if parse_real(s) == Some(e.etype as f64) => Ok(toks),
+        _ => Err(perr(format!(
+            "{what}: parameter data does not start with the entity type {}",
+            e.etype
+        ))),
+    }
+}
+
+/// An affine map x ↦ R x + t (entity 124).
+#[derive(Clone, Copy)]
+pub(super) struct Affine {
+    pub(super) r: [[f64; 3]; 3],
+    pub(super) t: [f64; 3],
+}
+
+impl Affine {
+    pub(super) fn apply(&self, q: DVec3) -> DVec3 {
+        let a = q.to_array();
+        let mut o = [0.0; 3];
+        for i in 0..3 {
+            o[i] = self.r[i][0] * a[0] + self.r[i][1] * a[1] + self.r[i][2] * a[2] + self.t[i];
+        }
+        DVec3::from_array(o)
+    }
+    pub(super) fn then(&self, outer: &Affine) -> Affine {
+        // outer ∘ self
+        let mut r = [[0.0; 3]; 3];
+        let mut t = [0.0; 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                r[i][j] = (0..3).map(|k| outer.r[i][k] * self.r[k][j]).sum();
+            }
+            t[i] = (0..3).map(|k| outer.r[i][k] * self.t[k]).sum::<f64>() + outer.t[i];
+        }
+        Affine { r, t }
+    }
+}
+
+pub(super) fn transform_chain(
+    entries: &[DirEntry],
+    plines: &[&[u8]],
+    mut ptr: i64,
+    pd: u8,
+    rd: u8,
+    budget: &mut usize,
+) -> Result<Option<Affine>> {
+    let mut acc: Option<Affine> = None;
+    let mut depth = 0;
+    while ptr != 0 {
+        depth += 1;
+        if depth > 16 {
+            return Err(perr("transformation matrices chained more than 16 deep (a cycle?)"));
+        }
+        let what = format!("transformation matrix {ptr}");
+        if ptr < 1 || ptr % 2 == 0 || ((ptr - 1) / 2) as usize >= entries.len() {
+            return Err(perr(format!("{what}: not a directory entry")));
+        }
+        let e = &entries[((ptr - 1) / 2) as usize];
+        if e.etype != 124 {
+            return Err(perr(format!("{what}: entity type {}, expected 124", e.etype)));
+        }
+        let toks = entity_params(plines, e, &what, pd, rd, budget)?;
+        let mut p = Params {
+            toks: &toks,
+            pos: 1,
+            what,
+        };
+        let mut m = Affine {
+            r: [[0.0; 3]; 3],
+            t: [0.0; 3],
+        };
+        for i in 0..3 {
+            for j in 0..3 {
+                m.r[i][j] = p.real()?;
+            }
+            m.t[i] = p.real()?;
+        }
+        acc = Some(match acc {
+            None => m,
+            Some(a) => a.then(&m),
+        });
+        ptr = e.transform;
+    }
+    Ok(acc)
+}
+
+pub(super) fn apply(g: Geometry, f: impl Fn(DVec3) -> DVec3) -> Result<Geometry> {
+    Ok(match g {
+        Geometry::Curve(c) => {
+            let pts: Vec<DVec3> = c.points().iter().map(|&q| f(q)).collect();
+            let planar_z0 = pts.iter().all(|q| q.z == 0.0);
+            let dim = if c.dim() == 2 && planar_z0 { 2 } else { 3 };
+            Geometry::Curve(BSplineCurve::try_new(
+                c.degree(),
+                c.knots().values().to_vec(),
+                pts,
+                c.weights().map(|w| w.to_vec()),
+                dim,
+            )?)
+        }
+        Geometry::Surface(s) => {
+            let pts = s.points().iter().map(|&q| f(q)).collect();
+            Geometry::Surface(s.with_points(pts)?)
+        }
+    })
+}

@@ -1,0 +1,311 @@
+use super::read::*;
+use super::write::*;
+use super::*;
+use glam::DVec2;
+
+fn sample_curve_2d() -> BSplineCurve {
+    let pts = [
+        DVec2::new(0.0, 0.0),
+        DVec2::new(1.0 / 3.0, 0.7),
+        DVec2::new(1.1, -0.2),
+        DVec2::new(2.0, std::f64::consts::PI),
+        DVec2::new(3.0, 1e-9),
+    ];
+    BSplineCurve::new_2d(3, vec![0.0, 0.0, 0.0, 0.0, 0.1234567890123, 1.0, 1.0, 1.0, 1.0], &pts).unwrap()
+}
+
+fn sample_surface(rational: bool) -> BSplineSurface {
+    let (nu, nv) = (4, 3);
+    let mut pts = Vec::new();
+    let mut w = Vec::new();
+    for i in 0..nu {
+        for j in 0..nv {
+            pts.push(DVec3::new(i as f64 * 0.7, j as f64 / 3.0, ((i * j) as f64).sin()));
+            w.push(1.0 + 0.1 * (i + 2 * j) as f64);
+        }
+    }
+    BSplineSurface::try_new(
+        2,
+        2,
+        vec![0.0, 0.0, 0.0, 0.4, 1.0, 1.0, 1.0],
+        vec![0.0, 0.0, 0.0, 2.0, 2.0, 2.0],
+        nu,
+        nv,
+        pts,
+        rational.then_some(w),
+    )
+    .unwrap()
+}
+
+#[test]
+fn records_are_80_columns_and_t_counts_match() {
+    let text = write(
+        &[sample_curve_2d().into(), sample_surface(true).into()],
+        &WriteOptions::default(),
+    );
+    let mut counts = std::collections::BTreeMap::new();
+    for l in text.lines() {
+        assert_eq!(l.len(), 80, "{l:?}");
+        *counts.entry(l.as_bytes()[72]).or_insert(0usize) += 1;
+    }
+    let t = text.lines().last().unwrap();
+    let expect = format!(
+        "S{:>7}G{:>7}D{:>7}P{:>7}",
+        counts[&b'S'], counts[&b'G'], counts[&b'D'], counts[&b'P']
+    );
+    assert_eq!(&t[..32], expect);
+    assert_eq!(counts[&b'D'], 4);
+    // P back pointers point at the D entries, P pointers at the first P line.
+    let plines: Vec<&str> = text.lines().filter(|l| l.as_bytes()[72] == b'P').collect();
+    assert_eq!(plines[0][64..72].trim(), "1");
+    assert_eq!(plines.last().unwrap()[64..72].trim(), "3");
+    let d3 = text.lines().filter(|l| l.as_bytes()[72] == b'D').nth(2).unwrap();
+    let pstart: usize = d3[8..16].trim().parse().unwrap();
+    assert!(plines[pstart - 1].starts_with("128,"));
+    assert_eq!(plines[pstart - 2][64..72].trim(), "1");
+}
+
+#[test]
+fn round_trip_is_exact() {
+    let c2 = sample_curve_2d();
+    let c3 = BSplineCurve::try_new(
+        2,
+        vec![0.0, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 1.0],
+        vec![
+            DVec3::new(1.0, 2.0, 3.0),
+            DVec3::new(-1e9, 0.1, 0.2),
+            DVec3::new(1e-300, 5.5, -7.25),
+            DVec3::new(0.1 + 0.2, 0.0, 1.0),
+            DVec3::new(4.0, 4.0, 0.0),
+        ],
+        Some(vec![1.0, 0.5, 2.0, 0.3, 1.0]),
+        3,
+    )
+    .unwrap();
+    let objs: Vec<Geometry> = vec![
+        c2.into(),
+        c3.into(),
+        sample_surface(true).into(),
+        sample_surface(false).into(),
+    ];
+    let text = write(&objs, &WriteOptions::default());
+    let back = read_all(text.as_bytes()).unwrap();
+    assert_eq!(back.objects, objs, "bit-exact round trip");
+    assert!(back.notices.is_empty(), "{:?}", back.notices);
+    assert_eq!(back.unit, Some(Unit::Millimeter));
+}
+
+#[test]
+fn entity_numbers_and_labels_are_reported() {
+    let text = write(
+        &[sample_curve_2d().into(), sample_surface(false).into()],
+        &WriteOptions::default(),
+    );
+    assert_eq!(
+        read_all(text.as_bytes()).unwrap().entities,
+        vec![
+            EntityInfo {
+                entity: 1,
+                label: String::new()
+            },
+            EntityInfo {
+                entity: 3,
+                label: String::new()
+            }
+        ]
+    );
+    // label "HULL" (field 18) with subscript 2 (field 19) on the surface's second D record
+    let lines: Vec<String> = text
+        .lines()
+        .map(|l| {
+            if &l[72..] == "D      4" {
+                format!("{}{:>8}{:>8}{}", &l[..56], "HULL", 2, &l[72..])
+            } else {
+                l.to_string()
+            }
+        })
+        .collect();
+    let f = read_all(lines.join("\n").as_bytes()).unwrap();
+    assert_eq!(f.entities[0].label, "");
+    assert_eq!(f.entities[1].label, "HULL(2)");
+    assert_eq!(f.entities[1].entity, 3);
+}
+
+#[test]
+fn reals_parse_in_all_spellings() {
+    for (s, v) in [
+        ("1.", 1.0),
+        (".5", 0.5),
+        ("1.5D3", 1500.0),
+        ("1.5E-3", 0.0015),
+        ("-2", -2.0),
+        ("+2.D0", 2.0),
+        ("1D2", 100.0),
+    ] {
+        assert_eq!(parse_real(s), Some(v), "{s}");
+    }
+    for s in ["inf", "NaN", "", "-", "1.2.3", "D5", "1e", "0x10"] {
+        assert_eq!(parse_real(s), None, "{s}");
+    }
+    for x in [0.1, -1e-300, 1.7976931348623157e308, 5e-324, 123456.789] {
+        assert_eq!(parse_real(&format_real(x)), Some(x));
+    }
+}
+
+/// Hand-written header with an unclamped uniform cubic (other CAD style)
+/// in inches, and a line entity (110) that is skipped.
+fn foreign_file(unit_flag: &str, scale: &str) -> String {
+    let mut s = String::new();
+    s.push_str(&record("foreign test", 'S', 1));
+    let g = format!(
+        "1H,,1H;,4HTEST,8Htest.igs,4HTEST,4HTEST,32,38,6,308,15,4HTEST,{scale},{unit_flag},2HIN,1,0.,15H20240101.000000,1.E-6,10.,,,11,0,;"
+    );
+    for (i, c) in g.as_bytes().chunks(72).enumerate() {
+        s.push_str(&record(std::str::from_utf8(c).unwrap(), 'G', i + 1));
+    }
+    let line = "110,0.,0.,0.,1.,1.,1.;";
+    // uniform knots 0..7 with 4 control points, degree 3 (unclamped)
+    let bs = "126,3,3,0,0,1,0,0.,1.,2.,3.,4.,5.,6.,7.,1.,1.,1.,1.,0.,0.,0.,1.,2.,0.,2.,-1.,0.,3.,0.,1.,3.,4.,0.,0.,0.;";
+    let d = |t: i64, p: usize, n: usize| {
+        (
+            format!(
+                "{t:>8}{p:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}",
+                0, 0, 0, 0, 0, 0, "00000000"
+            ),
+            format!("{t:>8}{:>8}{:>8}{n:>8}{:>8}", 0, 0, 0),
+        )
+    };
+    let cut = bs[..64].rfind(',').unwrap() + 1;
+    let bs_lines: Vec<&str> = vec![&bs[..cut], &bs[cut..]];
+    let (a1, a2) = d(110, 1, 1);
+    let (b1, b2) = d(126, 2, bs_lines.len());
+    s.push_str(&record(&a1, 'D', 1));
+    s.push_str(&record(&a2, 'D', 2));
+    s.push_str(&record(&b1, 'D', 3));
+    s.push_str(&record(&b2, 'D', 4));
+    s.push_str(&format!("{line:<64} {:>7}P{:>7}\n", 1, 1));
+    for (i, l) in bs_lines.iter().enumerate() {
+        s.push_str(&format!("{l:<64} {:>7}P{:>7}\n", 3, i + 2));
+    }
+    s.push_str(&record("S      1G      2D      4P      3", 'T', 1));
+    s
+}
+
+#[test]
+fn foreign_unclamped_curve_is_clamped_exactly_and_units_converted() {
+    let text = foreign_file("1", "1.0");
+    let f = read_all(text.as_bytes()).unwrap();
+    assert_eq!(f.unit, Some(Unit::Inch));
+    assert_eq!(f.objects.len(), 1);
+    assert_eq!(f.notices.len(), 2, "{:?}", f.notices);
+    assert!(f.notices[0].contains("type 110"));
+    assert!(f.notices[1].contains("clamped"));
+    let c = f.objects[0].as_curve().unwrap();
+    assert_eq!(c.domain(), (3.0, 4.0));
+    assert_eq!(c.dim(), 3);
+    // the uniform cubic B-spline on span [3,4]: C(u) = Σ N_i(u) P_i with
+    // the uniform blending (1−t)³/6, (3t³−6t²+4)/6, (−3t³+3t²+3t+1)/6, t³/6
+    let p = [
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(1.0, 2.0, 0.0),
+        DVec3::new(2.0, -1.0, 0.0),
+        DVec3::new(3.0, 0.0, 1.0),
+    ];
+    for k in 0..=10 {
+        let t = k as f64 / 10.0;
+        let b = [
+            (1.0 - t).powi(3) / 6.0,
+            (3.0 * t.powi(3) - 6.0 * t * t + 4.0) / 6.0,
+            (-3.0 * t.powi(3) + 3.0 * t * t + 3.0 * t + 1.0) / 6.0,
+            t.powi(3) / 6.0,
+        ];
+        let want = p[0] * b[0] + p[1] * b[1] + p[2] * b[2] + p[3] * b[3];
+        assert!((c.point(3.0 + t) - want).length() < 1e-13, "t={t}");
+    }
+    // converting inches to mm multiplies by 25.4 / scale
+    let f2 = read_all_with(
+        foreign_file("1", "2.0").as_bytes(),
+        ReadOptions {
+            unit: Some(Unit::Millimeter),
+        },
+    )
+    .unwrap();
+    let c2 = f2.objects[0].as_curve().unwrap();
+    for (a, b) in c.points().iter().zip(c2.points()) {
+        assert!((*a * 12.7 - *b).length() < 1e-12);
+    }
+}
+
+#[test]
+fn transformation_matrix_is_applied() {
+    let c = sample_curve_2d();
+    let text = write(&[c.clone().into()], &WriteOptions::default());
+    // Append a 124 entity (translation by (1,2,3), rotation z by 90°) and point the curve at it.
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    let d_idx = lines.iter().position(|l| l.as_bytes()[72] == b'D').unwrap();
+    let p_count = lines.iter().filter(|l| l.as_bytes()[72] == b'P').count();
+    let mut d1 = lines[d_idx].clone();
+    d1.replace_range(48..56, &format!("{:>8}", 3));
+    lines[d_idx] = d1;
+    let m1 = format!(
+        "{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}",
+        124,
+        p_count + 1,
+        0,
+        0,
+        0,
+        0,
+        0,
+        0,
+        "00000000"
+    );
+    let m2 = format!("{:>8}{:>8}{:>8}{:>8}{:>8}", 124, 0, 0, 1, 0);
+    lines.insert(d_idx + 2, record(&m1, 'D', 3).trim_end_matches('\n').to_string());
+    lines.insert(d_idx + 3, record(&m2, 'D', 4).trim_end_matches('\n').to_string());
+    let t_idx = lines.len() - 1;
+    let pbody = "124,0.,-1.,0.,1.,1.,0.,0.,2.,0.,0.,1.,3.;";
+    lines.insert(t_idx, format!("{pbody:<64} {:>7}P{:>7}", 3, p_count + 1));
+    let f = read_all(lines.join("\n").as_bytes()).unwrap();
+    let g = f.objects[0].as_curve().unwrap();
+    assert_eq!(g.dim(), 3);
+    for (a, b) in c.points().iter().zip(g.points()) {
+        let want = DVec3::new(-a.y + 1.0, a.x + 2.0, a.z + 3.0);
+        assert!((want - *b).length() < 1e-15);
+    }
+}
+
+#[test]
+fn bad_files_give_clear_errors() {
+    let good = to_string(&sample_curve_2d().into());
+    // edit the parameter data, keeping the 64-column field
+    let edit = |from: &str, to: &str| -> String {
+        good.lines()
+            .map(|l| {
+                if l.as_bytes()[72] == b'P' && l[..64].contains(from) {
+                    // make room: "1.0," and "0.0," have shorter spellings
+                    let d = l[..64]
+                        .replacen(from, to, 1)
+                        .replace("1.0,", "1.,")
+                        .replace("0.0,", "0.,");
+                    let d = d.trim_end();
+                    assert!(d.len() <= 64);
+                    format!("{d:<64}{}\n", &l[64..])
+                } else {
+                    format!("{l}\n")
+                }
+            })
+            .collect()
+    };
+    let cases: Vec<(String, &str)> = vec![
+        (String::new(), "empty"),
+        ("hello\n".into(), "80"),
+        (edit("126,4,3", "126,900000000,3"), "more values"),
+        (edit("126,4,3", "126,4,30"), "out of range"),
+        (edit("126,4,3", "126,4,0"), "degree 0"),
+        (edit("1.234567890123D-1", "1.234567890123D1"), "decrease"),
+    ];
+    for (text, want) in cases {
+        let e = read_all(text.as_bytes()).unwrap_err().to_string();
+        assert!(e.contains(want), "{want}: {e}");
+    }
+}

@@ -1,0 +1,259 @@
+//! Writing: fixed-format records, each float as its shortest round-trip decimal.
+
+use super::*;
+
+/// A float as an IGES real: the shortest decimal that parses back to the
+/// same f64, with a decimal point and a `D` exponent (`1.5`, `1.0D-7`).
+pub fn format_real(x: f64) -> String {
+    let s = format!("{x:e}");
+    let (mant, exp) = s.split_once('e').unwrap_or((&s, "0"));
+    let mut m = mant.to_string();
+    if !m.contains('.') {
+        m.push_str(".0");
+    }
+    if exp == "0" { m } else { format!("{m}D{exp}") }
+}
+
+pub(super) fn hollerith(s: &str) -> String {
+    format!("{}H{s}", s.len())
+}
+
+/// Wrap tokens (each followed by its delimiter) into lines of at most `width` columns.
+pub(super) fn wrap(tokens: &[String], width: usize) -> Vec<String> {
+    let mut lines = Vec::new();
+    let mut cur = String::new();
+    let last = tokens.len().saturating_sub(1);
+    for (i, t) in tokens.iter().enumerate() {
+        let piece = format!("{t}{}", if i == last { ';' } else { ',' });
+        if !cur.is_empty() && cur.len() + piece.len() > width {
+            lines.push(std::mem::take(&mut cur));
+        }
+        if piece.len() > width {
+            // a long string: split it across lines (only Hollerith can be this long)
+            let bytes = piece.as_bytes();
+            for chunk in bytes.chunks(width) {
+                lines.push(String::from_utf8_lossy(chunk).into_owned());
+            }
+            continue;
+        }
+        cur.push_str(&piece);
+    }
+    if !cur.is_empty() {
+        lines.push(cur);
+    }
+    lines
+}
+
+fn now_stamp() -> String {
+    let [y, m, d, h, n, s] = now_utc();
+    format!("{y:04}{m:02}{d:02}.{h:02}{n:02}{s:02}")
+}
+
+/// The time now (UTC) as [year, month, day, hour, minute, second].
+pub(crate) fn now_utc() -> [i64; 6] {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs()) as i64;
+    let days = secs.div_euclid(86_400);
+    let rem = secs.rem_euclid(86_400);
+    // civil from days (H. Hinnant)
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + if m <= 2 { 1 } else { 0 };
+    [y, m, d, rem / 3600, (rem / 60) % 60, rem % 60]
+}
+
+pub(super) fn curve_params(c: &BSplineCurve) -> Vec<String> {
+    let p = c.degree();
+    let n = c.n_points();
+    let planar = c.dim() == 2;
+    let closed = c.points().first() == c.points().last();
+    let mut t = vec![
+        "126".to_string(),
+        (n - 1).to_string(),
+        p.to_string(),
+        (planar as u8).to_string(),
+        (closed as u8).to_string(),
+        (!c.is_rational() as u8).to_string(),
+        "0".to_string(),
+    ];
+    t.extend(c.knots().values().iter().map(|&v| format_real(v)));
+    match c.weights() {
+        Some(w) => t.extend(w.iter().map(|&v| format_real(v))),
+        None => t.extend(std::iter::repeat_n(format_real(1.0), n)),
+    }
+    for q in c.points() {
+        t.extend([q.x, q.y, q.z].map(format_real));
+    }
+    let (a, b) = c.domain();
+    t.push(format_real(a));
+    t.push(format_real(b));
+    let nrm = if planar { [0.0, 0.0, 1.0] } else { [0.0, 0.0, 0.0] };
+    t.extend(nrm.map(format_real));
+    t
+}
+
+pub(super) fn surface_params(s: &BSplineSurface) -> Vec<String> {
+    let (nu, nv) = (s.nu(), s.nv());
+    let mut t = vec![
+        "128".to_string(),
+        (nu - 1).to_string(),
+        (nv - 1).to_string(),
+        s.degree_u().to_string(),
+        s.degree_v().to_string(),
+        "0".into(),
+        "0".into(),
+        (!s.is_rational() as u8).to_string(),
+        "0".into(),
+        "0".into(),
+    ];
+    t.extend(s.knots_u().values().iter().map(|&v| format_real(v)));
+    t.extend(s.knots_v().values().iter().map(|&v| format_real(v)));
+    for j in 0..nv {
+        for i in 0..nu {
+            t.push(format_real(s.weights().map_or(1.0, |w| w[i * nv + j])));
+        }
+    }
+    for j in 0..nv {
+        for i in 0..nu {
+            let q = s.point_at(i, j);
+            t.extend([q.x, q.y, q.z].map(format_real));
+        }
+    }
+    let ((u0, u1), (v0, v1)) = s.domain();
+    t.extend([u0, u1, v0, v1].map(format_real));
+    t
+}
+
+pub(super) fn record(body: &str, letter: char, seq: usize) -> String {
+    format!("{body:<72}{letter}{seq:>7}\n")
+}
+
+/// Write curves and surfaces as an IGES 5.3 fixed-format file.
+pub fn write(objects: &[Geometry], opts: &WriteOptions) -> String {
+    write_labeled(objects, &[], opts)
+}
+
+/// An object's label as IGES directory fields 18 and 19: `NAME(k)` (as [`read_all`] reports a label with
+/// a subscript) gives `NAME` and `k`; the name is cut to 8 characters, anything but printable ASCII
+/// replaced by `_`.
+pub(super) fn label_fields(label: &str) -> (String, i64) {
+    let (name, sub) = match label.strip_suffix(')').and_then(|l| l.rsplit_once('(')) {
+        Some((n, k)) if k.parse::<i64>().is_ok_and(|k| (1..=99_999_999).contains(&k)) => (n, k.parse().unwrap_or(0)),
+        _ => (label, 0),
+    };
+    let name: String = name
+        .trim()
+        .chars()
+        .map(|c| if c.is_ascii_graphic() || c == ' ' { c } else { '_' })
+        .take(8)
+        .collect();
+    (name, sub)
+}
+
+/// [`write`] with a label per object (`labels[k]` for `objects[k]`; missing or empty: none), written to
+/// directory fields 18–19 ([`label_fields`]), so that [`read_all`] reports them again.
+pub fn write_labeled(objects: &[Geometry], labels: &[String], opts: &WriteOptions) -> String {
+    let date = opts.date.clone().unwrap_or_else(now_stamp);
+    let mut out = String::new();
+    // S
+    let s_lines = ["Fairway IGES export: rational B-spline curves (126) and surfaces (128)."];
+    for (i, l) in s_lines.iter().enumerate() {
+        out.push_str(&record(l, 'S', i + 1));
+    }
+    // G
+    let max_coord = objects
+        .iter()
+        .flat_map(|g| match g {
+            Geometry::Curve(c) => c.points().to_vec(),
+            Geometry::Surface(s) => s.points().to_vec(),
+        })
+        .map(|q| q.abs().max_element())
+        .fold(0.0, f64::max);
+    let g = vec![
+        hollerith(","),
+        hollerith(";"),
+        hollerith("Fairway"),
+        hollerith(&opts.file_name),
+        hollerith("Fairway"),
+        hollerith(env!("CARGO_PKG_VERSION")),
+        "32".into(),
+        "38".into(),
+        "6".into(),
+        "308".into(),
+        "15".into(),
+        hollerith("Fairway"),
+        format_real(1.0),
+        opts.unit.flag().to_string(),
+        hollerith(opts.unit.name()),
+        "1".into(),
+        format_real(0.0),
+        hollerith(&date),
+        format_real(1e-10),
+        format_real(max_coord),
+        hollerith(""),
+        hollerith(""),
+        "11".into(),
+        "0".into(),
+        hollerith(&date),
+    ];
+    let g_lines = wrap(&g, 72);
+    for (i, l) in g_lines.iter().enumerate() {
+        out.push_str(&record(l, 'G', i + 1));
+    }
+    // P data first (to know the pointers), then D.
+    let mut d_out = String::new();
+    let mut p_out = String::new();
+    let mut p_seq = 1;
+    for (k, gm) in objects.iter().enumerate() {
+        let de = 2 * k + 1;
+        let (etype, toks) = match gm {
+            Geometry::Curve(c) => (126, curve_params(c)),
+            Geometry::Surface(s) => (128, surface_params(s)),
+        };
+        let lines = wrap(&toks, 64);
+        let start = p_seq;
+        for l in &lines {
+            p_out.push_str(&format!("{l:<64} {de:>7}P{p_seq:>7}\n"));
+            p_seq += 1;
+        }
+        let d1 = format!(
+            "{etype:>8}{start:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}",
+            0, 0, 0, 0, 0, 0, "00000000"
+        );
+        let (label, subscript) = label_fields(labels.get(k).map_or("", String::as_str));
+        let d2 = format!(
+            "{etype:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{label:>8}{subscript:>8}",
+            0,
+            0,
+            lines.len(),
+            0,
+            "",
+            "",
+        );
+        d_out.push_str(&record(&d1, 'D', de));
+        d_out.push_str(&record(&d2, 'D', de + 1));
+    }
+    out.push_str(&d_out);
+    out.push_str(&p_out);
+    let t = format!(
+        "S{:>7}G{:>7}D{:>7}P{:>7}",
+        s_lines.len(),
+        g_lines.len(),
+        2 * objects.len(),
+        p_seq - 1
+    );
+    out.push_str(&record(&t, 'T', 1));
+    out
+}
+
+/// One geometry as IGES text with default options.
+pub fn to_string(g: &Geometry) -> String {
+    write(std::slice::from_ref(g), &WriteOptions::default())
+}
