@@ -72,12 +72,13 @@ impl VarRows {
         Self::at_nodes::<4>(work, range, i0, nf, &gl.nodes, &gl.weights)
     }
 
-    /// The rows at [`PROBES`] points of every span, equally spaced in the parameter with both ends (the
+    /// The rows at [`PROBES`] + 1 points of every span, equally spaced in the parameter with both ends (the
     /// curvature-extrema count, which reads c' and c'' only: the third derivative's rows are 0; weights and
-    /// `eps` unused).
+    /// `eps` unused). Both ends, because at a knot below C2 the curvature steps and `measure` sees both
+    /// sides of the step: a count without the side before the knot misses extrema there.
     pub(crate) fn probes(work: &BSplineCurve, range: (f64, f64), i0: usize, nf: usize) -> Self {
-        let x: Vec<f64> = (0..PROBES).map(|k| -1.0 + 2.0 * k as f64 / PROBES as f64).collect();
-        Self::at_nodes::<3>(work, range, i0, nf, &x, &[0.0; PROBES])
+        let x: Vec<f64> = (0..=PROBES).map(|k| -1.0 + 2.0 * k as f64 / PROBES as f64).collect();
+        Self::at_nodes::<3>(work, range, i0, nf, &x, &[0.0; PROBES + 1])
     }
 
     /// The rows at `nodes` (on [−1, 1]) of every knot span inside `range`, with the basis derivatives up to
@@ -726,5 +727,37 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Cubics with double knots (C1: the curvature steps at every knot), their steps from small to large
+    /// against the dead band (control points off a parabola by up to a third of their spacing; beyond,
+    /// 16 probes a span miss extrema inside the spans): the polish's count at the probes agrees with
+    /// `measure`'s count on 4000 arc-length samples on every one.
+    #[test]
+    fn the_probe_count_sees_both_sides_of_a_curvature_step() {
+        use crate::fair::{FairingOptions, FairingSetup};
+        let knots = [vec![0.0; 4], vec![0.2, 0.2, 0.4, 0.4, 0.6, 0.6, 0.8, 0.8], vec![1.0; 4]].concat();
+        let n = knots.len() - 4;
+        let mut stepped = 0;
+        for k in 0..50 {
+            let a = 1e-4 * 1.15f64.powi(k);
+            let pts: Vec<DVec3> = (0..n)
+                .map(|i| {
+                    let t = i as f64 / (n - 1) as f64;
+                    DVec3::new(3.0 * t, t * t + a * ((i * 5 % 3) as f64 - 1.0), 0.0)
+                })
+                .collect();
+            let c = BSplineCurve::try_new(3, knots.clone(), pts, None, 2).unwrap();
+            let opts = FairingOptions {
+                tolerance: 1e-3,
+                ..Default::default()
+            };
+            let s = FairingSetup::new(&c, opts).unwrap();
+            let probed = s.node_extrema(&vec![DVec3::ZERO; s.nf]);
+            let measured = crate::measure::curvature_extrema_at(&c, s.var.delta);
+            assert_eq!(probed, measured, "amplitude {a}");
+            stepped += usize::from(measured > 0);
+        }
+        assert!(stepped > 10, "curves with extrema at their steps: {stepped}");
     }
 }
