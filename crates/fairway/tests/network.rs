@@ -560,3 +560,36 @@ fn a_strip_of_three_patches_turned_every_way_is_faired_as_one() {
         assert!(ms.hausdorff <= m && ms.n_curv_extrema < m0.n_curv_extrema);
     }
 }
+
+#[test]
+fn curves_faired_as_one_share_the_smallest_tolerance_and_others_keep_their_own() {
+    let (_, pieces) = chain();
+    let objects: Vec<Geometry> = pieces.iter().cloned().map(Into::into).collect();
+    let o = NetworkOptions {
+        curve: opts(1.0),
+        ..Default::default()
+    };
+    // concatenated: all three within the smallest band
+    let tols = [Some(4e-3), Some(1e-3), Some(4e-3)];
+    let r = fairway::fair::network::fair_network_at(&objects, &[], &o, &tols).unwrap();
+    for (k, (orig, f)) in pieces.iter().zip(curves(&r.objects)).enumerate() {
+        let d = measure(orig, f).dev_max;
+        assert!(d <= 1e-3 && r.outcome[k].max_deviation <= 1e-3, "{k}: {d}");
+        assert!(
+            r.outcome[k].notes.iter().any(|n| n.contains("the smallest tolerance")),
+            "{:?}",
+            r.outcome[k].notes
+        );
+    }
+    // one by one (joins held): each its own band, the wide one used
+    let held =
+        fairway::fair::network::fair_network_at(&objects, &[], &NetworkOptions { hold_all: true, ..o }, &tols).unwrap();
+    let devs: Vec<f64> = pieces
+        .iter()
+        .zip(curves(&held.objects))
+        .map(|(a, b)| measure(a, b).dev_max)
+        .collect();
+    eprintln!("held, tolerances {tols:?}: deviations {devs:?}");
+    assert!(devs[1] <= 1e-3 && devs[0] <= 4e-3 && devs[2] <= 4e-3, "{devs:?}");
+    assert!(devs[0].max(devs[2]) > 1e-3, "the wider bands used: {devs:?}");
+}

@@ -1,9 +1,7 @@
 //! The curves of a network: which joins are concatenated and which held ([`plan`]), the chains that
 //! result, and their fair ([`fair_chain`]).
 
-use super::{
-    Link, NetworkOptions, ObjectFair, at, concatenate, fair_one_curve, hold_condition, is_corner, on_knots_of, oriented,
-};
+use super::{Link, Net, ObjectFair, at, concatenate, fair_one_curve, hold_condition, is_corner, on_knots_of, oriented};
 use crate::curve::BSplineCurve;
 use crate::error::{Error, Result};
 use crate::fair::curve::{EndCondition, FairingOptions};
@@ -24,19 +22,15 @@ pub(crate) struct Chain {
 }
 
 /// How each join is kept: concatenated (`Ok(link)`) or held (`Err(why)`).
-fn decide(
-    objects: &[Geometry],
-    joins: &Joins,
-    chosen: &[bool],
-    opts: &NetworkOptions,
-) -> Vec<std::result::Result<Link, String>> {
+fn decide(objects: &[Geometry], joins: &Joins, net: &Net<'_>) -> Vec<std::result::Result<Link, String>> {
+    let chosen = &net.chosen;
     let count = |e: CurveEnd| joins.curves.iter().filter(|j| j.a == e || j.b == e).count();
     joins
         .curves
         .iter()
         .map(|j| {
             let (ca, cb) = (curve(objects, j.a.object), curve(objects, j.b.object));
-            if opts.hold_all {
+            if net.opts.hold_all {
                 return Err("every join held (one by one)".into());
             }
             if !(chosen[j.a.object] && chosen[j.b.object]) {
@@ -107,14 +101,9 @@ fn other(e: End) -> End {
 }
 
 /// The chains of the chosen curves, and a note per join (module docs of [`super`]).
-pub(crate) fn plan(
-    objects: &[Geometry],
-    joins: &Joins,
-    chosen: &[bool],
-    opts: &NetworkOptions,
-    notes: &mut Vec<String>,
-) -> Vec<Chain> {
-    let decided = decide(objects, joins, chosen, opts);
+pub(crate) fn plan(objects: &[Geometry], joins: &Joins, net: &Net<'_>, notes: &mut Vec<String>) -> Vec<Chain> {
+    let chosen = &net.chosen;
+    let decided = decide(objects, joins, net);
     // the concatenated join at each curve end: (join, the end on the other side)
     let link_at = |e: CurveEnd| -> Option<(usize, CurveEnd)> {
         joins.curves.iter().enumerate().find_map(|(k, j)| match &decided[k] {
@@ -282,20 +271,26 @@ pub(crate) fn end_setup(
 pub(crate) fn fair_chain(
     objects: &[Geometry],
     chain: &Chain,
-    opts: &NetworkOptions,
+    net: &Net<'_>,
     out: &mut [Geometry],
     outcome: &mut [ObjectFair],
 ) {
     let group: Vec<usize> = chain.pieces.iter().map(|p| p.0).collect();
+    let (tolerance, band_note) = net.band(&group);
+    let opts = FairingOptions {
+        tolerance,
+        ..net.opts.curve
+    };
     let result = if chain.pieces.len() == 1 && !chain.closed {
         let i = group[0];
-        fair_one_curve(curve(objects, i), opts.curve, chain.needs).map(|r| vec![(r.curve, r.max_deviation, r.notes)])
+        fair_one_curve(curve(objects, i), opts, chain.needs).map(|r| vec![(r.curve, r.max_deviation, r.notes)])
     } else {
-        fair_concatenated(objects, chain, opts.curve)
+        fair_concatenated(objects, chain, opts)
     };
     match result {
         Ok(pieces) => {
-            for (&i, (c, bound, notes)) in group.iter().zip(pieces) {
+            for (&i, (c, bound, mut notes)) in group.iter().zip(pieces) {
+                notes.extend(band_note.clone());
                 out[i] = c.into();
                 outcome[i] = ObjectFair {
                     faired: true,
