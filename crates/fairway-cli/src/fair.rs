@@ -365,17 +365,17 @@ fn ends_kept(curve: &BSplineCurve, a: &Args, opts: &FairingOptions) -> [String; 
         EndCondition::G1 => "position and tangent (G1)",
         EndCondition::G2 => "position, tangent and curvature (G2)",
     };
-    let side = |at_curve_end: bool| {
+    let side = |i: usize, at_curve_end: bool| {
         if closed && opts.region.is_none() {
             "a closed curve has no ends: faired G2 all round".to_string()
         } else if at_curve_end && !closed {
-            let e = opts.curve_ends.unwrap_or(a.ends.min_by_order(EndCondition::G1));
+            let e = opts.curve_ends[i].unwrap_or(a.ends.min_by_order(EndCondition::G1));
             format!("curve end: {}", words(e))
         } else {
             format!("join with the untouched curve: {}", words(a.ends))
         }
     };
-    [side(u1 <= d0 + eps), side(u2 >= d1 - eps)]
+    [side(0, u1 <= d0 + eps), side(1, u2 >= d1 - eps)]
 }
 
 /// The report's `polish`: the fast method's polish, if it ran.
@@ -457,7 +457,7 @@ pub(crate) fn curve_options(a: &Args) -> Result<FairingOptions> {
         ease_curve_ends: a.ease_ends,
         polish_method: a.polish_method,
         target_weight: a.target_weight.unwrap_or(FairingOptions::default().target_weight),
-        curve_ends: a.curve_ends,
+        curve_ends: [a.curve_ends; 2],
         torsion_weight: a.torsion_weight,
     };
     if !(opts.torsion_weight.is_finite() && opts.torsion_weight >= 0.0) {

@@ -19,9 +19,9 @@
 //! pieces' bands. Where a join cannot be concatenated (a G2 join that is only C1 after the rescale, a
 //! G1 join not C1, a tangent break below the corner angle, three or more ends at one point, a neighbour
 //! not being faired, a rational curve), each curve *holds* its end there with the join's continuity (at
-//! least G1, so an angle stays): a G1 end keeps its point and tangent direction, a G2 end its curvature
-//! too (by a region ending at the last interior knot before it, so the end span stays as it is, where
-//! the other end is free); [`NetworkFair::notes`] says which joins were held and why.
+//! least G1, so an angle stays) through [`FairingOptions::curve_ends`] of that end: a G1 end keeps its
+//! point and tangent direction, a G2 end its curvature too, while a free end of the same curve keeps
+//! the default (position and tangent); [`NetworkFair::notes`] says which joins were held and why.
 //!
 //! **Surfaces.** Patches sharing edges with G1 (G2) that are parametrically C1 (C2) after a linear
 //! rescale across them are concatenated into one surface where they form a strip (each patch joined on at
@@ -299,7 +299,7 @@ pub(crate) fn fair_one_curve(
     opts: FairingOptions,
     needs: [Option<EndCondition>; 2],
 ) -> Result<super::curve::FairingResult> {
-    let (opts, ends) = curves::end_setup(c, opts, needs);
+    let (opts, ends) = curves::end_setup(opts, needs);
     Ok(CurveFairing::with_ends(c, opts, ends)?.fair(Pass::Full)?.result)
 }
 

@@ -234,35 +234,20 @@ fn held_needs(
     })
 }
 
-/// The options and region end conditions that hold `needs` at the ends of the open curve `c` and leave
-/// a free end to the caller's options: a curve end takes `curve_ends` (by default at most G1), so a G2
-/// held where the other end is free is a region ending at the last interior knot before it (its end
-/// span stays as it is).
+/// The options and end conditions that hold `needs` (a held join's continuity) at the ends of an open
+/// curve faired whole: such an end keeps the join's condition (or the caller's `curve_ends` there, if
+/// stronger), while a free end keeps the caller's options (by default at most G1).
 pub(crate) fn end_setup(
-    c: &BSplineCurve,
     mut opts: FairingOptions,
     needs: [Option<EndCondition>; 2],
 ) -> (FairingOptions, [EndCondition; 2]) {
     opts.region = None;
-    let mut ends = [0, 1].map(|i| needs[i].unwrap_or(opts.ends));
-    let effective = |o: &FairingOptions, e: EndCondition| o.curve_ends.unwrap_or(e.min_by_order(EndCondition::G1));
-    let short = |o: &FairingOptions, ends: &[EndCondition; 2], i: usize| {
-        needs[i].is_some_and(|n| effective(o, ends[i]).order() < n.order())
-    };
-    if !(short(&opts, &ends, 0) || short(&opts, &ends, 1)) {
-        return (opts, ends);
+    for (own, need) in opts.curve_ends.iter_mut().zip(needs) {
+        if let Some(n) = need {
+            *own = Some(own.map_or(n, |o| if o.order() > n.order() { o } else { n }));
+        }
     }
-    let bps = c.knots().breakpoints();
-    let (a, b) = c.domain();
-    let i = if short(&opts, &ends, 0) { 0 } else { 1 };
-    let other = 1 - i;
-    if bps.len() >= 3 && !short(&opts, &ends, other) {
-        opts.region = Some(if i == 0 { (bps[1], b) } else { (a, bps[bps.len() - 2]) });
-        ends[i] = needs[i].unwrap_or(opts.ends);
-        return (opts, ends);
-    }
-    // both ends short (or one span): both curve ends keep the strongest condition asked
-    opts.curve_ends = needs.iter().flatten().copied().max_by_key(|c| c.order());
+    let ends = [0, 1].map(|i| needs[i].unwrap_or(opts.ends));
     (opts, ends)
 }
 
