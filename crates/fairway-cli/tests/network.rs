@@ -99,6 +99,7 @@ fn write_chain(path: &Path) -> Scene {
             })
             .collect(),
         unit: Some(Unit::Millimeter),
+        ..Default::default()
     };
     save_scene(path, &scene).unwrap();
     scene
@@ -303,6 +304,7 @@ fn patches_sharing_an_edge_are_listed_and_faired_together() {
             })
             .collect(),
         unit: None,
+        ..Default::default()
     };
     save_scene(&stp, &scene).unwrap();
     let (text, _) = run_ok(&["info", s(&stp)]);
@@ -358,7 +360,7 @@ fn fair_uses_each_objects_saved_tolerance_unless_tolerance_is_given() {
     };
     let scene = Scene {
         objects: vec![object("BOW", bow, m_bow), object("STERN", stern, m_stern)],
-        unit: None,
+        ..Default::default()
     };
     let ron = sc.path("two.ron");
     save_scene(&ron, &scene).unwrap();

@@ -640,7 +640,10 @@ fn a_curve_joined_at_one_end_keeps_that_end_and_leaves_its_free_end_free() {
         t0.angle_between(t1)
     );
     assert!(p0.distance(p1) <= 1e-12 * size && t0.angle_between(t1) <= 1e-9);
-    assert!(dk > 1e-3, "the free end's curvature is free to change and does: {dk:.1e}");
+    assert!(
+        dk > 1e-3,
+        "the free end's curvature is free to change and does: {dk:.1e}"
+    );
     let j = &r.joins_after.curves[0].continuity;
     assert_eq!(j.class, Continuity::G2, "{j:?}");
 }
