@@ -423,6 +423,10 @@ fn the_3d_views_mark_curve_joins_and_shared_patch_edges() {
     // patches: the shared edge marked in the surface's 3D view
     let ron = dir.join("patches.ron");
     fairway::io::save_scene(&ron, &two_patches()).unwrap();
+    // FAIRWAY_WRITE_PATCHES=path: also write the patches there (for the screenshot in the README)
+    if let Some(out) = std::env::var_os("FAIRWAY_WRITE_PATCHES") {
+        fairway::io::save_scene(std::path::Path::new(&out), &two_patches()).unwrap();
+    }
     let mut h = harness(App::default());
     h.state_mut().open_now(&ron);
     h.run();
