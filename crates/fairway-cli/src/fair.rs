@@ -13,7 +13,7 @@ use fairway::fair::{
     Combine, CurveFairing, EndCondition, FairingOptions, FitMode, Integrator, IterativeOptions, Pass, PolishMethod,
     Seam, SurfaceFairingOptions, SurfaceMethod, TargetMethod, closed, fair_surface,
 };
-use fairway::io::Document;
+use fairway::io::{Document, Unit};
 use fairway::measure::{Measures, measure};
 use fairway::measure_surface::{SurfaceMeasures, surface_measures};
 use fairway::{BSplineCurve, BSplineSurface};
@@ -36,14 +36,19 @@ pub struct Args {
     pub objects: Vec<String>,
     /// Tolerance m: max deviation from the input, in the coordinates' units (`0.05`), or with a unit
     /// (`0.05mm`, `0.002in`, `20um`) for an IGES or STEP input that declares its unit: converted to it.
+    /// Default: the tolerance saved in the document (a `.ron` document saves one per object); given, it
+    /// applies to every object. A file that saves none needs it.
     #[arg(long = "tolerance", value_name = "M", allow_hyphen_values = true, value_parser = parse_length)]
-    pub tolerance_given: Length,
-    /// The tolerance in the coordinates' units (set from `--tolerance` once the input is read).
+    pub tolerance_given: Option<Length>,
+    /// The tolerance in the coordinates' units (set once the input is read: `--tolerance`, or the saved one).
     #[arg(skip)]
     pub tolerance: f64,
+    /// Where `tolerance` came from.
+    #[arg(skip)]
+    pub tolerance_from: ToleranceFrom,
     /// The input's length unit (IGES / STEP), declared by an IGES or STEP output (set once read).
     #[arg(skip)]
-    pub unit: Option<fairway::io::Unit>,
+    pub unit: Option<Unit>,
     /// Region to fair: `u1,u2` for a curve, `u1,u2,v1,v2` for a surface (default: everything). On a closed
     /// curve `u1 > u2` is the stretch across the seam ([u1, end] then [start, u2]).
     #[arg(long, value_parser = parse_region, allow_hyphen_values = true)]
@@ -170,6 +175,55 @@ fn parse_length(s: &str) -> std::result::Result<Length, String> {
     })
 }
 
+/// Where the tolerance an object was faired at came from (the report's `tolerance_from`).
+#[derive(Serialize, Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ToleranceFrom {
+    /// `--tolerance`.
+    #[default]
+    #[serde(rename = "command line")]
+    CommandLine,
+    /// The object's settings saved in the document.
+    #[serde(rename = "document")]
+    Document,
+}
+
+/// The tolerance of an object whose document saved `saved`, in the input's `unit`: `--tolerance` if
+/// given, else the saved one; `None` if neither.
+pub(crate) fn tolerance_of(a: &Args, saved: Option<f64>, unit: Option<Unit>) -> Result<Option<(f64, ToleranceFrom)>> {
+    Ok(match (a.tolerance_given, saved) {
+        (Some(l), _) => Some((l.resolve(unit, &a.input)?, ToleranceFrom::CommandLine)),
+        (None, Some(t)) => Some((t, ToleranceFrom::Document)),
+        (None, None) => None,
+    })
+}
+
+/// The error of an input that saves no tolerance (for `objects`, if it holds several) when none is given.
+pub(crate) fn no_tolerance(input: &std::path::Path, objects: &[String]) -> anyhow::Error {
+    let whose = if objects.is_empty() {
+        String::new()
+    } else {
+        format!(" for {}", objects.join(", "))
+    };
+    anyhow!(
+        "{} saves no tolerance{whose}: give one with --tolerance M, the largest deviation from the input allowed, \
+         in the coordinates' units (0.01) or with a unit for an IGES or STEP file (0.05mm)",
+        input.display()
+    )
+}
+
+/// Say on stderr which tolerance `name` is faired at, in `unit` (the file's, if it declares one), where it
+/// came from if not from `--tolerance`.
+pub(crate) fn say_tolerance(name: &str, t: f64, unit: Option<Unit>, from: ToleranceFrom) {
+    let (coords, unit) = unit.map_or((String::new(), String::new()), |u| {
+        (format!("coordinates in {}: ", u.symbol()), format!(" {}", u.symbol()))
+    });
+    let from = match from {
+        ToleranceFrom::CommandLine => "",
+        ToleranceFrom::Document => " (saved in the document; --tolerance overrides it)",
+    };
+    eprintln!("fairway: {name}: {coords}tolerance {t}{unit}{from}");
+}
+
 /// A region as given on the command line: 2 (curve) or 4 (surface) parameters.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Region(pub Vec<f64>);
@@ -196,8 +250,10 @@ pub struct Report {
     /// The fast method's E polish: "line-search" or "interior-point" (absent for paper and iterative).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub polish: Option<&'static str>,
-    /// The requested tolerance.
+    /// The tolerance it was faired at.
     pub tolerance: f64,
+    /// Where the tolerance came from: "command line" (`--tolerance`) or "document" (saved with it).
+    pub tolerance_from: ToleranceFrom,
     /// Setup time (sampling, matrices), ms; for a whole closed curve, of its first pass (the second pass
     /// builds its setup inside the solve); with corners, of every stretch's setup.
     pub setup_ms: f64,
@@ -271,8 +327,10 @@ pub struct SurfaceReport {
     pub kind: &'static str,
     /// "fast".
     pub method: String,
-    /// The requested tolerance.
+    /// The tolerance it was faired at.
     pub tolerance: f64,
+    /// Where the tolerance came from: "command line" (`--tolerance`) or "document" (saved with it).
+    pub tolerance_from: ToleranceFrom,
     /// Fairing time, ms (the surface engine has no separate setup).
     pub solve_ms: f64,
     /// Upper bound of the deviation verified by the solver (on its check grid).
@@ -307,17 +365,17 @@ fn ends_kept(curve: &BSplineCurve, a: &Args, opts: &FairingOptions) -> [String; 
         EndCondition::G1 => "position and tangent (G1)",
         EndCondition::G2 => "position, tangent and curvature (G2)",
     };
-    let side = |at_curve_end: bool| {
+    let side = |i: usize, at_curve_end: bool| {
         if closed && opts.region.is_none() {
             "a closed curve has no ends: faired G2 all round".to_string()
         } else if at_curve_end && !closed {
-            let e = opts.curve_ends.unwrap_or(a.ends.min_by_order(EndCondition::G1));
+            let e = opts.curve_ends[i].unwrap_or(a.ends.min_by_order(EndCondition::G1));
             format!("curve end: {}", words(e))
         } else {
             format!("join with the untouched curve: {}", words(a.ends))
         }
     };
-    [side(u1 <= d0 + eps), side(u2 >= d1 - eps)]
+    [side(0, u1 <= d0 + eps), side(1, u2 >= d1 - eps)]
 }
 
 /// The report's `polish`: the fast method's polish, if it ran.
@@ -327,8 +385,9 @@ fn polish_name(a: &Args) -> Option<&'static str> {
 
 /// Run `fairway fair`.
 pub fn run(a: &Args) -> Result<()> {
-    let t = a.tolerance_given.value;
-    if !(t.is_finite() && t > 0.0) {
+    if let Some(t) = a.tolerance_given.map(|l| l.value)
+        && !(t.is_finite() && t > 0.0)
+    {
         bail!("--tolerance must be a positive finite number, got {t}");
     }
     // the input, the output and the report must be three different files (links resolved), or one
@@ -362,15 +421,12 @@ pub fn run(a: &Args) -> Result<()> {
     }
     let input = load_input(&a.input, a.index)?;
     let mut a = a.clone();
-    a.tolerance = a.tolerance_given.resolve(input.unit, &a.input)?;
+    let name = a.input.display().to_string();
+    (a.tolerance, a.tolerance_from) =
+        tolerance_of(&a, input.doc.settings.tolerance, input.unit)?.ok_or_else(|| no_tolerance(&a.input, &[]))?;
     a.unit = input.unit;
-    if let Some(u) = input.unit {
-        eprintln!(
-            "fairway: {}: coordinates in {u}: tolerance {} {u}",
-            a.input.display(),
-            a.tolerance,
-            u = u.symbol()
-        );
+    if input.unit.is_some() || a.tolerance_from == ToleranceFrom::Document {
+        say_tolerance(&name, a.tolerance, input.unit, a.tolerance_from);
     }
     run_loaded(&a, input.doc)
 }
@@ -401,7 +457,7 @@ pub(crate) fn curve_options(a: &Args) -> Result<FairingOptions> {
         ease_curve_ends: a.ease_ends,
         polish_method: a.polish_method,
         target_weight: a.target_weight.unwrap_or(FairingOptions::default().target_weight),
-        curve_ends: a.curve_ends,
+        curve_ends: [a.curve_ends; 2],
         torsion_weight: a.torsion_weight,
     };
     if !(opts.torsion_weight.is_finite() && opts.torsion_weight >= 0.0) {
@@ -424,11 +480,20 @@ fn run_loaded(a: &Args, doc: Document) -> Result<()> {
     let opts = curve_options(a)?;
     // a tolerance below the precision of the coordinates cannot be verified: the same message for curves
     // and surfaces
-    fairway::range::check_tolerance(a.tolerance, &doc.geometry).map_err(|e| anyhow!("--{e}"))?;
+    fairway::range::check_tolerance(a.tolerance, &doc.geometry).map_err(|e| tolerance_error(a.tolerance_from, &e))?;
     let region = region_to_fair(a, &doc)?;
     match &doc.geometry {
         Geometry::Curve(c) => fair_curve_cmd(a, c, opts, region.as_ref()),
         Geometry::Surface(s) => fair_surface_cmd(a, s, opts, region.as_ref()),
+    }
+}
+
+/// A tolerance the input cannot be faired at, named as it was given (`--tolerance …` or
+/// `settings.tolerance …`).
+pub(crate) fn tolerance_error(from: ToleranceFrom, e: &fairway::Error) -> anyhow::Error {
+    match from {
+        ToleranceFrom::CommandLine => anyhow!("--{e}"),
+        ToleranceFrom::Document => anyhow!("the document's settings.{e}: correct it, or give --tolerance"),
     }
 }
 
@@ -541,6 +606,7 @@ fn fair_curve_cmd(a: &Args, curve: &BSplineCurve, mut opts: FairingOptions, regi
         method: a.method.clone(),
         polish: polish_name(a),
         tolerance: a.tolerance,
+        tolerance_from: a.tolerance_from,
         setup_ms,
         solve_ms,
         max_deviation_bound: result.max_deviation,
@@ -640,6 +706,7 @@ fn fair_surface_cmd(a: &Args, surface: &BSplineSurface, curve: FairingOptions, r
         kind: "surface",
         method: a.method.clone(),
         tolerance: a.tolerance,
+        tolerance_from: a.tolerance_from,
         solve_ms,
         max_deviation_bound: result.max_deviation,
         band_bound: result.band_bound,

@@ -1,19 +1,24 @@
-//! `fairway fair FILE --tolerance m -o OUT` on a file with several objects (IGES, STEP, a `.ron`
+//! `fairway fair FILE [--tolerance m] -o OUT` on a file with several objects (IGES, STEP, a `.ron`
 //! document of version 2), or with `--object`: every object (or those chosen) faired together, keeping
-//! their joins (`fairway::fair::network`), and the whole file written back in order with its names; the
-//! report lists each object's measures and each join's continuity before and after.
+//! their joins (`fairway::fair::network`), each at its own tolerance saved in the document unless
+//! `--tolerance` gives one for all, and the whole file written back in order with its names; the report
+//! lists each object's tolerance (and where it came from), its measures and each join's continuity before
+//! and after.
 
 use std::time::Instant;
 
 use anyhow::{Result, anyhow, bail};
 use fairway::Geometry;
 use fairway::fair::SurfaceFairingOptions;
-use fairway::fair::network::{NetworkOptions, fair_network};
+use fairway::fair::network::{NetworkOptions, fair_network_at};
 use fairway::io::Scene;
 use fairway::network::{Continuity, CurveContinuity, Joins};
 use serde::Serialize;
 
-use crate::fair::{Args, curve_options, surface_method, write_report};
+use crate::fair::{
+    Args, ToleranceFrom, curve_options, no_tolerance, say_tolerance, surface_method, tolerance_error, tolerance_of,
+    write_report,
+};
 use crate::joins::{CurveJoinInfo, SurfaceJoinInfo, curve_join, surface_join};
 
 /// An object's measures: a curve's or a surface's (the keys of `fairway measure`).
@@ -37,6 +42,11 @@ pub struct ObjectReport {
     pub kind: &'static str,
     /// Whether it was faired (chosen, and not refused).
     pub faired: bool,
+    /// Its tolerance, its deviation's limit (`null` if not chosen); objects faired as one are faired at the
+    /// smallest of theirs (a note says so).
+    pub tolerance: Option<f64>,
+    /// Where `tolerance` came from: "command line" (`--tolerance`) or "document" (its saved settings).
+    pub tolerance_from: Option<ToleranceFrom>,
     /// The objects faired together with it as one curve or surface.
     pub group: Vec<usize>,
     /// A sound bound of its deviation from the input (0 if not faired).
@@ -77,8 +87,8 @@ pub struct SceneReport {
     pub kind: &'static str,
     /// fast, smoothing or paper.
     pub method: String,
-    /// The requested tolerance (every object's).
-    pub tolerance: f64,
+    /// `--tolerance`, every object's (`null`: each object's own, see `objects`).
+    pub tolerance: Option<f64>,
     /// Fairing time, ms.
     pub solve_ms: f64,
     /// Every object, in the file's order.
@@ -127,8 +137,55 @@ fn selection(a: &Args, scene: &Scene) -> Result<Vec<usize>> {
     Ok(out)
 }
 
-/// The options of the network fair from the command line, checked against the objects chosen.
-fn options(a: &Args, scene: &Scene, chosen: &[usize]) -> Result<NetworkOptions> {
+/// Each object's tolerance and where it came from (`None` for an object not chosen), checked against its
+/// coordinates; an error lists the chosen objects that save none when `--tolerance` is not given.
+fn tolerances(a: &Args, scene: &Scene, chosen: &[usize]) -> Result<Vec<Option<(f64, ToleranceFrom)>>> {
+    let mut missing = vec![];
+    let mut out = vec![];
+    for (i, o) in scene.objects.iter().enumerate() {
+        if !(chosen.is_empty() || chosen.contains(&i)) {
+            out.push(None);
+            continue;
+        }
+        let t = tolerance_of(a, o.settings.tolerance, scene.unit)?;
+        match t {
+            None => missing.push(object_name(scene, i)),
+            Some((t, from)) => fairway::range::check_tolerance(t, &o.geometry)
+                .map_err(|e| anyhow!("{}: {}", object_name(scene, i), tolerance_error(from, &e)))?,
+        }
+        out.push(t);
+    }
+    if !missing.is_empty() {
+        return Err(no_tolerance(&a.input, &missing));
+    }
+    Ok(out)
+}
+
+/// An object for messages: `object 1 "MID"` (without the name if it has none).
+fn object_name(scene: &Scene, i: usize) -> String {
+    match scene.objects[i].name.as_str() {
+        "" => format!("object {i}"),
+        n => format!("object {i} {n:?}"),
+    }
+}
+
+/// Say on stderr which tolerance each chosen object is faired at: one line for `--tolerance`, else one
+/// per object.
+fn say_tolerances(a: &Args, scene: &Scene, tols: &[Option<(f64, ToleranceFrom)>]) {
+    let name = a.input.display();
+    if a.tolerance_given.is_some() {
+        say_tolerance(&name.to_string(), a.tolerance, scene.unit, ToleranceFrom::CommandLine);
+        return;
+    }
+    for (i, t) in tols.iter().enumerate() {
+        if let Some((t, from)) = t {
+            say_tolerance(&format!("{name}: {}", object_name(scene, i)), *t, scene.unit, *from);
+        }
+    }
+}
+
+/// The options of the network fair from the command line (the tolerances are each object's).
+fn options(a: &Args, scene: &Scene) -> Result<NetworkOptions> {
     if a.region.is_some() {
         bail!("--region applies to one object: pick it with --index");
     }
@@ -136,11 +193,6 @@ fn options(a: &Args, scene: &Scene, chosen: &[usize]) -> Result<NetworkOptions> 
         bail!("--method iterative fairs one curve: pick it with --index");
     }
     let curve = curve_options(a)?;
-    for (i, o) in scene.objects.iter().enumerate() {
-        if chosen.is_empty() || chosen.contains(&i) {
-            fairway::range::check_tolerance(a.tolerance, &o.geometry).map_err(|e| anyhow!("--{e} (object {i})"))?;
-        }
-    }
     let surfaces = scene.objects.iter().any(|o| matches!(o.geometry, Geometry::Surface(_)));
     let method = if surfaces {
         surface_method(a)?
@@ -168,9 +220,11 @@ pub fn run(a: &Args, scene: Scene, notices: &[String]) -> Result<()> {
         eprintln!("fairway: {name}: {n}");
     }
     let mut a = a.clone();
-    a.tolerance = a.tolerance_given.resolve(scene.unit, &a.input)?;
     a.unit = scene.unit;
     let chosen = selection(&a, &scene)?;
+    let tols = tolerances(&a, &scene, &chosen)?;
+    // the network options' own tolerance: every object's is given to the fair
+    a.tolerance = tols.iter().flatten().map(|t| t.0).fold(f64::INFINITY, f64::min);
     if scene.objects.len() > 1 && matches!(fairway::io::Format::from_path(&a.output), Ok(fairway::io::Format::Json)) {
         bail!(
             "{}: a JSON geometry file holds one object and {name} has {}; write .ron, .igs or .stp (or fair one \
@@ -179,7 +233,8 @@ pub fn run(a: &Args, scene: Scene, notices: &[String]) -> Result<()> {
             scene.objects.len()
         );
     }
-    let opts = options(&a, &scene, &chosen)?;
+    let opts = options(&a, &scene)?;
+    say_tolerances(&a, &scene, &tols);
     eprintln!(
         "fairway: {name}: {} objects, fairing {} together, keeping their joins",
         scene.objects.len(),
@@ -191,7 +246,8 @@ pub fn run(a: &Args, scene: Scene, notices: &[String]) -> Result<()> {
     );
     let geoms = scene.geometries();
     let t0 = Instant::now();
-    let r = fair_network(&geoms, &chosen, &opts)?;
+    let per_object: Vec<Option<f64>> = tols.iter().map(|t| t.map(|t| t.0)).collect();
+    let r = fair_network_at(&geoms, &chosen, &opts, &per_object)?;
     let solve_ms = t0.elapsed().as_secs_f64() * 1e3;
     for n in &r.notes {
         eprintln!("fairway: {name}: {n}");
@@ -201,7 +257,7 @@ pub fn run(a: &Args, scene: Scene, notices: &[String]) -> Result<()> {
             eprintln!("fairway: {name}: object {i}: {n}");
         }
     }
-    let report = a.report.as_ref().map(|_| scene_report(&a, &scene, &r, solve_ms));
+    let report = a.report.as_ref().map(|_| scene_report(&a, &scene, &tols, &r, solve_ms));
     if let Some(rep) = &report {
         crate::common::refuse_non_finite("the report", rep)?;
     }
@@ -217,7 +273,13 @@ pub fn run(a: &Args, scene: Scene, notices: &[String]) -> Result<()> {
 }
 
 /// The report of a network fair.
-fn scene_report(a: &Args, scene: &Scene, r: &fairway::fair::network::NetworkFair, solve_ms: f64) -> SceneReport {
+fn scene_report(
+    a: &Args,
+    scene: &Scene,
+    tols: &[Option<(f64, ToleranceFrom)>],
+    r: &fairway::fair::network::NetworkFair,
+    solve_ms: f64,
+) -> SceneReport {
     let objects = scene
         .objects
         .iter()
@@ -229,6 +291,8 @@ fn scene_report(a: &Args, scene: &Scene, r: &fairway::fair::network::NetworkFair
             name: o.name.clone(),
             kind: o.geometry.kind(),
             faired: f.faired,
+            tolerance: tols[index].map(|t| t.0),
+            tolerance_from: tols[index].map(|t| t.1),
             group: f.group.clone(),
             max_deviation_bound: f.max_deviation,
             measures: f.faired.then(|| match (&o.geometry, g) {
@@ -247,7 +311,7 @@ fn scene_report(a: &Args, scene: &Scene, r: &fairway::fair::network::NetworkFair
     SceneReport {
         kind: "scene",
         method: a.method.clone(),
-        tolerance: a.tolerance,
+        tolerance: a.tolerance_given.is_some().then_some(a.tolerance),
         solve_ms,
         objects,
         curve_joins: b

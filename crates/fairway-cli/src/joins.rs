@@ -2,7 +2,7 @@
 //! `fairway fair --report` reports them before and after.
 
 use fairway::io::Scene;
-use fairway::network::{CurveJoin, End, Joins, SurfaceJoin};
+use fairway::network::{CurveJoin, Joins, SurfaceJoin};
 use serde::Serialize;
 
 /// One object of the file.
@@ -69,29 +69,12 @@ pub struct NetworkInfo {
     pub surface_joins: Vec<SurfaceJoinInfo>,
 }
 
-fn end_name(e: End) -> &'static str {
-    match e {
-        End::Start => "start",
-        End::End => "end",
-    }
-}
-
-fn side_name(s: fairway::network::Side) -> &'static str {
-    use fairway::network::Side;
-    match s {
-        Side::U0 => "u0",
-        Side::U1 => "u1",
-        Side::V0 => "v0",
-        Side::V1 => "v1",
-    }
-}
-
 /// A curve join for a report.
 pub fn curve_join(j: &CurveJoin) -> CurveJoinInfo {
     let c = j.continuity;
     CurveJoinInfo {
         objects: [j.a.object, j.b.object],
-        ends: [end_name(j.a.end), end_name(j.b.end)],
+        ends: [j.a.end.name(), j.b.end.name()],
         point: j.point.to_array(),
         continuity: c.class.name(),
         gap: c.gap,
@@ -106,7 +89,7 @@ pub fn surface_join(j: &SurfaceJoin) -> SurfaceJoinInfo {
     let c = j.continuity;
     SurfaceJoinInfo {
         objects: [j.a.0, j.b.0],
-        sides: [side_name(j.a.1), side_name(j.b.1)],
+        sides: [j.a.1.name(), j.b.1.name()],
         reversed: j.reversed,
         continuity: c.class.name(),
         gap: c.gap,

@@ -99,6 +99,7 @@ fn write_chain(path: &Path) -> Scene {
             })
             .collect(),
         unit: Some(Unit::Millimeter),
+        ..Default::default()
     };
     save_scene(path, &scene).unwrap();
     scene
@@ -303,6 +304,7 @@ fn patches_sharing_an_edge_are_listed_and_faired_together() {
             })
             .collect(),
         unit: None,
+        ..Default::default()
     };
     save_scene(&stp, &scene).unwrap();
     let (text, _) = run_ok(&["info", s(&stp)]);
@@ -328,4 +330,126 @@ fn patches_sharing_an_edge_are_listed_and_faired_together() {
         assert!(o["measures"]["n_curv_extrema"].as_u64().unwrap() < 60, "{o}");
     }
     assert_eq!(load_scene(&out).unwrap().0.names(), vec!["PORT", "STARBOARD"]);
+}
+
+/// The deviation of each object of `out` from the same object of `scene` (`fairway::measure`).
+fn deviations(scene: &Scene, out: &Path) -> Vec<f64> {
+    let (back, _) = load_scene(out).unwrap();
+    scene
+        .objects
+        .iter()
+        .zip(&back.objects)
+        .map(|(a, b)| fairway::measure::measure(a.geometry.as_curve().unwrap(), b.geometry.as_curve().unwrap()).dev_max)
+        .collect()
+}
+
+#[test]
+fn fair_uses_each_objects_saved_tolerance_unless_tolerance_is_given() {
+    let sc = Scratch::new("saved-tolerances");
+    // the chain's first and last curves: two objects that do not meet, each with its own tolerance
+    let mut pieces = chain();
+    let (bow, stern) = (pieces.remove(0), pieces.remove(1));
+    let (m_bow, m_stern) = (0.001, 0.006);
+    let object = |name: &str, c: BSplineCurve, m: f64| SceneObject {
+        name: name.into(),
+        geometry: c.into(),
+        settings: DocumentSettings {
+            tolerance: Some(m),
+            ..Default::default()
+        },
+    };
+    let scene = Scene {
+        objects: vec![object("BOW", bow, m_bow), object("STERN", stern, m_stern)],
+        ..Default::default()
+    };
+    let ron = sc.path("two.ron");
+    save_scene(&ron, &scene).unwrap();
+    let (out, rep) = (sc.path("out.ron"), sc.path("rep.json"));
+    let (_, err) = run_ok(&["fair", s(&ron), "-o", s(&out), "--report", s(&rep)]);
+    assert!(
+        err.contains("object 0 \"BOW\": tolerance 0.001 (saved in the document"),
+        "{err}"
+    );
+    let dev = deviations(&scene, &out);
+    eprintln!("saved tolerances {m_bow}, {m_stern}: deviations {dev:?}");
+    assert!(dev[0] <= m_bow, "BOW within its own tolerance: {dev:?}");
+    assert!(dev[1] <= m_stern, "STERN within its own tolerance: {dev:?}");
+    assert!(dev[1] > m_bow, "STERN used its wider band, not BOW's: {dev:?}");
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&rep).unwrap()).unwrap();
+    assert_eq!(v["tolerance"], Value::Null, "no --tolerance: {v}");
+    for (o, m) in v["objects"].as_array().unwrap().iter().zip([m_bow, m_stern]) {
+        assert_eq!(o["tolerance"].as_f64(), Some(m), "{o}");
+        assert_eq!(o["tolerance_from"], "document", "{o}");
+        assert!(o["measures"]["dev_max"].as_f64().unwrap() <= m, "{o}");
+    }
+    // --tolerance overrides both
+    let m = 0.002;
+    let (_, err) = run_ok(&[
+        "fair",
+        s(&ron),
+        "--tolerance",
+        "0.002",
+        "-o",
+        s(&out),
+        "--report",
+        s(&rep),
+    ]);
+    assert!(!err.contains("saved in the document"), "{err}");
+    let dev = deviations(&scene, &out);
+    eprintln!("--tolerance {m}: deviations {dev:?}");
+    assert!(dev.iter().all(|&d| d <= m), "both within --tolerance: {dev:?}");
+    assert!(dev[0] > m_bow, "BOW used --tolerance, not its saved one: {dev:?}");
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&rep).unwrap()).unwrap();
+    assert_eq!(v["tolerance"].as_f64(), Some(m));
+    for o in v["objects"].as_array().unwrap() {
+        assert_eq!(o["tolerance"].as_f64(), Some(m), "{o}");
+        assert_eq!(o["tolerance_from"], "command line", "{o}");
+    }
+}
+
+#[test]
+fn a_single_object_document_is_faired_at_its_saved_tolerance_and_a_bare_file_asks_for_one() {
+    let sc = Scratch::new("one-saved-tolerance");
+    let c = chain().remove(1);
+    let m = 0.0015;
+    let doc = fairway::io::Document {
+        geometry: c.clone().into(),
+        settings: DocumentSettings {
+            tolerance: Some(m),
+            ..Default::default()
+        },
+    };
+    let ron = sc.path("one.ron");
+    fairway::io::save(&ron, &doc).unwrap();
+    let (out, rep) = (sc.path("out.json"), sc.path("rep.json"));
+    let (_, err) = run_ok(&["fair", s(&ron), "-o", s(&out), "--report", s(&rep)]);
+    assert!(err.contains("tolerance 0.0015 (saved in the document"), "{err}");
+    let faired = fairway::io::load_geometry(&out).unwrap();
+    let dev = fairway::measure::measure(&c, faired.as_curve().unwrap()).dev_max;
+    eprintln!("saved tolerance {m}: deviation {dev}");
+    assert!(
+        dev <= m && dev > 0.5 * m,
+        "faired within its saved band, using it: {dev}"
+    );
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&rep).unwrap()).unwrap();
+    assert_eq!(v["tolerance"].as_f64(), Some(m));
+    assert_eq!(v["tolerance_from"], "document");
+    // a bare geometry file saves no tolerance: asked for one
+    let json = sc.path("bare.json");
+    fairway::io::save(&json, &fairway::io::Document::new(c.into())).unwrap();
+    run_fails(
+        &["fair", s(&json), "-o", s(&sc.path("x.json"))],
+        &["bare.json saves no tolerance", "give one with --tolerance"],
+    );
+    // an IGES file with several objects names them all
+    let igs = sc.path("chain.igs");
+    write_chain(&igs);
+    run_fails(
+        &["fair", s(&igs), "-o", s(&sc.path("x.igs"))],
+        &[
+            "chain.igs saves no tolerance for object 0 \"BOW\", object 1 \"MID\", object 2 \"STERN\"",
+            "--tolerance",
+        ],
+    );
+    assert!(!sc.path("x.json").exists() && !sc.path("x.igs").exists());
 }

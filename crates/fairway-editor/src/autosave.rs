@@ -49,6 +49,8 @@ pub struct Recovery {
     pub objects: Vec<SceneObject>,
     /// The length unit of the document's file, if it had one.
     pub unit: Option<Unit>,
+    /// The plane 3D curves were drawn on.
+    pub view_plane: fairway::io::ViewPlane,
     /// The file the document was opened from or saved to, if any.
     pub source: Option<PathBuf>,
     /// When it was autosaved.
@@ -112,18 +114,21 @@ impl Autosave {
     }
 
     /// Write the autosave of a document of several objects now: a RON document of version 1 for one
-    /// unnamed object without a unit (as before), else of version 2 (every object, named, the unit).
+    /// unnamed object without a unit on the XY plane (as before), else of version 2 (every object,
+    /// named, the unit, the view plane).
     pub fn write_scene(&self, scene: &Scene, source: Option<&Path>) -> Result<()> {
         std::fs::create_dir_all(&self.dir).map_err(|e| Error::Io {
             path: self.dir.display().to_string(),
             message: e.to_string(),
         })?;
         let text = match scene.objects.as_slice() {
-            [one] if one.name.is_empty() && scene.unit.is_none() => Document {
-                geometry: one.geometry.clone(),
-                settings: one.settings.clone(),
+            [one] if one.name.is_empty() && scene.unit.is_none() && scene.view_plane == Default::default() => {
+                Document {
+                    geometry: one.geometry.clone(),
+                    settings: one.settings.clone(),
+                }
+                .to_ron()?
             }
-            .to_ron()?,
             _ => scene.to_ron()?,
         };
         fairway::io::write_atomic(&self.dir.join(DOC), text.as_bytes())?;
@@ -203,6 +208,7 @@ pub fn pending(dir: &Path) -> Result<Option<Recovery>> {
         document,
         objects: scene.objects,
         unit: scene.unit,
+        view_plane: scene.view_plane,
         source,
         saved_at,
     }))

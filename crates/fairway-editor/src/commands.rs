@@ -45,6 +45,8 @@ pub enum Command {
     Select(usize),
     /// Fair every curve of the document together, keeping their joins (the core's network fair).
     FairAll,
+    /// Draw 3D curves on this plane of the 2D canvas (saved with the document).
+    SetViewPlane(ViewPlane),
     // ---- files
     /// Show the open dialog (after the unsaved-work check).
     OpenDialog,
@@ -79,8 +81,6 @@ pub enum Command {
     ToggleBeforeAfter,
     /// Show or hide the keyboard shortcuts.
     ToggleHelp,
-    /// Draw 3D curves on this plane of the 2D canvas.
-    SetViewPlane(ViewPlane),
 }
 
 impl Command {
@@ -92,9 +92,11 @@ impl Command {
             Command::SetTolerance(_) => Gesture::Tolerance,
             Command::SetTarget { .. } => Gesture::Target,
             Command::SetFairOptions(_) | Command::SetEnds(_) => Gesture::Options,
-            Command::ReplaceCurve(_) | Command::AcceptSurface | Command::Select(_) | Command::FairAll => {
-                Gesture::Single
-            }
+            Command::ReplaceCurve(_)
+            | Command::AcceptSurface
+            | Command::Select(_)
+            | Command::FairAll
+            | Command::SetViewPlane(_) => Gesture::Single,
             _ => return None,
         })
     }
@@ -157,7 +159,6 @@ impl App {
             Command::ExportPng(p) => self.start_png_export(p),
             Command::OpenPickedObject(k) => self.open_picked_object(k),
             Command::ImportOne(p) => self.pick_one_object(&p),
-            Command::SetViewPlane(p) => self.set_view_plane(p),
             Command::RestoreAutosave => self.restore_autosave(),
             Command::DiscardAutosave => self.discard_autosave(),
             Command::Undo => self.step_history(true),
@@ -176,6 +177,7 @@ impl App {
             fair: self.prefs.fair,
             objects: self.objects_now(),
             active: self.active,
+            view_plane: self.view_plane,
         }
     }
 
@@ -194,6 +196,7 @@ impl App {
         let changed = match c {
             Command::Select(k) => self.select_object(*k),
             Command::FairAll => self.fair_all(),
+            Command::SetViewPlane(p) => self.set_view_plane(*p),
             _ => {
                 let ws: &mut dyn crate::Workspace = match self.surface.as_deref_mut() {
                     Some(s) => s,

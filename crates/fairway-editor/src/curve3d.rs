@@ -3,7 +3,8 @@
 //! - the curve in 3D with its curvature comb (teeth along κN, the principal
 //!   normal scaled by the curvature), the control polygon and the faired
 //!   preview — drawn with the painter through the orbit camera, so it works
-//!   without a GPU too;
+//!   without a GPU too; the document's other curves dimmed, and the joins and
+//!   shared patch edges marked by their continuity (`view3d::marks`);
 //! - for planar curves, **extrusion isophotes** (the paper's interrogation of
 //!   curves): the curve extruded along z, shown with isophotes, before and
 //!   after fairing side by side.
@@ -14,6 +15,8 @@ use eframe::egui;
 use egui::{Color32, Pos2, Rect, Sense, Stroke};
 use fairway::{BSplineCurve, BSplineSurface, DVec3};
 
+use crate::canvas_scene::draw_curves_dimmed;
+use crate::scene_view::SceneCurve;
 use crate::view3d::scene::surface_scene;
 use crate::view3d::{self, ShadeMode, Shading, View3d, View3dPrefs};
 use fairway::mesh::{SurfaceMesh, curve_comb_3d, extrude_curve};
@@ -124,6 +127,16 @@ impl crate::curve_ws::CurveCx<'_> {
             let h = extrusion_height(diag);
             pts.extend(curve.points().iter().map(|p| *p + DVec3::Z * h));
         }
+        if !extrude {
+            // the whole network in view
+            let others = self
+                .ws
+                .scene
+                .curves
+                .iter()
+                .filter(|c| c.object != self.ws.active_object);
+            pts.extend(others.flat_map(|c| c.pts3.iter().copied()));
+        }
         let bb = view3d::camera::bbox(pts).unwrap_or((DVec3::splat(-1.0), DVec3::splat(1.0)));
         if bb != self.ws.curve3d.view.bbox {
             self.ws.curve3d.view.set_bbox(bb, true);
@@ -139,6 +152,10 @@ impl crate::curve_ws::CurveCx<'_> {
             let painter = ui.painter_at(full);
             painter.rect_filled(full, 0.0, Color32::from_gray(24));
             self.draw_curve3d(&painter, full, &curve, faired.as_ref());
+            let v = &self.ws.curve3d.view;
+            let screen = |c: &SceneCurve| c.pts3.iter().filter_map(|&p| v.to_screen(p, full)).collect();
+            draw_curves_dimmed(&painter, &self.ws.scene.curves, self.ws.active_object, screen);
+            view3d::marks::marks_ui(ui, v, full, &self.ws.scene.marks3d, 0);
         }
     }
 

@@ -188,15 +188,13 @@ impl<'a> CurveCx<'a> {
         })
     }
 
-    /// The condition the core keeps at the curve ends the region reaches: at a join, the region end's
-    /// own condition (not weakened to G1 as at a free curve end); `None` without a join.
-    fn held_curve_ends(&self) -> Option<EndCondition> {
+    /// The condition the core keeps at each curve end the region reaches: at a join, the region end's
+    /// own condition (not weakened to G1 as at a free curve end); `None` at a free end (the core's
+    /// default there).
+    fn held_curve_ends(&self) -> [Option<EndCondition>; 2] {
         let ends = self.ends();
         let held = self.join_holds();
-        (0..2)
-            .filter(|&i| held[i].is_some())
-            .map(|i| ends[i])
-            .max_by_key(|e| e.order())
+        [0, 1].map(|i| held[i].map(|_| ends[i]))
     }
 
     /// Bring the fairing preview up to date with the document; true if it was recomputed.

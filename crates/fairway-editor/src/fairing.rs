@@ -43,12 +43,12 @@ pub struct FairOptions {
     pub ease_ends: bool,
     /// Fairway's fair or the reference smoother ([`FairingOptions::mode`]).
     pub mode: FitMode,
-    /// The condition kept at the ends of the open curve that the region reaches
+    /// The condition kept at the start and the end of the open curve where the region reaches them
     /// ([`FairingOptions::curve_ends`]): set for a fair, not stored — a curve end that joins another
-    /// curve keeps its join's continuity ([`crate::curve_ws::CurveCx::join_holds`]); `None`: the core's
-    /// default (at most G1), or G2 when easing.
+    /// curve keeps its join's continuity ([`crate::curve_ws::CurveCx::join_holds`]); `None` (a free
+    /// end): the core's default (at most G1), or G2 when easing.
     #[serde(skip)]
-    pub curve_ends: Option<EndCondition>,
+    pub curve_ends: [Option<EndCondition>; 2],
 }
 
 impl Default for FairOptions {
@@ -63,7 +63,7 @@ impl Default for FairOptions {
             polish_method: d.polish_method,
             ease_ends: d.ease_curve_ends,
             mode: d.mode,
-            curve_ends: None,
+            curve_ends: [None; 2],
         }
     }
 }
@@ -78,7 +78,7 @@ struct SetupKey {
     /// Fairway's fair or the reference smoother.
     mode: FitMode,
     /// The condition kept at the curve's own ends (a join's).
-    curve_ends: Option<EndCondition>,
+    curve_ends: [Option<EndCondition>; 2],
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -385,10 +385,10 @@ fn fairing_options(region: (f64, f64), tolerance: f64, opts: &FairOptions) -> Fa
     let ease = opts.ease_ends.then_some(EndCondition::G2);
     FairingOptions {
         region: Some(region),
-        curve_ends: match (opts.curve_ends, ease) {
+        curve_ends: opts.curve_ends.map(|e| match (e, ease) {
             (Some(a), Some(b)) => Some(if a.order() >= b.order() { a } else { b }),
             (a, b) => a.or(b),
-        },
+        }),
         ..curve_options(tolerance, opts)
     }
 }
@@ -405,7 +405,7 @@ pub fn curve_options(tolerance: f64, opts: &FairOptions) -> FairingOptions {
         polish_iterations: opts.polish_iterations,
         polish_method: opts.polish_method,
         ease_curve_ends: opts.ease_ends,
-        curve_ends: opts.ease_ends.then_some(EndCondition::G2),
+        curve_ends: [opts.ease_ends.then_some(EndCondition::G2); 2],
         mode: opts.mode,
         ..FairingOptions::default()
     }

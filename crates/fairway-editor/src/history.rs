@@ -17,6 +17,8 @@ pub struct Snapshot {
     pub objects: Vec<SceneObject>,
     /// The active object's index.
     pub active: usize,
+    /// The plane 3D curves are drawn on in the 2D canvas.
+    pub view_plane: fairway::io::ViewPlane,
 }
 
 /// What kind of edit a gesture makes; consecutive edits of the same kind

@@ -208,10 +208,14 @@ impl App {
     pub(crate) fn restore_autosave(&mut self) {
         let Some(r) = self.recovery.take() else { return };
         // the file as it is on disk, if any: the restored document is dirty against it
-        if r.objects.len() > 1 || r.unit.is_some() || r.objects.iter().any(|o| !o.name.is_empty()) {
+        let scene = fairway::io::Scene {
+            objects: r.objects,
+            unit: r.unit,
+            view_plane: r.view_plane,
+        };
+        if scene.unit.is_some() || !crate::shell::is_plain_document(&scene) {
             let saved = r.source.as_deref().and_then(|p| fairway::io::load_scene(p).ok());
-            if self.set_scene(r.objects, r.source, saved.map(|(s, _)| s.objects)) {
-                self.unit = r.unit;
+            if self.set_scene(scene, r.source, saved.map(|(s, _)| s)) {
                 self.status = "Restored the autosaved document (not saved yet)".into();
             }
             return;
@@ -340,11 +344,10 @@ impl App {
                 let keep = file.notices.is_empty();
                 let notices = file.notices.clone();
                 let unit = file.unit;
-                let objects = fairway::io::Scene::from_interchange(file).objects;
-                if !self.set_scene(objects.clone(), keep.then(|| path.to_path_buf()), Some(objects)) {
+                let scene = fairway::io::Scene::from_interchange(file);
+                if !self.set_scene(scene.clone(), keep.then(|| path.to_path_buf()), Some(scene)) {
                     return;
                 }
-                self.unit = unit;
                 let mut msg = format!("Opened {}: {n} objects{}", path.display(), unit_note(unit));
                 if !keep {
                     msg.push_str(&format!(

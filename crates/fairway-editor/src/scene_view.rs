@@ -3,58 +3,31 @@
 //! [`crate::CurveView`]; the others are drawn dimmed and picked by a click) and the joins between them
 //! with their measured continuity ([`JoinMark`], measured by the core's [`fairway::network`]).
 
-use fairway::network::{Continuity, CurveJoin, End, Joins, find_joins};
+use fairway::network::{Continuity, CurveJoin, End, Joins, SurfaceJoin, find_joins};
 use fairway::{BSplineCurve, DVec2, DVec3, Geometry};
 
-/// The plane 3D curves are drawn on in the 2D canvas (a View menu choice, kept per document).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum ViewPlane {
-    /// x to the right, y up (2D curves live here).
-    #[default]
-    Xy,
-    /// y to the right, z up.
-    Yz,
-    /// z to the right, x up.
-    Zx,
-    /// The plane that fits the curves' control points best (least squares), its longest extent to
-    /// the right.
-    BestFit,
+/// The plane 3D curves are drawn on in the 2D canvas (a View menu choice, saved with the document).
+pub use fairway::io::ViewPlane;
+
+/// The menu tooltip of a view plane.
+pub fn plane_tip(p: ViewPlane) -> &'static str {
+    match p {
+        ViewPlane::Xy => "Draw curves on the XY plane (x right, y up): the view of 2D curves",
+        ViewPlane::Yz => "Draw curves on the YZ plane (y right, z up)",
+        ViewPlane::Zx => "Draw curves on the ZX plane (z right, x up)",
+        ViewPlane::BestFit => {
+            "Draw curves on the plane that fits their control points best (its longest extent to the right)"
+        }
+    }
 }
 
-impl ViewPlane {
-    /// Every choice, in menu order.
-    pub const ALL: [ViewPlane; 4] = [ViewPlane::Xy, ViewPlane::Yz, ViewPlane::Zx, ViewPlane::BestFit];
-
-    /// The menu label.
-    pub fn name(self) -> &'static str {
-        match self {
-            ViewPlane::Xy => "XY plane",
-            ViewPlane::Yz => "YZ plane",
-            ViewPlane::Zx => "ZX plane",
-            ViewPlane::BestFit => "Best-fit plane",
-        }
-    }
-
-    /// The menu tooltip.
-    pub fn tip(self) -> &'static str {
-        match self {
-            ViewPlane::Xy => "Draw curves on the XY plane (x right, y up): the view of 2D curves",
-            ViewPlane::Yz => "Draw curves on the YZ plane (y right, z up)",
-            ViewPlane::Zx => "Draw curves on the ZX plane (z right, x up)",
-            ViewPlane::BestFit => {
-                "Draw curves on the plane that fits their control points best (its longest extent to the right)"
-            }
-        }
-    }
-
-    /// The frame of this plane for the curves of `objects`.
-    pub fn frame(self, objects: &[Geometry]) -> Frame {
-        match self {
-            ViewPlane::Xy => Frame::XY,
-            ViewPlane::Yz => Frame::new(DVec3::Y, DVec3::Z),
-            ViewPlane::Zx => Frame::new(DVec3::Z, DVec3::X),
-            ViewPlane::BestFit => best_fit_frame(objects),
-        }
+/// The frame of plane `p` for the curves of `objects`.
+pub fn plane_frame(p: ViewPlane, objects: &[Geometry]) -> Frame {
+    match p {
+        ViewPlane::Xy => Frame::XY,
+        ViewPlane::Yz => Frame::new(DVec3::Y, DVec3::Z),
+        ViewPlane::Zx => Frame::new(DVec3::Z, DVec3::X),
+        ViewPlane::BestFit => best_fit_frame(objects),
     }
 }
 
@@ -214,6 +187,8 @@ pub struct SceneCurve {
     pub label: String,
     /// Points along it, on the view plane.
     pub pts: Vec<DVec2>,
+    /// The same points in space (for the 3D view).
+    pub pts3: Vec<DVec3>,
 }
 
 /// A join between two curve ends, as the canvas marks it.
@@ -231,6 +206,19 @@ pub struct JoinMark {
     pub detail: String,
 }
 
+/// A join as the 3D views mark it: a curve join's point, or a shared patch edge along its length.
+#[derive(Debug, Clone)]
+pub struct Mark3d {
+    /// The joint (one point), or points along the shared edge.
+    pub points: Vec<DVec3>,
+    /// The measured continuity.
+    pub class: Continuity,
+    /// "G2 join: SECTA end – SECTB start", "G1 edge: surface 1 u1 – surface 2 u0".
+    pub label: String,
+    /// Its measures.
+    pub detail: String,
+}
+
 /// Every curve of the document and their joins on the view plane.
 #[derive(Debug, Clone, Default)]
 pub struct SceneView {
@@ -242,6 +230,8 @@ pub struct SceneView {
     pub curves: Vec<SceneCurve>,
     /// The curve joins.
     pub joins: Vec<JoinMark>,
+    /// The curve joins and the shared patch edges in space, for the 3D views.
+    pub marks3d: Vec<Mark3d>,
     /// The joins as the core measured them (curves and shared patch edges).
     pub measured: Joins,
     /// Bounding box (min, max) of every curve's points on the view plane.
@@ -251,16 +241,20 @@ pub struct SceneView {
 impl SceneView {
     /// The view of `objects` (named `names`) on `plane`.
     pub fn new(objects: &[Geometry], names: &[String], plane: ViewPlane) -> Self {
-        let frame = plane.frame(objects);
+        let frame = plane_frame(plane, objects);
         let label = |k: usize| object_label(k, names.get(k).map_or("", String::as_str), &objects[k]);
         let curves: Vec<SceneCurve> = objects
             .iter()
             .enumerate()
             .filter_map(|(k, g)| {
-                g.as_curve().map(|c| SceneCurve {
-                    object: k,
-                    label: label(k),
-                    pts: sample_curve(c, &frame),
+                g.as_curve().map(|c| {
+                    let pts3 = sample_curve(c);
+                    SceneCurve {
+                        object: k,
+                        label: label(k),
+                        pts: pts3.iter().map(|&p| frame.project(p)).collect(),
+                        pts3,
+                    }
                 })
             })
             .collect();
@@ -269,7 +263,19 @@ impl SceneView {
         } else {
             Joins::default()
         };
-        let joins = measured.curves.iter().map(|j| join_mark(j, &frame, &label)).collect();
+        let joins: Vec<JoinMark> = measured.curves.iter().map(|j| join_mark(j, &frame, &label)).collect();
+        let marks3d = measured
+            .curves
+            .iter()
+            .zip(&joins)
+            .map(|(j, m)| Mark3d {
+                points: vec![j.point],
+                class: m.class,
+                label: m.label.clone(),
+                detail: m.detail.clone(),
+            })
+            .chain(measured.surfaces.iter().filter_map(|j| edge_mark(j, objects, &label)))
+            .collect();
         let mut bbox: Option<(DVec2, DVec2)> = None;
         for p in curves.iter().flat_map(|c| c.pts.iter()) {
             let b = bbox.get_or_insert((*p, *p));
@@ -280,6 +286,7 @@ impl SceneView {
             frame,
             curves,
             joins,
+            marks3d,
             measured,
             bbox,
         }
@@ -301,28 +308,51 @@ impl SceneView {
     }
 }
 
-/// Points along `c` on the frame's plane: 32 per knot span (at most 2000).
-fn sample_curve(c: &BSplineCurve, frame: &Frame) -> Vec<DVec2> {
+/// Points along `c`: 32 per knot span (at most 2000).
+fn sample_curve(c: &BSplineCurve) -> Vec<DVec3> {
     let bps = c.knots().breakpoints();
     let per = (2000 / bps.len().max(2)).clamp(4, 32);
     let mut pts = Vec::with_capacity(bps.len() * per);
     for w in bps.windows(2) {
         for i in 0..per {
             let u = w[0] + (w[1] - w[0]) * i as f64 / per as f64;
-            pts.push(frame.project(c.point(u)));
+            pts.push(c.point(u));
         }
     }
     if let Some(&b) = bps.last() {
-        pts.push(frame.project(c.point(b)));
+        pts.push(c.point(b));
     }
     pts
 }
 
-fn end_name(e: End) -> &'static str {
-    match e {
-        End::Start => "start",
-        End::End => "end",
-    }
+/// Points along an edge shared by two patches, drawn in the 3D views.
+const EDGE_SAMPLES: usize = 48;
+
+/// The 3D mark of a shared patch edge: points along it (on its first patch), its label and measures.
+fn edge_mark(j: &SurfaceJoin, objects: &[Geometry], label: &impl Fn(usize) -> String) -> Option<Mark3d> {
+    let edge = j.a.1.curve(objects.get(j.a.0)?.as_surface()?);
+    let (t0, t1) = edge.domain();
+    let c = &j.continuity;
+    let g = c.class.name();
+    Some(Mark3d {
+        points: (0..=EDGE_SAMPLES)
+            .map(|k| edge.point(t0 + (t1 - t0) * k as f64 / EDGE_SAMPLES as f64))
+            .collect(),
+        class: c.class,
+        label: format!(
+            "{g} edge: {} {} – {} {}",
+            label(j.a.0),
+            j.a.1.name(),
+            label(j.b.0),
+            j.b.1.name()
+        ),
+        detail: format!(
+            "{g}: gap {:.2e}, normal angle {:.4}°, normal-curvature jump {:.2e}",
+            c.gap,
+            c.normal_angle.to_degrees(),
+            c.curvature_jump
+        ),
+    })
 }
 
 /// The marker of a join: its label and measures.
@@ -336,9 +366,9 @@ fn join_mark(j: &CurveJoin, frame: &Frame, label: &impl Fn(usize) -> String) -> 
         label: format!(
             "{g} join: {} {} – {} {}",
             label(j.a.object),
-            end_name(j.a.end),
+            j.a.end.name(),
             label(j.b.object),
-            end_name(j.b.end)
+            j.b.end.name()
         ),
         detail: format!(
             "{g}: gap {:.2e}, tangent angle {:.4}°, curvature ratio {:.4} (jump {:.2e})",
@@ -390,7 +420,7 @@ mod tests {
         let e = extent(&best);
         assert!((e.x - 2f64.sqrt()).abs() < 1e-9 && e.y > 0.29, "{e:?}");
         // the turned curve keeps its curvature (radius 1)
-        let f = ViewPlane::Yz.frame(&objects);
+        let f = plane_frame(ViewPlane::Yz, &objects);
         let turned = f.curve_in(&yz_arc());
         assert!((turned.curvature(0.37) - 1.0).abs() < 1e-9);
         assert!(turned.points().iter().all(|p| (p.z - 0.3).abs() < 1e-12));

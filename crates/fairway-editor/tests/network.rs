@@ -1,7 +1,7 @@
 //! Documents with many objects (issue 30): a multi-curve IGES file opens as one document, a click on
 //! a curve selects it, fairing it keeps its joins, undo steps back through the fair and the selection;
 //! the join markers say their continuity; "Fair all (keep joins)" is one undo step; the view plane
-//! choice changes what the canvas draws.
+//! choice changes what the canvas draws, is saved with the document and is an undo step.
 
 mod common;
 
@@ -67,7 +67,7 @@ pub fn network_scene() -> Scene {
                 settings: DocumentSettings::default(),
             })
             .collect(),
-        unit: None,
+        ..Default::default()
     }
 }
 
@@ -269,5 +269,245 @@ fn a_document_of_many_objects_is_autosaved_and_restored_whole() {
     back.apply(fairway_editor::Command::RestoreAutosave);
     assert_eq!(back.objects_now(), app.objects_now());
     assert!(back.is_dirty(), "against the file on disk");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_view_plane_is_saved_with_the_document_reopens_and_undoes() {
+    use fairway_editor::Command;
+    let dir = temp_dir("plane");
+    let path = write_network(&dir);
+    let mut h = harness(App::default());
+    h.state_mut().open_now(&path);
+    h.run();
+    assert_eq!(h.state().view_plane, ViewPlane::Xy, "an IGES file saves no plane: XY");
+    assert!(!h.state().is_dirty());
+    // chosen in the View menu: an undo step, and the document changed
+    h.get_by_label("View").click();
+    h.run();
+    h.get_by_label("YZ plane").click();
+    h.run();
+    let app = h.state_mut();
+    assert_eq!(
+        (app.view_plane, app.curve_ws.scene.plane),
+        (ViewPlane::Yz, ViewPlane::Yz)
+    );
+    assert!(app.is_dirty() && app.history.can_undo());
+    app.apply(Command::Undo);
+    assert_eq!(
+        (app.view_plane, app.curve_ws.scene.plane),
+        (ViewPlane::Xy, ViewPlane::Xy)
+    );
+    assert!(!app.is_dirty(), "back as opened");
+    app.apply(Command::Redo);
+    assert_eq!(app.view_plane, ViewPlane::Yz);
+    // saved with the document, and restored when it is opened again
+    let ron = dir.join("network.ron");
+    app.apply(Command::SaveTo(ron.clone()));
+    assert!(app.error.is_none(), "{:?}", app.error);
+    assert!(!app.is_dirty());
+    let text = std::fs::read_to_string(&ron).unwrap();
+    assert!(text.contains("view_plane: YZ"), "{text}");
+    let objects = app.objects_now();
+    let mut back = App::default();
+    back.open_now(&ron);
+    assert!(back.error.is_none(), "{:?}", back.error);
+    assert_eq!(
+        (back.view_plane, back.curve_ws.scene.plane),
+        (ViewPlane::Yz, ViewPlane::Yz)
+    );
+    assert_eq!(back.objects_now(), objects);
+    assert!(!back.is_dirty() && !back.history.can_undo());
+    // one curve: a plain (version 1) document on XY, a version 2 one to keep another plane
+    let mut one = App::default();
+    let file = dir.join("one.ron");
+    one.apply(Command::SetViewPlane(ViewPlane::Zx));
+    one.apply(Command::SaveTo(file.clone()));
+    let text = std::fs::read_to_string(&file).unwrap();
+    assert!(text.contains("version: 2") && text.contains("view_plane: ZX"), "{text}");
+    let mut again = App::default();
+    again.open_now(&file);
+    assert_eq!(again.view_plane, ViewPlane::Zx);
+    assert_eq!(again.objects_now(), one.objects_now());
+    again.apply(Command::SetViewPlane(ViewPlane::Xy));
+    again.apply(Command::SaveTo(file.clone()));
+    let text = std::fs::read_to_string(&file).unwrap();
+    assert!(text.contains("version: 1") && !text.contains("view_plane"), "{text}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The bundled bumpy surface split across u into two patches sharing a G2 edge, named.
+fn two_patches() -> Scene {
+    let path = common::asset("bumpy_surface.json");
+    let s = fairway::io::load_geometry(&path).unwrap().as_surface().unwrap().clone();
+    let u = s.knots_u().values()[10];
+    let (mut left, mut right) = (vec![], vec![]);
+    for j in 0..s.nv() {
+        let pts = (0..s.nu()).map(|i| s.point_at(i, j)).collect();
+        let row = BSplineCurve::try_new(3, s.knots_u().values().to_vec(), pts, None, 3).unwrap();
+        let (l, r) = fairway::fair::closed::split(&row, u).unwrap();
+        left.push(l);
+        right.push(r);
+    }
+    let net = |rows: &[BSplineCurve]| -> Geometry {
+        let (nu, nv) = (rows[0].n_points(), rows.len());
+        let pts = (0..nu)
+            .flat_map(|i| (0..nv).map(move |j| rows[j].points()[i]))
+            .collect();
+        let k = (rows[0].knots().values().to_vec(), s.knots_v().values().to_vec());
+        fairway::BSplineSurface::try_new(3, 3, k.0, k.1, nu, nv, pts, None)
+            .unwrap()
+            .into()
+    };
+    Scene {
+        objects: [("PORT", net(&left)), ("STARBOARD", net(&right))]
+            .into_iter()
+            .map(|(n, geometry)| SceneObject {
+                name: n.into(),
+                geometry,
+                settings: DocumentSettings::default(),
+            })
+            .collect(),
+        ..Default::default()
+    }
+}
+
+/// The labels of the markers (images) shown.
+fn marker_labels(h: &egui_kittest::Harness<'static, App>) -> Vec<String> {
+    h.query_all_by_role(egui::accesskit::Role::Image)
+        .filter_map(|n| n.accesskit_node().label())
+        .collect()
+}
+
+#[test]
+fn the_3d_views_mark_curve_joins_and_shared_patch_edges() {
+    let dir = temp_dir("marks3d");
+    // curves: every join of the network in the 3D curve view, where the join projects
+    let mut h = harness(App::default());
+    h.state_mut().open_now(&write_network(&dir));
+    h.run();
+    h.get_by_label("3D view").click();
+    h.run();
+    let view = h.get_by_label("3D curve view").rect();
+    let marks = marker_labels(&h);
+    for m in [
+        "G2 join: SECTA end – SECTB start",
+        "G2 join: SECTB end – SECTC start",
+        "G1 join: LEADIN end – SECTA start",
+        "G0 join: SECTC end – DROP start",
+    ] {
+        assert!(marks.iter().any(|l| l == m), "{m:?} not in {marks:?}");
+    }
+    let app = h.state();
+    let joint = app.curve_ws.scene.measured.curves[0].point;
+    let at = app.curve_ws.curve3d.view.to_screen(joint, view).unwrap();
+    let label = app.curve_ws.scene.marks3d[0].label.clone();
+    let marker = h.get_by_role_and_label(egui::accesskit::Role::Image, &label).rect();
+    assert!(
+        marker.center().distance(at) < 0.5,
+        "{label}: {:?} vs {at:?}",
+        marker.center()
+    );
+    // the measures on hover
+    h.get_by_role_and_label(egui::accesskit::Role::Image, "G1 join: LEADIN end – SECTA start")
+        .hover();
+    h.run();
+    h.get_by_label_contains("G1: gap");
+    // one curve: nothing to mark
+    let mut one = harness(App::default());
+    one.get_by_label("3D view").click();
+    one.run();
+    assert!(one.query_by_label("3D curve view").is_some());
+    assert_eq!(marker_labels(&one), Vec::<String>::new());
+
+    // patches: the shared edge marked in the surface's 3D view
+    let ron = dir.join("patches.ron");
+    fairway::io::save_scene(&ron, &two_patches()).unwrap();
+    // FAIRWAY_WRITE_PATCHES=path: also write the patches there (for the screenshot in the README)
+    if let Some(out) = std::env::var_os("FAIRWAY_WRITE_PATCHES") {
+        fairway::io::save_scene(std::path::Path::new(&out), &two_patches()).unwrap();
+    }
+    let mut h = harness(App::default());
+    h.state_mut().open_now(&ron);
+    h.run();
+    assert!(h.state().error.is_none(), "{:?}", h.state().error);
+    assert!(h.state().surface.is_some(), "a surface is active");
+    let marks = marker_labels(&h);
+    assert_eq!(marks, vec!["G2 edge: PORT u1 – STARBOARD u0".to_string()]);
+    h.get_by_role_and_label(egui::accesskit::Role::Image, &marks[0]).hover();
+    h.run();
+    h.get_by_label_contains("normal angle");
+    // one patch alone: no edge
+    let one = Scene {
+        objects: two_patches().objects[..1].to_vec(),
+        ..Default::default()
+    };
+    let path = dir.join("one_patch.ron");
+    fairway::io::save_scene(&path, &one).unwrap();
+    let mut h = harness(App::default());
+    h.state_mut().open_now(&path);
+    h.run();
+    assert!(h.state().surface.is_some());
+    assert_eq!(marker_labels(&h), Vec::<String>::new());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Position, unit tangent and curvature of `c` at its start or end.
+fn end_state(c: &BSplineCurve, at_end: bool) -> (DVec3, DVec3, f64) {
+    let (a, b) = c.domain();
+    let u = if at_end { b } else { a };
+    (c.point(u), c.d1(u).normalize(), c.curvature(u))
+}
+
+#[test]
+fn fairing_a_curve_joined_at_one_end_keeps_that_join_and_frees_the_other_end() {
+    // the noisy demo curve split in two: FORE's end meets AFT's start with G2, AFT's end is free
+    let c = fairway_editor::demo_curve_n(40);
+    let (fore, aft) = split(&c, c.knots().values()[20]);
+    let scene = Scene {
+        objects: [("FORE", fore), ("AFT", aft.clone())]
+            .into_iter()
+            .map(|(n, c)| SceneObject {
+                name: n.into(),
+                geometry: c.into(),
+                settings: DocumentSettings::default(),
+            })
+            .collect(),
+        ..Default::default()
+    };
+    let dir = temp_dir("one-join");
+    let path = dir.join("two.ron");
+    fairway::io::save_scene(&path, &scene).unwrap();
+    let mut h = harness(App::default());
+    h.state_mut().open_now(&path);
+    h.run();
+    h.state_mut().apply(fairway_editor::Command::Select(1));
+    h.run();
+    h.get_by_label("Whole curve").click();
+    h.run();
+    h.get_by_label_contains("Start: a curve end at a join, kept G2");
+    assert!(h.query_by_label_contains("End: a curve end at a join").is_none());
+    h.get_by_label("Accept").click();
+    h.run();
+    let app = h.state();
+    let after = app.doc.geometry.as_curve().unwrap().clone();
+    assert_ne!(after, aft, "{}", app.status);
+    let size = fairway::network::scene_diagonal(&scene.geometries());
+    // the joined start: position, tangent and curvature as they were (the join stays G2)
+    let ((p0, t0, k0), (p1, t1, k1)) = (end_state(&aft, false), end_state(&after, false));
+    let dk = (k1 - k0).abs() / k0.abs();
+    eprintln!(
+        "joined end: Δposition {:.1e} × size, Δtangent {:.1e} rad, Δκ {dk:.1e} relative",
+        p0.distance(p1) / size,
+        t0.angle_between(t1)
+    );
+    assert!(p0.distance(p1) <= 1e-12 * size && t0.angle_between(t1) <= 1e-9 && dk <= 1e-9);
+    assert_eq!(joins_of(app, 1), vec![Continuity::G2]);
+    // the free end: position and tangent kept (the default), its curvature free, and it moved
+    let ((p0, t0, k0), (p1, t1, k1)) = (end_state(&aft, true), end_state(&after, true));
+    let dk = (k1 - k0).abs() / k0.abs();
+    eprintln!("free end: Δκ {dk:.1e} relative (κ {k0:.4} → {k1:.4})");
+    assert!(p0.distance(p1) <= 1e-12 * size && t0.angle_between(t1) <= 1e-9);
+    assert!(dk > 1e-3, "the free end's curvature changed: {dk:.1e}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -47,7 +47,7 @@ fn benches(c: &mut Criterion) {
     // the previous default (line-search polish of the paper's E, G2 curve ends) and the reference smoother
     let ls = FairingOptions {
         polish_method: PolishMethod::LineSearch,
-        curve_ends: Some(fairway::fair::EndCondition::G2),
+        curve_ends: [Some(fairway::fair::EndCondition::G2); 2],
         ..o
     };
     c.bench_function("curve100_s1000/full, line-search polish (the previous default)", |b| {

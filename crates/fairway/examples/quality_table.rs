@@ -112,7 +112,7 @@ fn main() {
                 opts.target_weight = v.parse().expect("beta");
             }
             if let Ok(v) = std::env::var("QT_CURVE_ENDS") {
-                opts.curve_ends = Some(v.parse().expect("curve ends"));
+                opts.curve_ends = [Some(v.parse().expect("curve ends")); 2];
             }
             if let Ok(v) = std::env::var("QT_ITERS") {
                 opts.polish_iterations = v.parse().expect("iterations");

@@ -62,6 +62,16 @@ pub enum End {
     End,
 }
 
+impl End {
+    /// "start" or "end".
+    pub fn name(self) -> &'static str {
+        match self {
+            End::Start => "start",
+            End::End => "end",
+        }
+    }
+}
+
 /// One end of one curve of the scene.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub struct CurveEnd {
@@ -115,6 +125,16 @@ pub enum Side {
 impl Side {
     /// All four sides.
     pub const ALL: [Side; 4] = [Side::U0, Side::U1, Side::V0, Side::V1];
+
+    /// "u0", "u1", "v0" or "v1".
+    pub fn name(self) -> &'static str {
+        match self {
+            Side::U0 => "u0",
+            Side::U1 => "u1",
+            Side::V0 => "v0",
+            Side::V1 => "v1",
+        }
+    }
 
     /// The side's boundary curve (along v for U0/U1, along u for V0/V1).
     pub fn curve(self, s: &BSplineSurface) -> BSplineCurve {

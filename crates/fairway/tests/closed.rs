@@ -33,7 +33,7 @@ fn wavy(p: usize, n: usize) -> BSplineCurve {
 fn ls_opts(m: f64) -> fairway::fair::FairingOptions {
     fairway::fair::FairingOptions {
         polish_method: fairway::fair::PolishMethod::LineSearch,
-        curve_ends: Some(fairway::fair::EndCondition::G2),
+        curve_ends: [Some(fairway::fair::EndCondition::G2); 2],
         ..opts(m)
     }
 }

@@ -50,7 +50,7 @@ fn unit_circle_error(c: &BSplineCurve, u1: f64, u2: f64) -> f64 {
 fn ls_opts(m: f64) -> fairway::fair::FairingOptions {
     fairway::fair::FairingOptions {
         polish_method: fairway::fair::PolishMethod::LineSearch,
-        curve_ends: Some(fairway::fair::EndCondition::G2),
+        curve_ends: [Some(fairway::fair::EndCondition::G2); 2],
         ..opts(m)
     }
 }

@@ -38,7 +38,7 @@ fn opts(tolerance: f64, region: Option<(f64, f64)>) -> FairingOptions {
     FairingOptions {
         tolerance,
         region,
-        curve_ends: Some(fairway::fair::EndCondition::G2),
+        curve_ends: [Some(fairway::fair::EndCondition::G2); 2],
         ..Default::default()
     }
 }

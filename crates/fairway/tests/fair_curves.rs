@@ -31,7 +31,7 @@ fn extra_knots(a: &BSplineCurve, b: &BSplineCurve) -> Vec<f64> {
 fn line_search_opts(tol: f64, ends: EndCondition) -> FairingOptions {
     FairingOptions {
         polish_method: fairway::fair::PolishMethod::LineSearch,
-        curve_ends: Some(ends),
+        curve_ends: [Some(ends); 2],
         ..opts(tol)
     }
 }

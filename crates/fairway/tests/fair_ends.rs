@@ -301,7 +301,7 @@ fn a_short_span_between_multiple_knots_without_samples_is_held() {
     let opts = FairingOptions {
         tolerance: 0.01,
         polish_method: fairway::fair::PolishMethod::LineSearch,
-        curve_ends: Some(fairway::fair::EndCondition::G2),
+        curve_ends: [Some(fairway::fair::EndCondition::G2); 2],
         ..Default::default()
     };
     let mut s = FairingSetup::new(&c, opts).unwrap();

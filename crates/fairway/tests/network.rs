@@ -560,3 +560,90 @@ fn a_strip_of_three_patches_turned_every_way_is_faired_as_one() {
         assert!(ms.hausdorff <= m && ms.n_curv_extrema < m0.n_curv_extrema);
     }
 }
+
+#[test]
+fn curves_faired_as_one_share_the_smallest_tolerance_and_others_keep_their_own() {
+    let (_, pieces) = chain();
+    let objects: Vec<Geometry> = pieces.iter().cloned().map(Into::into).collect();
+    let o = NetworkOptions {
+        curve: opts(1.0),
+        ..Default::default()
+    };
+    // concatenated: all three within the smallest band
+    let tols = [Some(4e-3), Some(1e-3), Some(4e-3)];
+    let r = fairway::fair::network::fair_network_at(&objects, &[], &o, &tols).unwrap();
+    for (k, (orig, f)) in pieces.iter().zip(curves(&r.objects)).enumerate() {
+        let d = measure(orig, f).dev_max;
+        assert!(d <= 1e-3 && r.outcome[k].max_deviation <= 1e-3, "{k}: {d}");
+        assert!(
+            r.outcome[k].notes.iter().any(|n| n.contains("the smallest tolerance")),
+            "{:?}",
+            r.outcome[k].notes
+        );
+    }
+    // one by one (joins held): each its own band, the wide one used
+    let held =
+        fairway::fair::network::fair_network_at(&objects, &[], &NetworkOptions { hold_all: true, ..o }, &tols).unwrap();
+    let devs: Vec<f64> = pieces
+        .iter()
+        .zip(curves(&held.objects))
+        .map(|(a, b)| measure(a, b).dev_max)
+        .collect();
+    eprintln!("held, tolerances {tols:?}: deviations {devs:?}");
+    assert!(devs[1] <= 1e-3 && devs[0] <= 4e-3 && devs[2] <= 4e-3, "{devs:?}");
+    assert!(devs[0].max(devs[2]) > 1e-3, "the wider bands used: {devs:?}");
+}
+
+/// Position, unit tangent and curvature of `c` at its start or end.
+fn end_state(c: &BSplineCurve, at_end: bool) -> (DVec3, DVec3, f64) {
+    let (a, b) = c.domain();
+    let u = if at_end { b } else { a };
+    (c.point(u), c.d1(u).normalize(), c.curvature(u))
+}
+
+#[test]
+fn a_curve_joined_at_one_end_keeps_that_end_and_leaves_its_free_end_free() {
+    // two curves meeting with G2; only the second is faired: its start joins the first, its end is free
+    let (_, pieces) = chain();
+    let objects: Vec<Geometry> = pieces[..2].iter().cloned().map(Into::into).collect();
+    let o = NetworkOptions {
+        curve: opts(4e-3),
+        ..Default::default()
+    };
+    let r = fair_network(&objects, &[1], &o).unwrap();
+    assert!(r.outcome[1].faired, "{:?}", r.outcome[1]);
+    assert!(
+        r.notes.iter().any(|n| n.contains("held (G2 kept at each end)")),
+        "{:?}",
+        r.notes
+    );
+    let (before, after) = (&pieces[1], r.objects[1].as_curve().unwrap());
+    let size = scene_diagonal(&objects);
+    // the joined end (the start): position, tangent and curvature as they were
+    let ((p0, t0, k0), (p1, t1, k1)) = (end_state(before, false), end_state(after, false));
+    let dk = (k1 - k0).abs() / k0.abs();
+    eprintln!(
+        "joined end: Δposition {:.1e} × size, Δtangent {:.1e} rad, Δκ {dk:.1e} relative (κ {k0:.4})",
+        p0.distance(p1) / size,
+        t0.angle_between(t1)
+    );
+    assert!(p0.distance(p1) <= 1e-12 * size && t0.angle_between(t1) <= 1e-9 && dk <= 1e-9);
+    // the span next to the join is faired too (only the three points a G2 end needs are held)
+    let moved = before.points()[3].distance(after.points()[3]);
+    assert!(moved > 1e-6, "the first free point moved {moved:.1e}");
+    // the free end (the end): position and tangent kept (the default), its curvature free and changed
+    let ((p0, t0, k0), (p1, t1, k1)) = (end_state(before, true), end_state(after, true));
+    let dk = (k1 - k0).abs() / k0.abs();
+    eprintln!(
+        "free end: Δposition {:.1e} × size, Δtangent {:.1e} rad, Δκ {dk:.1e} relative (κ {k0:.4} → {k1:.4})",
+        p0.distance(p1) / size,
+        t0.angle_between(t1)
+    );
+    assert!(p0.distance(p1) <= 1e-12 * size && t0.angle_between(t1) <= 1e-9);
+    assert!(
+        dk > 1e-3,
+        "the free end's curvature is free to change and does: {dk:.1e}"
+    );
+    let j = &r.joins_after.curves[0].continuity;
+    assert_eq!(j.class, Continuity::G2, "{j:?}");
+}

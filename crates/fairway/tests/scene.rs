@@ -57,6 +57,7 @@ fn scene() -> Scene {
             obj("KEEL", curve2d(5.0).into()),
         ],
         unit: Some(Unit::Millimeter),
+        ..Default::default()
     }
 }
 
@@ -139,4 +140,44 @@ fn old_version_1_documents_still_open_as_documents_and_scenes() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("version 3"), "{e}");
+}
+
+#[test]
+fn the_view_plane_is_saved_in_version_2_and_optional() {
+    use fairway::io::ViewPlane;
+    // every choice round-trips through the text and a file
+    for p in ViewPlane::ALL {
+        let s = Scene {
+            view_plane: p,
+            ..scene()
+        };
+        let text = s.to_ron().unwrap();
+        assert_eq!(
+            text.contains("view_plane"),
+            p != ViewPlane::Xy,
+            "{p:?}: XY is the default, not written"
+        );
+        assert_eq!(Scene::from_ron(&text).unwrap(), s, "{p:?}");
+        let path = tmp("plane.ron");
+        save_scene(&path, &s).unwrap();
+        assert_eq!(load_scene(&path).unwrap().0.view_plane, p);
+    }
+    let yz = Scene {
+        view_plane: ViewPlane::Yz,
+        ..scene()
+    }
+    .to_ron()
+    .unwrap();
+    assert!(yz.contains("view_plane: YZ"), "{yz}");
+    // a file written before the field existed opens on XY
+    let old = yz.replacen("view_plane: YZ,", "", 1);
+    assert!(!old.contains("view_plane"), "{old}");
+    let back = Scene::from_ron(&old).unwrap();
+    assert_eq!(back.view_plane, ViewPlane::Xy);
+    assert_eq!(back.objects, scene().objects);
+    // an unknown plane is refused with the field's name
+    let e = Scene::from_ron(&yz.replacen("view_plane: YZ", "view_plane: XW", 1))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("XW"), "{e}");
 }

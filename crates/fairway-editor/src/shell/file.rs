@@ -7,7 +7,6 @@ use std::path::{Path, PathBuf};
 use eframe::egui;
 use fairway::io::Document;
 
-use super::objects::unnamed;
 use crate::{App, Command, Pending, interchange};
 
 /// Whether a native file dialog can run: rfd's portal backend needs a session bus.
@@ -43,21 +42,20 @@ impl App {
     /// workspace); `saved` is its state on disk (`None`: never saved, so it shows as unsaved). False
     /// (with the error shown) if the surface could not be shown.
     pub fn set_document(&mut self, doc: Document, path: Option<PathBuf>, saved: Option<Document>) -> bool {
-        self.set_scene(vec![unnamed(doc)], path, saved.map(|d| vec![unnamed(d)]))
+        self.set_scene(doc.into(), path, saved.map(Into::into))
     }
 
-    /// Open a RON document of version 2 with several objects (or one named object) as one document;
-    /// false if `path` is not one (the caller then opens it as one object).
+    /// Open a RON document of version 2 with several objects (or one named object, or a view plane) as
+    /// one document; false if `path` is not one (the caller then opens it as one object).
     fn open_ron_scene(&mut self, path: &Path) -> bool {
         let Ok((scene, _)) = fairway::io::load_scene(path) else {
             return false;
         };
-        if scene.objects.len() < 2 && scene.objects.iter().all(|o| o.name.is_empty()) {
+        if is_plain_document(&scene) {
             return false;
         }
         let n = scene.objects.len();
-        if self.set_scene(scene.objects.clone(), Some(path.to_path_buf()), Some(scene.objects)) {
-            self.unit = scene.unit;
+        if self.set_scene(scene.clone(), Some(path.to_path_buf()), Some(scene)) {
             self.status = format!("Opened {} ({n} objects)", path.display());
             self.push_recent(path.to_path_buf());
         }
@@ -71,18 +69,18 @@ impl App {
         self.prefs.recent.truncate(10);
     }
 
-    /// Save to `path`: a document of one unnamed object as before (`io::save_in`), else every object
-    /// in order with its name (`io::save_scene`), in the file's unit.
+    /// Save to `path`: a document of one unnamed object on the XY plane as before (`io::save_in`), else
+    /// every object in order with its name and the view plane (`io::save_scene`), in the file's unit.
     pub(crate) fn save_now(&mut self, path: &Path) {
-        let single = self.objects.len() < 2 && self.objects.iter().all(|o| o.name.is_empty());
-        let res = if single {
+        let scene = self.scene();
+        let res = if is_plain_document(&scene) {
             fairway::io::save_in(path, &self.doc, self.unit)
         } else {
-            fairway::io::save_scene(path, &self.scene())
+            fairway::io::save_scene(path, &scene)
         };
         match res {
             Ok(()) => {
-                self.saved = Some(self.objects_now());
+                self.saved = Some(scene);
                 self.path = Some(std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf()));
                 self.path_input = path.display().to_string();
                 self.status = format!("Saved {}", path.display());
@@ -201,4 +199,12 @@ impl App {
         };
         format!("{}{name} — Fairway{suffix}", if self.is_dirty() { "* " } else { "" })
     }
+}
+
+/// Whether `scene` is what a version 1 document holds: one unnamed object, drawn on the XY plane (the
+/// view plane and names need version 2).
+pub(crate) fn is_plain_document(scene: &fairway::io::Scene) -> bool {
+    scene.objects.len() < 2
+        && scene.objects.iter().all(|o| o.name.is_empty())
+        && scene.view_plane == fairway::io::ViewPlane::Xy
 }

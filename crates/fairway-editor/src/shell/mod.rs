@@ -22,6 +22,7 @@ use crate::workspace::{ShellCx, Workspace};
 use crate::{Bench, Command, Pending, Prefs, interchange, view3d};
 
 pub use file::dialog_available;
+pub(crate) use file::is_plain_document;
 pub use objects::continuity_color;
 
 /// The editor.
@@ -35,13 +36,13 @@ pub struct App {
     pub objects: Vec<SceneObject>,
     /// The index of the active object in `objects`.
     pub active: usize,
-    /// The plane 3D curves are drawn on in the 2D canvas (per document: each open starts on XY).
+    /// The plane 3D curves are drawn on in the 2D canvas (saved with the document; XY if it saves none).
     pub view_plane: ViewPlane,
     /// Where the document lives on disk.
     pub path: Option<PathBuf>,
-    /// The document's objects as last saved or opened (for the unsaved marker); `None`: never saved
-    /// (a restored autosave).
-    saved: Option<Vec<SceneObject>>,
+    /// The document (its objects and view plane) as last saved or opened (for the unsaved marker);
+    /// `None`: never saved (a restored autosave).
+    saved: Option<fairway::io::Scene>,
     /// Undo history (of both workspaces).
     pub history: History,
     /// Persisted settings.
@@ -106,7 +107,7 @@ impl App {
         let error = settings_notes(doc.sanitize_settings());
         let mut app = Self {
             curve_ws: CurveWorkspace::new(doc_curve(&doc).expect("a curve document")),
-            saved: Some(vec![objects::unnamed(saved)]),
+            saved: Some(saved.into()),
             objects: vec![objects::unnamed(doc.clone())],
             active: 0,
             view_plane: ViewPlane::Xy,
@@ -205,8 +206,9 @@ impl App {
     /// Whether the document differs from the saved file.
     pub fn is_dirty(&self) -> bool {
         let Some(saved) = &self.saved else { return true };
-        saved.len() != self.objects.len()
-            || saved.iter().zip(&self.objects).enumerate().any(|(k, (s, o))| {
+        saved.view_plane != self.view_plane
+            || saved.objects.len() != self.objects.len()
+            || saved.objects.iter().zip(&self.objects).enumerate().any(|(k, (s, o))| {
                 if k == self.active {
                     s.geometry != self.doc.geometry || s.settings != self.doc.settings
                 } else {

@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use eframe::egui;
 use egui::{Color32, RichText};
 use fairway::Geometry;
-use fairway::fair::network::{NetworkOptions, fair_network};
+use fairway::fair::network::{NetworkOptions, fair_network_at};
 use fairway::io::{Document, Scene, SceneObject};
 use fairway::network::Continuity;
 
@@ -53,18 +53,15 @@ impl App {
         Scene {
             objects: self.objects_now(),
             unit: self.unit,
+            view_plane: self.view_plane,
         }
     }
 
-    /// Replace the open document by `objects` (the first curve active, else the first object); `saved`
-    /// is their state on disk (`None`: never saved). False (with the error shown) if the active object
-    /// could not be shown. The history is cleared and the view plane is XY again.
-    pub fn set_scene(
-        &mut self,
-        mut objects: Vec<SceneObject>,
-        path: Option<PathBuf>,
-        saved: Option<Vec<SceneObject>>,
-    ) -> bool {
+    /// Replace the open document by the objects of `scene` (the first curve active, else the first
+    /// object), with its unit and view plane; `saved` is its state on disk (`None`: never saved). False
+    /// (with the error shown) if the active object could not be shown. The history is cleared.
+    pub fn set_scene(&mut self, scene: Scene, path: Option<PathBuf>, saved: Option<Scene>) -> bool {
+        let mut objects = scene.objects;
         if objects.is_empty() {
             self.error = Some("The document holds no curve or surface".into());
             return false;
@@ -99,7 +96,7 @@ impl App {
             self.active,
             self.view_plane,
         );
-        (self.active, self.view_plane) = (active, ViewPlane::Xy);
+        (self.active, self.view_plane) = (active, scene.view_plane);
         self.curve_ws.scene = self.scene_view_of(&self.objects.clone(), &doc);
         if let Err(e) = self.open_workspace(&doc, true) {
             (self.objects, self.active, self.view_plane) = old;
@@ -112,8 +109,7 @@ impl App {
         self.path_input = path.as_ref().map(|p| p.display().to_string()).unwrap_or_default();
         self.path = path;
         self.history.clear();
-        // a new document is unitless until its opener says otherwise (open_interchange)
-        self.unit = None;
+        self.unit = scene.unit;
         self.error = settings_notes(notes);
         true
     }
@@ -153,7 +149,9 @@ impl App {
                 }
             }
             None => {
-                let s = SurfaceWorkspace::new(doc, self.curve_ws.curve3d.surface_shading).map_err(|e| e.to_string())?;
+                let mut s =
+                    SurfaceWorkspace::new(doc, self.curve_ws.curve3d.surface_shading).map_err(|e| e.to_string())?;
+                s.marks = self.curve_ws.scene.marks3d.clone();
                 self.surface = Some(Box::new(s));
             }
         }
@@ -196,6 +194,7 @@ impl App {
         let switched = s.active != self.active || doc_curve(&s.doc).is_some() != self.surface.is_none();
         let geometry_changed = s.doc.geometry != self.doc.geometry;
         (self.doc, self.prefs.fair, self.objects, self.active) = (s.doc, s.fair, s.objects, s.active);
+        self.view_plane = s.view_plane;
         if switched {
             let doc = self.doc.clone();
             if let Err(e) = self.open_workspace(&doc, false) {
@@ -213,6 +212,9 @@ impl App {
     pub(crate) fn refresh_scene_view(&mut self) {
         let view = self.scene_view_of(&self.objects, &self.doc);
         let new_frame = view.frame != self.curve_ws.scene.frame;
+        if let Some(s) = self.surface.as_mut() {
+            s.marks = view.marks3d.clone();
+        }
         self.curve_ws.scene = view;
         self.curve_ws.active_object = self.active;
         if new_frame && self.surface.is_none() {
@@ -223,13 +225,15 @@ impl App {
         }
     }
 
-    /// Draw 3D curves on plane `p` of the canvas.
-    pub(crate) fn set_view_plane(&mut self, p: ViewPlane) {
-        if self.view_plane != p {
-            self.view_plane = p;
-            self.refresh_scene_view();
-            self.status = format!("Curves drawn on the {}", p.name());
+    /// Draw 3D curves on plane `p` of the canvas (saved with the document); true if it changed.
+    pub(crate) fn set_view_plane(&mut self, p: ViewPlane) -> bool {
+        if self.view_plane == p {
+            return false;
         }
+        self.view_plane = p;
+        self.refresh_scene_view();
+        self.status = format!("Curves drawn on the {} (Ctrl+Z to undo)", p.name());
+        true
     }
 
     /// The tolerance in effect for object `k`: its own, else the active one's default for the active
@@ -247,10 +251,10 @@ impl App {
         })
     }
 
-    /// Fair every curve of the document together keeping their joins (the core's network fair, at the
-    /// smallest tolerance in effect among the curves, so each stays within its own band); true if a
-    /// curve changed. Faired curves lose their region and hand-edited target (they belong to the old
-    /// curve); surfaces are left as they are.
+    /// Fair every curve of the document together keeping their joins (the core's network fair, each at
+    /// its own tolerance in effect, curves faired as one at the smallest of theirs); true if a curve
+    /// changed. Faired curves lose their region and hand-edited target (they belong to the old curve);
+    /// surfaces are left as they are.
     pub(crate) fn fair_all(&mut self) -> bool {
         let mut objects = self.objects_now();
         let curves: Vec<usize> = (0..objects.len())
@@ -260,16 +264,20 @@ impl App {
             self.status = "Fair all: the document has no curve".into();
             return false;
         }
-        let tol = curves
+        let tols: Vec<Option<f64>> = objects
             .iter()
-            .map(|&k| self.object_tolerance(k, &objects[k]))
-            .fold(f64::INFINITY, f64::min);
+            .enumerate()
+            .map(|(k, o)| curves.contains(&k).then(|| self.object_tolerance(k, o)))
+            .collect();
+        let tol = tols.iter().flatten().fold(f64::INFINITY, |a, &b| a.min(b));
         let opts = NetworkOptions {
             curve: crate::fairing::curve_options(tol, &self.prefs.fair),
             ..Default::default()
         };
         let geometries: Vec<Geometry> = objects.iter().map(|o| o.geometry.clone()).collect();
-        let res = crate::guard::catch_panic("network fairing", || fair_network(&geometries, &curves, &opts));
+        let res = crate::guard::catch_panic("network fairing", || {
+            fair_network_at(&geometries, &curves, &opts, &tols)
+        });
         let r = match res {
             Ok(r) => r,
             Err(e) => {
@@ -391,8 +399,8 @@ fn fair_all_summary(r: &fairway::fair::network::NetworkFair, changed: usize, cur
         .count();
     let dev = r.outcome.iter().map(|o| o.max_deviation).fold(0.0, f64::max);
     format!(
-        "Fair all: {changed} of {curves} curves changed (m = {tol:.3e}, max deviation {dev:.3e}); {kept} of {} joins \
-         keep their continuity (Ctrl+Z to undo)",
+        "Fair all: {changed} of {curves} curves changed (each within its own tolerance, the smallest {tol:.3e}; max \
+         deviation {dev:.3e}); {kept} of {} joins keep their continuity (Ctrl+Z to undo)",
         r.joins_before.curves.len()
     )
 }

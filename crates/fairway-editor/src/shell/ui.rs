@@ -60,7 +60,7 @@ impl App {
         for p in crate::scene_view::ViewPlane::ALL {
             if ui
                 .radio(self.view_plane == p, p.name())
-                .on_hover_text(p.tip())
+                .on_hover_text(crate::scene_view::plane_tip(p))
                 .clicked()
             {
                 self.push(Command::SetViewPlane(p));

@@ -112,6 +112,8 @@ pub struct SurfaceWorkspace {
     hover: Option<(DVec2, f64)>,
     /// An error of an edit (a failed tessellation), shown by the shell after the commands.
     edit_error: Option<String>,
+    /// The document's joins and shared patch edges, drawn over the views (set by the shell).
+    pub marks: Vec<crate::scene_view::Mark3d>,
 }
 
 /// The surface workspace with the shell's context: what its panels are written against.
@@ -159,6 +161,7 @@ impl SurfaceWorkspace {
             scenes: [None, None],
             hover: None,
             edit_error: None,
+            marks: vec![],
         })
     }
 

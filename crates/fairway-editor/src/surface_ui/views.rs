@@ -155,6 +155,7 @@ impl SurfaceCx<'_> {
                 origin,
                 &self.ws.shading,
             );
+            view3d::marks::marks_ui(ui, &self.ws.view, rect, &self.ws.marks, k);
             let painter = ui.painter_at(rect);
             painter.text(
                 rect.left_top() + egui::vec2(8.0, 6.0),

@@ -1,12 +1,14 @@
 //! The 3D view: an orbit camera ([`camera`]), scenes built from the core's
 //! tessellation with exact per-vertex curvature ([`scene`]), colour maps
-//! ([`colormap`]) and the wgpu paint callback ([`render`]).
+//! ([`colormap`]), the wgpu paint callback ([`render`]) and the joins of a
+//! document's objects drawn over it ([`marks`]).
 //!
 //! Without a wgpu render state (the glow renderer, a test harness, or no
 //! adapter at all) the view says so in place of the picture; nothing panics.
 
 pub mod camera;
 pub mod colormap;
+pub mod marks;
 pub mod render;
 pub mod scene;
 

@@ -19,9 +19,9 @@
 //! pieces' bands. Where a join cannot be concatenated (a G2 join that is only C1 after the rescale, a
 //! G1 join not C1, a tangent break below the corner angle, three or more ends at one point, a neighbour
 //! not being faired, a rational curve), each curve *holds* its end there with the join's continuity (at
-//! least G1, so an angle stays): a G1 end keeps its point and tangent direction, a G2 end its curvature
-//! too (by a region ending at the last interior knot before it, so the end span stays as it is, where
-//! the other end is free); [`NetworkFair::notes`] says which joins were held and why.
+//! least G1, so an angle stays) through [`FairingOptions::curve_ends`] of that end: a G1 end keeps its
+//! point and tangent direction, a G2 end its curvature too, while a free end of the same curve keeps
+//! the default (position and tangent); [`NetworkFair::notes`] says which joins were held and why.
 //!
 //! **Surfaces.** Patches sharing edges with G1 (G2) that are parametrically C1 (C2) after a linear
 //! rescale across them are concatenated into one surface where they form a strip (each patch joined on at
@@ -101,10 +101,36 @@ pub(crate) enum Link {
 /// Fair the objects `selected` of `objects` (all if empty) together, keeping their joins (module docs).
 /// Objects not selected stay as they are; a selected object's join with one of them is held.
 pub fn fair_network(objects: &[Geometry], selected: &[usize], opts: &NetworkOptions) -> Result<NetworkFair> {
+    fair_network_at(objects, selected, opts, &[])
+}
+
+/// [`fair_network`] with each object's own tolerance: `tolerances[i]` for object `i` (`None`, or past the
+/// slice's end: the options' tolerance for its kind). Objects faired as one curve or one surface share
+/// the smallest of their tolerances, so each stays within its own band; their notes say so where the
+/// tolerances differ.
+pub fn fair_network_at(
+    objects: &[Geometry],
+    selected: &[usize],
+    opts: &NetworkOptions,
+    tolerances: &[Option<f64>],
+) -> Result<NetworkFair> {
     let joins = find_joins(objects);
-    let chosen: Vec<bool> = (0..objects.len())
-        .map(|i| selected.is_empty() || selected.contains(&i))
-        .collect();
+    let net = Net {
+        opts,
+        chosen: (0..objects.len())
+            .map(|i| selected.is_empty() || selected.contains(&i))
+            .collect(),
+        tolerance: objects
+            .iter()
+            .enumerate()
+            .map(|(i, g)| {
+                tolerances.get(i).copied().flatten().unwrap_or(match g {
+                    Geometry::Curve(_) => opts.curve.tolerance,
+                    Geometry::Surface(_) => opts.surface.tolerance,
+                })
+            })
+            .collect(),
+    };
     let mut out = objects.to_vec();
     let mut outcome: Vec<ObjectFair> = (0..objects.len())
         .map(|i| ObjectFair {
@@ -115,11 +141,11 @@ pub fn fair_network(objects: &[Geometry], selected: &[usize], opts: &NetworkOpti
         })
         .collect();
     let mut notes = vec![];
-    let plan = curves::plan(objects, &joins, &chosen, opts, &mut notes);
+    let plan = curves::plan(objects, &joins, &net, &mut notes);
     for chain in &plan {
-        curves::fair_chain(objects, chain, opts, &mut out, &mut outcome);
+        curves::fair_chain(objects, chain, &net, &mut out, &mut outcome);
     }
-    surfaces::fair_surfaces(objects, &joins, &chosen, opts, &mut out, &mut outcome, &mut notes);
+    surfaces::fair_surfaces(objects, &joins, &net, &mut out, &mut outcome, &mut notes);
     let joins_after = remeasure(&joins, &out);
     Ok(NetworkFair {
         objects: out,
@@ -128,6 +154,33 @@ pub fn fair_network(objects: &[Geometry], selected: &[usize], opts: &NetworkOpti
         joins_after,
         notes,
     })
+}
+
+/// What every step of a network fair reads: the options, which objects are faired and each one's band.
+pub(crate) struct Net<'a> {
+    /// The options.
+    pub(crate) opts: &'a NetworkOptions,
+    /// Whether each object is faired.
+    pub(crate) chosen: Vec<bool>,
+    /// Each object's tolerance.
+    pub(crate) tolerance: Vec<f64>,
+}
+
+impl Net<'_> {
+    /// The band of the objects `group` faired as one: the smallest of their tolerances (each stays within
+    /// its own), and a note saying so where they differ.
+    pub(crate) fn band(&self, group: &[usize]) -> (f64, Option<String>) {
+        let tols: Vec<f64> = group.iter().map(|&i| self.tolerance[i]).collect();
+        let m = tols.iter().copied().fold(f64::INFINITY, f64::min);
+        let differ = tols.iter().any(|&t| t != m);
+        let note = differ.then(|| {
+            format!(
+                "faired at {}, the smallest tolerance of objects {group:?} (faired as one, each within its own)",
+                crate::range::short(m)
+            )
+        });
+        (m, note)
+    }
 }
 
 /// The joins `before` measured again on `objects` (the same ends and edges).
@@ -246,7 +299,7 @@ pub(crate) fn fair_one_curve(
     opts: FairingOptions,
     needs: [Option<EndCondition>; 2],
 ) -> Result<super::curve::FairingResult> {
-    let (opts, ends) = curves::end_setup(c, opts, needs);
+    let (opts, ends) = curves::end_setup(opts, needs);
     Ok(CurveFairing::with_ends(c, opts, ends)?.fair(Pass::Full)?.result)
 }
 

@@ -83,6 +83,9 @@ pub(crate) struct SceneFile {
     pub(crate) version: u32,
     #[serde(default)]
     pub(crate) unit: Option<String>,
+    /// The editor's view plane for 3D curves (optional: XY when absent, and not written then).
+    #[serde(default, skip_serializing_if = "super::scene::ViewPlane::is_xy")]
+    pub(crate) view_plane: super::scene::ViewPlane,
     pub(crate) objects: Vec<ObjectFile>,
 }
 

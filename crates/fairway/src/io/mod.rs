@@ -29,7 +29,7 @@ use crate::geometry::Geometry;
 
 pub use document::{Document, DocumentSettings};
 pub use interchange::{InterchangeFile, Unit};
-pub use scene::{Scene, SceneObject, load_scene, save_scene};
+pub use scene::{Scene, SceneObject, ViewPlane, load_scene, save_scene};
 
 /// A file format known by its extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -23,6 +23,44 @@ pub struct SceneObject {
     pub settings: DocumentSettings,
 }
 
+/// The plane the editor draws 3D curves on in its 2D canvas, saved with a document (version 2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub enum ViewPlane {
+    /// x to the right, y up (2D curves live here); the default.
+    #[default]
+    #[serde(rename = "XY")]
+    Xy,
+    /// y to the right, z up.
+    #[serde(rename = "YZ")]
+    Yz,
+    /// z to the right, x up.
+    #[serde(rename = "ZX")]
+    Zx,
+    /// The plane that fits the curves' control points best (least squares), its longest extent to
+    /// the right.
+    BestFit,
+}
+
+impl ViewPlane {
+    /// Every choice, in menu order.
+    pub const ALL: [ViewPlane; 4] = [ViewPlane::Xy, ViewPlane::Yz, ViewPlane::Zx, ViewPlane::BestFit];
+
+    /// Its name for people: "XY plane", ..., "Best-fit plane".
+    pub fn name(self) -> &'static str {
+        match self {
+            ViewPlane::Xy => "XY plane",
+            ViewPlane::Yz => "YZ plane",
+            ViewPlane::Zx => "ZX plane",
+            ViewPlane::BestFit => "Best-fit plane",
+        }
+    }
+
+    /// Whether it is XY (the default, not written).
+    pub(crate) fn is_xy(&self) -> bool {
+        *self == ViewPlane::Xy
+    }
+}
+
 /// Several named curves and surfaces, in order.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Scene {
@@ -30,6 +68,8 @@ pub struct Scene {
     pub objects: Vec<SceneObject>,
     /// The length unit of the file the objects came from (declared again when written as IGES/STEP).
     pub unit: Option<Unit>,
+    /// The editor's view plane for 3D curves (RON only; XY when the file has none).
+    pub view_plane: ViewPlane,
 }
 
 impl From<Document> for Scene {
@@ -40,7 +80,7 @@ impl From<Document> for Scene {
                 geometry: d.geometry,
                 settings: d.settings,
             }],
-            unit: None,
+            ..Default::default()
         }
     }
 }
@@ -63,7 +103,11 @@ impl Scene {
                 settings: DocumentSettings::default(),
             })
             .collect();
-        Scene { objects, unit: f.unit }
+        Scene {
+            objects,
+            unit: f.unit,
+            ..Default::default()
+        }
     }
 
     /// The geometries, in order.
@@ -108,7 +152,11 @@ impl Scene {
                         })
                     })
                     .collect::<Result<Vec<_>>>()?;
-                Ok(Scene { objects, unit })
+                Ok(Scene {
+                    objects,
+                    unit,
+                    view_plane: f.view_plane,
+                })
             }
         }
     }
@@ -119,6 +167,7 @@ impl Scene {
             format: "fairway".into(),
             version: super::document::DOCUMENT_VERSION,
             unit: self.unit.map(|u| u.symbol().to_string()),
+            view_plane: self.view_plane,
             objects: self
                 .objects
                 .iter()
@@ -220,7 +269,7 @@ mod tests {
         };
         let s = Scene {
             objects: vec![obj("a"), obj("7"), obj("b")],
-            unit: None,
+            ..Default::default()
         };
         assert_eq!(s.find("1"), Some(1));
         assert_eq!(s.find("b"), Some(2));

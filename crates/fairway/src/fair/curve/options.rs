@@ -131,12 +131,13 @@ pub struct FairingOptions {
     pub ease_curve_ends: bool,
     /// How the polish minimizes E inside the band (default [`PolishMethod::LineSearch`]).
     pub polish_method: PolishMethod,
-    /// Continuity kept at an end of an *open* curve's domain that the region reaches (`None`, the default:
-    /// the weaker of `ends` and G1 — position and tangent, not the curvature). A curve end has no neighbour
-    /// in the curve, and on a curve fitted to noisy points its end curvature is mostly noise: kept, the fair
-    /// has to bend towards it and adds curvature extrema there. `Some(G2)` keeps it (a curve that joins
-    /// another one with G2 there). Region ends inside the curve and closed curves always take `ends`.
-    pub curve_ends: Option<EndCondition>,
+    /// Continuity kept at the start (`[0]`) and at the end (`[1]`) of an *open* curve's domain where the
+    /// region reaches it (`None`, the default: the weaker of the region end's condition and G1 — position
+    /// and tangent, not the curvature). A free curve end has no neighbour, and on a curve fitted to noisy
+    /// points its end curvature is mostly noise: kept, the fair has to bend towards it and adds curvature
+    /// extrema there. `Some(G2)` keeps it: a curve end that joins another curve with G2, while its other,
+    /// free end keeps the default. Region ends inside the curve and closed curves always take `ends`.
+    pub curve_ends: [Option<EndCondition>; 2],
     /// Non-planar 3D curves, [`PolishMethod::Variation`]: weight of the torsion variation
     /// `∫ (d(κ²τ)/ds)² ds / κ_max⁴` in the objective, next to E_var, which does not see the torsion and
     /// leaves it to the noise (`curve/torsion.rs`; 0 turns it off). Default [`TORSION_WEIGHT`] (1). On the
@@ -193,7 +194,7 @@ impl Default for FairingOptions {
             ease_curve_ends: false,
             polish_method: PolishMethod::Variation,
             target_weight: 0.1,
-            curve_ends: None,
+            curve_ends: [None; 2],
             torsion_weight: TORSION_WEIGHT,
         }
     }

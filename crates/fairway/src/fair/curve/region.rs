@@ -128,15 +128,15 @@ impl Region {
                 (u2, at_end) = (k, false);
             }
         }
-        // an end of an open curve has no neighbour: it takes `curve_ends`, by default at most G1
+        // an end of an open curve has no neighbour in it: it takes its `curve_ends`, by default at most G1
         let ends = if crate::fair::closed::is_closed_curve(&input) {
             ends
         } else {
-            let at_curve_end = |e: EndCondition| opts.curve_ends.unwrap_or(e.min_by_order(EndCondition::G1));
-            [
-                if curve_start { at_curve_end(ends[0]) } else { ends[0] },
-                if curve_end { at_curve_end(ends[1]) } else { ends[1] },
-            ]
+            let reaches = [curve_start, curve_end];
+            [0, 1].map(|i| match reaches[i] {
+                true => opts.curve_ends[i].unwrap_or(ends[i].min_by_order(EndCondition::G1)),
+                false => ends[i],
+            })
         };
         Ok(Self {
             input,

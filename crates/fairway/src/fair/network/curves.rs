@@ -1,9 +1,7 @@
 //! The curves of a network: which joins are concatenated and which held ([`plan`]), the chains that
 //! result, and their fair ([`fair_chain`]).
 
-use super::{
-    Link, NetworkOptions, ObjectFair, at, concatenate, fair_one_curve, hold_condition, is_corner, on_knots_of, oriented,
-};
+use super::{Link, Net, ObjectFair, at, concatenate, fair_one_curve, hold_condition, is_corner, on_knots_of, oriented};
 use crate::curve::BSplineCurve;
 use crate::error::{Error, Result};
 use crate::fair::curve::{EndCondition, FairingOptions};
@@ -24,19 +22,15 @@ pub(crate) struct Chain {
 }
 
 /// How each join is kept: concatenated (`Ok(link)`) or held (`Err(why)`).
-fn decide(
-    objects: &[Geometry],
-    joins: &Joins,
-    chosen: &[bool],
-    opts: &NetworkOptions,
-) -> Vec<std::result::Result<Link, String>> {
+fn decide(objects: &[Geometry], joins: &Joins, net: &Net<'_>) -> Vec<std::result::Result<Link, String>> {
+    let chosen = &net.chosen;
     let count = |e: CurveEnd| joins.curves.iter().filter(|j| j.a == e || j.b == e).count();
     joins
         .curves
         .iter()
         .map(|j| {
             let (ca, cb) = (curve(objects, j.a.object), curve(objects, j.b.object));
-            if opts.hold_all {
+            if net.opts.hold_all {
                 return Err("every join held (one by one)".into());
             }
             if !(chosen[j.a.object] && chosen[j.b.object]) {
@@ -107,14 +101,9 @@ fn other(e: End) -> End {
 }
 
 /// The chains of the chosen curves, and a note per join (module docs of [`super`]).
-pub(crate) fn plan(
-    objects: &[Geometry],
-    joins: &Joins,
-    chosen: &[bool],
-    opts: &NetworkOptions,
-    notes: &mut Vec<String>,
-) -> Vec<Chain> {
-    let decided = decide(objects, joins, chosen, opts);
+pub(crate) fn plan(objects: &[Geometry], joins: &Joins, net: &Net<'_>, notes: &mut Vec<String>) -> Vec<Chain> {
+    let chosen = &net.chosen;
+    let decided = decide(objects, joins, net);
     // the concatenated join at each curve end: (join, the end on the other side)
     let link_at = |e: CurveEnd| -> Option<(usize, CurveEnd)> {
         joins.curves.iter().enumerate().find_map(|(k, j)| match &decided[k] {
@@ -245,35 +234,20 @@ fn held_needs(
     })
 }
 
-/// The options and region end conditions that hold `needs` at the ends of the open curve `c` and leave
-/// a free end to the caller's options: a curve end takes `curve_ends` (by default at most G1), so a G2
-/// held where the other end is free is a region ending at the last interior knot before it (its end
-/// span stays as it is).
+/// The options and end conditions that hold `needs` (a held join's continuity) at the ends of an open
+/// curve faired whole: such an end keeps the join's condition (or the caller's `curve_ends` there, if
+/// stronger), while a free end keeps the caller's options (by default at most G1).
 pub(crate) fn end_setup(
-    c: &BSplineCurve,
     mut opts: FairingOptions,
     needs: [Option<EndCondition>; 2],
 ) -> (FairingOptions, [EndCondition; 2]) {
     opts.region = None;
-    let mut ends = [0, 1].map(|i| needs[i].unwrap_or(opts.ends));
-    let effective = |o: &FairingOptions, e: EndCondition| o.curve_ends.unwrap_or(e.min_by_order(EndCondition::G1));
-    let short = |o: &FairingOptions, ends: &[EndCondition; 2], i: usize| {
-        needs[i].is_some_and(|n| effective(o, ends[i]).order() < n.order())
-    };
-    if !(short(&opts, &ends, 0) || short(&opts, &ends, 1)) {
-        return (opts, ends);
+    for (own, need) in opts.curve_ends.iter_mut().zip(needs) {
+        if let Some(n) = need {
+            *own = Some(own.map_or(n, |o| if o.order() > n.order() { o } else { n }));
+        }
     }
-    let bps = c.knots().breakpoints();
-    let (a, b) = c.domain();
-    let i = if short(&opts, &ends, 0) { 0 } else { 1 };
-    let other = 1 - i;
-    if bps.len() >= 3 && !short(&opts, &ends, other) {
-        opts.region = Some(if i == 0 { (bps[1], b) } else { (a, bps[bps.len() - 2]) });
-        ends[i] = needs[i].unwrap_or(opts.ends);
-        return (opts, ends);
-    }
-    // both ends short (or one span): both curve ends keep the strongest condition asked
-    opts.curve_ends = needs.iter().flatten().copied().max_by_key(|c| c.order());
+    let ends = [0, 1].map(|i| needs[i].unwrap_or(opts.ends));
     (opts, ends)
 }
 
@@ -282,20 +256,26 @@ pub(crate) fn end_setup(
 pub(crate) fn fair_chain(
     objects: &[Geometry],
     chain: &Chain,
-    opts: &NetworkOptions,
+    net: &Net<'_>,
     out: &mut [Geometry],
     outcome: &mut [ObjectFair],
 ) {
     let group: Vec<usize> = chain.pieces.iter().map(|p| p.0).collect();
+    let (tolerance, band_note) = net.band(&group);
+    let opts = FairingOptions {
+        tolerance,
+        ..net.opts.curve
+    };
     let result = if chain.pieces.len() == 1 && !chain.closed {
         let i = group[0];
-        fair_one_curve(curve(objects, i), opts.curve, chain.needs).map(|r| vec![(r.curve, r.max_deviation, r.notes)])
+        fair_one_curve(curve(objects, i), opts, chain.needs).map(|r| vec![(r.curve, r.max_deviation, r.notes)])
     } else {
-        fair_concatenated(objects, chain, opts.curve)
+        fair_concatenated(objects, chain, opts)
     };
     match result {
         Ok(pieces) => {
-            for (&i, (c, bound, notes)) in group.iter().zip(pieces) {
+            for (&i, (c, bound, mut notes)) in group.iter().zip(pieces) {
+                notes.extend(band_note.clone());
                 out[i] = c.into();
                 outcome[i] = ObjectFair {
                     faired: true,

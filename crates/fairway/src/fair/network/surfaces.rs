@@ -4,7 +4,7 @@
 
 use glam::DVec3;
 
-use super::{NetworkOptions, ObjectFair, rescaled};
+use super::{Net, ObjectFair, rescaled};
 use crate::curve::BSplineCurve;
 use crate::error::{Error, Result};
 use crate::fair::closed::{join, split};
@@ -421,18 +421,12 @@ fn split_strip(s: &BSplineSurface, at: &[f64], placed: &[Placed]) -> Result<Vec<
 
 /// Whether an edge can be concatenated (both patches chosen and polynomial, G1 or better, C1 / C2 after a
 /// rescale across it), else why it is held.
-fn edge_ok(
-    objects: &[Geometry],
-    j: &SurfaceJoin,
-    chosen: &[bool],
-    opts: &NetworkOptions,
-    tol: f64,
-) -> std::result::Result<(), String> {
+fn edge_ok(objects: &[Geometry], j: &SurfaceJoin, net: &Net<'_>, tol: f64) -> std::result::Result<(), String> {
     let s = |i: usize| objects[i].as_surface().expect("a surface");
-    if opts.hold_all {
+    if net.opts.hold_all {
         return Err("every edge held (one by one)".into());
     }
-    if !(chosen[j.a.0] && chosen[j.b.0]) {
+    if !(net.chosen[j.a.0] && net.chosen[j.b.0]) {
         return Err("a patch not being faired shares it".into());
     }
     if j.continuity.class == Continuity::G0 {
@@ -534,8 +528,7 @@ fn held_region(s: &BSplineSurface, held: &[Side]) -> Option<((f64, f64), (f64, f
 pub(crate) fn fair_surfaces(
     objects: &[Geometry],
     joins: &Joins,
-    chosen: &[bool],
-    opts: &NetworkOptions,
+    net: &Net<'_>,
     out: &mut [Geometry],
     outcome: &mut [ObjectFair],
     notes: &mut Vec<String>,
@@ -543,14 +536,20 @@ pub(crate) fn fair_surfaces(
     let mut ok: Vec<std::result::Result<(), String>> = joins
         .surfaces
         .iter()
-        .map(|j| edge_ok(objects, j, chosen, opts, joins.tolerance))
+        .map(|j| edge_ok(objects, j, net, joins.tolerance))
         .collect();
     let mut done = vec![false; objects.len()];
     for (order_, edges) in strips(&joins.surfaces, &mut ok, objects.len()) {
         let list: Vec<&SurfaceJoin> = edges.iter().map(|&k| &joins.surfaces[k]).collect();
-        match fair_strip(objects, &order_, &list, &opts.surface, joins.tolerance) {
+        let (tolerance, band_note) = net.band(&order_);
+        let opts = SurfaceFairingOptions {
+            tolerance,
+            ..net.opts.surface
+        };
+        match fair_strip(objects, &order_, &list, &opts, joins.tolerance) {
             Ok(patches) => {
-                for (&i, (s, bound, n)) in order_.iter().zip(patches) {
+                for (&i, (s, bound, mut n)) in order_.iter().zip(patches) {
+                    n.extend(band_note.clone());
                     out[i] = s.into();
                     outcome[i] = ObjectFair {
                         faired: true,
@@ -566,7 +565,7 @@ pub(crate) fn fair_surfaces(
     }
     let mut held: Vec<Vec<Side>> = vec![vec![]; objects.len()];
     for (j, r) in joins.surfaces.iter().zip(&ok) {
-        if !(chosen[j.a.0] || chosen[j.b.0]) {
+        if !(net.chosen[j.a.0] || net.chosen[j.b.0]) {
             continue;
         }
         let what = format!(
@@ -587,23 +586,22 @@ pub(crate) fn fair_surfaces(
             }
         }
     }
-    fair_alone(objects, chosen, &done, &held, opts, out, outcome);
+    fair_alone(objects, net, &done, &held, out, outcome);
 }
 
 /// Fair the chosen patches not faired in a strip, each with a region one knot span short of its held
 /// edges.
 fn fair_alone(
     objects: &[Geometry],
-    chosen: &[bool],
+    net: &Net<'_>,
     done: &[bool],
     held: &[Vec<Side>],
-    opts: &NetworkOptions,
     out: &mut [Geometry],
     outcome: &mut [ObjectFair],
 ) {
     for (i, g) in objects.iter().enumerate() {
         let Some(s) = g.as_surface() else { continue };
-        if done[i] || !chosen[i] {
+        if done[i] || !net.chosen[i] {
             continue;
         }
         let region = if held[i].is_empty() {
@@ -617,7 +615,12 @@ fn fair_alone(
                 .push("left as it was: too few knot spans to hold its shared edges".into());
             continue;
         }
-        match fair_surface(s, SurfaceFairingOptions { region, ..opts.surface }) {
+        let opts = SurfaceFairingOptions {
+            region,
+            tolerance: net.tolerance[i],
+            ..net.opts.surface
+        };
+        match fair_surface(s, opts) {
             Ok(r) => {
                 out[i] = r.surface.into();
                 outcome[i].faired = true;

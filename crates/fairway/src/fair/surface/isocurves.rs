@@ -96,7 +96,7 @@ pub fn isocurve_setup(
         // the E polish is for curves; the surface combines the isocurve clouds and verifies its own band
         polish: false,
         // an isocurve's ends are the surface's border: they keep the border's G2 state
-        curve_ends: None,
+        curve_ends: [None; 2],
         ..opts.curve
     };
     FairingSetup::with_check_samples(c, fo, 0)
