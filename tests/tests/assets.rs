@@ -107,13 +107,11 @@ fn reported_deviation_is_a_sharp_bound_of_the_measured_one() {
         for (region, (its, polish_method)) in regions.into_iter().flat_map(|r| polishes.map(|p| (r, p))) {
             for rel in [1e-3, 5e-3] {
                 let m = rel * size;
-                let opts = FairingOptions {
-                    tolerance: m,
-                    region,
-                    polish_iterations: its,
-                    polish_method,
-                    ..Default::default()
-                };
+                let opts = FairingOptions::default()
+                    .tolerance(m)
+                    .region(region)
+                    .polish_iterations(its)
+                    .polish_method(polish_method);
                 let r = fair_curve(c, opts).unwrap_or_else(|e| panic!("{name} {region:?} m {m}: {e}"));
                 let measured = fairway::measure::measure(c, &r.curve).dev_max;
                 println!(
@@ -149,10 +147,7 @@ fn a_looser_tolerance_never_gives_a_less_fair_curve() {
         let e0 = fairway::measure::measure(c, c).E_var;
         let mut e_var = vec![];
         for m in [0.003, 0.01, 0.03, 0.1] {
-            let opts = FairingOptions {
-                tolerance: m,
-                ..Default::default()
-            };
+            let opts = FairingOptions::default().tolerance(m);
             let r = fair_curve(c, opts).unwrap_or_else(|e| panic!("{name} m {m}: {e}"));
             let mm = fairway::measure::measure(c, &r.curve);
             assert!(mm.dev_max <= m * (1.0 + 1e-9), "{name} m {m}: {}", mm.dev_max);

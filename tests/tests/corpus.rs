@@ -51,10 +51,7 @@ fn check_curve(c: &BSplineCurve) -> Result<(), String> {
     let pts = c.points();
     let (lo, hi) = pts.iter().fold((pts[0], pts[0]), |(a, b), &q| (a.min(q), b.max(q)));
     let m = 5e-4 * diagonal(lo, hi);
-    let opts = FairingOptions {
-        tolerance: m,
-        ..Default::default()
-    };
+    let opts = FairingOptions::default().tolerance(m);
     let mut fairing = CurveFairing::new(c, opts).map_err(|e| match e {
         // the product's answer for an object with nothing to fair: a polyline (no curvature), too few
         // control points for its end conditions

@@ -443,23 +443,22 @@ pub(crate) fn curve_options(a: &Args) -> Result<FairingOptions> {
             ));
         }
     };
-    let opts = FairingOptions {
-        region: None,
-        tolerance: a.tolerance,
-        ends: a.ends,
-        target: a.target,
-        strength: a.strength,
-        integrator: a.integrator,
-        samples: a.samples,
-        mode,
-        polish: true,
-        polish_iterations: a.polish_iterations,
-        ease_curve_ends: a.ease_ends,
-        polish_method: a.polish_method,
-        target_weight: a.target_weight.unwrap_or(FairingOptions::default().target_weight),
-        curve_ends: [a.curve_ends; 2],
-        torsion_weight: a.torsion_weight,
-    };
+    let opts = FairingOptions::default()
+        .region(None)
+        .tolerance(a.tolerance)
+        .ends(a.ends)
+        .target(a.target)
+        .strength(a.strength)
+        .integrator(a.integrator)
+        .samples(a.samples)
+        .mode(mode)
+        .polish(true)
+        .polish_iterations(a.polish_iterations)
+        .ease_curve_ends(a.ease_ends)
+        .polish_method(a.polish_method)
+        .target_weight(a.target_weight.unwrap_or(FairingOptions::default().target_weight))
+        .curve_ends([a.curve_ends; 2])
+        .torsion_weight(a.torsion_weight);
     if !(opts.torsion_weight.is_finite() && opts.torsion_weight >= 0.0) {
         bail!(
             "--torsion-weight must be a finite number ≥ 0, got {}",

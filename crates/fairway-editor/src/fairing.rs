@@ -383,32 +383,28 @@ fn fairing_options(region: (f64, f64), tolerance: f64, opts: &FairOptions) -> Fa
     // easing keeps the G2 curve end (by default a curve end keeps position and tangent only); a join
     // there keeps its own continuity
     let ease = opts.ease_ends.then_some(EndCondition::G2);
-    FairingOptions {
-        region: Some(region),
-        curve_ends: opts.curve_ends.map(|e| match (e, ease) {
+    (curve_options(tolerance, opts))
+        .region(Some(region))
+        .curve_ends(opts.curve_ends.map(|e| match (e, ease) {
             (Some(a), Some(b)) => Some(if a.order() >= b.order() { a } else { b }),
             (a, b) => a.or(b),
-        }),
-        ..curve_options(tolerance, opts)
-    }
+        }))
 }
 
 /// The core's options at `tolerance` with the editor's choices, without a region (the whole curve,
 /// as the network fair takes them).
 pub fn curve_options(tolerance: f64, opts: &FairOptions) -> FairingOptions {
-    FairingOptions {
-        region: None,
-        tolerance,
-        target: opts.method,
-        strength: opts.strength,
-        integrator: opts.integrator,
-        polish_iterations: opts.polish_iterations,
-        polish_method: opts.polish_method,
-        ease_curve_ends: opts.ease_ends,
-        curve_ends: [opts.ease_ends.then_some(EndCondition::G2); 2],
-        mode: opts.mode,
-        ..FairingOptions::default()
-    }
+    FairingOptions::default()
+        .region(None)
+        .tolerance(tolerance)
+        .target(opts.method)
+        .strength(opts.strength)
+        .integrator(opts.integrator)
+        .polish_iterations(opts.polish_iterations)
+        .polish_method(opts.polish_method)
+        .ease_curve_ends(opts.ease_ends)
+        .curve_ends([opts.ease_ends.then_some(EndCondition::G2); 2])
+        .mode(opts.mode)
 }
 
 /// Fair at `tolerance` (a draft, or the full fair: for a whole closed curve with the automatic target

@@ -31,11 +31,7 @@ fn noisy_curve(n: usize) -> BSplineCurve {
 }
 
 fn opts(samples: usize) -> FairingOptions {
-    FairingOptions {
-        tolerance: 2e-3,
-        samples: Some(samples),
-        ..Default::default()
-    }
+    FairingOptions::default().tolerance(2e-3).samples(Some(samples))
 }
 
 fn benches(c: &mut Criterion) {
@@ -45,18 +41,13 @@ fn benches(c: &mut Criterion) {
         b.iter(|| FairingSetup::new(black_box(&cv), o).unwrap().fair().unwrap())
     });
     // the previous default (line-search polish of the paper's E, G2 curve ends) and the reference smoother
-    let ls = FairingOptions {
-        polish_method: PolishMethod::LineSearch,
-        curve_ends: [Some(fairway::fair::EndCondition::G2); 2],
-        ..o
-    };
+    let ls = o
+        .polish_method(PolishMethod::LineSearch)
+        .curve_ends([Some(fairway::fair::EndCondition::G2); 2]);
     c.bench_function("curve100_s1000/full, line-search polish (the previous default)", |b| {
         b.iter(|| FairingSetup::new(black_box(&cv), ls).unwrap().fair().unwrap())
     });
-    let smoothing = FairingOptions {
-        mode: FitMode::Smoothing,
-        ..o
-    };
+    let smoothing = o.mode(FitMode::Smoothing);
     c.bench_function("curve100_s1000/full, reference smoother (FitMode::Smoothing)", |b| {
         b.iter(|| FairingSetup::new(black_box(&cv), smoothing).unwrap().fair().unwrap())
     });
@@ -76,11 +67,7 @@ fn benches(c: &mut Criterion) {
     });
     // the interior-point polish run to the baseline's E: 3 iterations (test
     // interior_point_reaches_the_iterative_energy_on_the_bench_curve_in_three_iterations)
-    let ip = FairingOptions {
-        polish_method: PolishMethod::InteriorPoint,
-        polish_iterations: 3,
-        ..o
-    };
+    let ip = o.polish_method(PolishMethod::InteriorPoint).polish_iterations(3);
     c.bench_function(
         "curve100_s1000/full at the baseline's E (interior point, 3 iterations)",
         |b| b.iter(|| FairingSetup::new(black_box(&cv), ip).unwrap().fair().unwrap()),
@@ -113,14 +100,7 @@ fn benches(c: &mut Criterion) {
     });
     // the paper's method alone (one integration, one fit, no band search or polish; the band is only
     // measured), re-run on its setup: what the default's hard tolerance and E polish add to
-    let mut paper = FairingSetup::new(
-        &cv,
-        FairingOptions {
-            mode: FitMode::Paper,
-            ..o
-        },
-    )
-    .unwrap();
+    let mut paper = FairingSetup::new(&cv, o.mode(FitMode::Paper)).unwrap();
     c.bench_function("curve100_s1000/re-fair, paper mode (FitMode::Paper)", |b| {
         b.iter(|| black_box(paper.fair().unwrap()))
     });

@@ -31,11 +31,7 @@ fn noisy_curve(n: usize) -> BSplineCurve {
 }
 
 fn opts(samples: usize) -> FairingOptions {
-    FairingOptions {
-        tolerance: 2e-3,
-        samples: Some(samples),
-        ..Default::default()
-    }
+    FairingOptions::default().tolerance(2e-3).samples(Some(samples))
 }
 
 /// This thread's CPU time (ns), 0 where `/proc` does not have it.

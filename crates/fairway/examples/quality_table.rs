@@ -101,10 +101,7 @@ fn main() {
         let orig = measure(&case.curve, &case.curve);
         for f in suite::TOLERANCE_FACTORS {
             let m = f * case.sigma;
-            let mut opts = FairingOptions {
-                tolerance: m,
-                ..Default::default()
-            };
+            let mut opts = FairingOptions::default().tolerance(m);
             if let Ok(v) = std::env::var("QT_POLISH") {
                 opts.polish_method = v.parse().expect("polish method");
             }
@@ -120,13 +117,7 @@ fn main() {
             if let Ok(v) = std::env::var("QT_TORSION") {
                 opts.torsion_weight = v.parse().expect("torsion weight");
             }
-            let (rc, rt) = fair(
-                &case.curve,
-                FairingOptions {
-                    mode: FitMode::Smoothing,
-                    ..opts
-                },
-            );
+            let (rc, rt) = fair(&case.curve, opts.mode(FitMode::Smoothing));
             let (fc, ft) = fair(&case.curve, opts);
             let (r, w): (Measures, Measures) = (measure(&case.curve, &rc), measure(&case.curve, &fc));
             if let Some(dir) = &dump {

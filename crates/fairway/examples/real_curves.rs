@@ -107,10 +107,7 @@ fn main() {
             if !(m > 0.0) {
                 continue;
             }
-            let mut opts = FairingOptions {
-                tolerance: m,
-                ..Default::default()
-            };
+            let mut opts = FairingOptions::default().tolerance(m);
             if let Ok(v) = std::env::var("RC_ITERS") {
                 opts.polish_iterations = v.parse().expect("RC_ITERS");
             }
@@ -118,13 +115,7 @@ fn main() {
                 opts.torsion_weight = v.parse().expect("RC_TORSION");
             }
             let t = Instant::now();
-            let r = fair_curve(
-                &c,
-                FairingOptions {
-                    mode: FitMode::Smoothing,
-                    ..opts
-                },
-            );
+            let r = fair_curve(&c, opts.mode(FitMode::Smoothing));
             let rt = t.elapsed().as_secs_f64() * 1e3;
             let t = Instant::now();
             let f = fair_curve(&c, opts);

@@ -29,10 +29,7 @@ fn main() {
         let c = &case.curve;
         for f in suite::TOLERANCE_FACTORS {
             let m = f * case.sigma;
-            let opts = FairingOptions {
-                tolerance: m,
-                ..Default::default()
-            };
+            let opts = FairingOptions::default().tolerance(m);
             black_box(fair_curve(c, opts).expect("fair"));
             // at least 0.3 s of fairs: the thread's CPU clock advances by scheduler ticks (4 ms here), so
             // the CPU time per fair is the loop's over its count; the fastest single fair's wall time too

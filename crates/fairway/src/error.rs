@@ -14,7 +14,7 @@ use thiserror::Error;
 /// let pts: Vec<DVec2> = (0..10).map(|i| DVec2::new(i as f64, (i % 2) as f64)).collect();
 /// let knots = [vec![0.0; 4], (1..7).map(|i| i as f64 / 7.0).collect(), vec![1.0; 4]].concat();
 /// let c = BSplineCurve::new_2d(3, knots, &pts)?;
-/// let narrow = FairingOptions { tolerance: 0.01, region: Some((0.5, 0.5001)), ..Default::default() };
+/// let narrow = FairingOptions::default().tolerance(0.01).region(Some((0.5, 0.5001)));
 /// match fair_curve(&c, narrow) {
 ///     Err(Error::RegionTooSmall { u1, u2, .. }) => assert_eq!((u1, u2), (0.5, 0.5001)),
 ///     other => panic!("{other:?}"),

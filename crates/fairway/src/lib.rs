@@ -33,7 +33,7 @@
 //!
 //! // the default fair: knots and degree kept, the band verified everywhere
 //! let m = 0.02;
-//! let r = fair_curve(&curve, FairingOptions { tolerance: m, ..Default::default() })?;
+//! let r = fair_curve(&curve, FairingOptions::default().tolerance(m))?;
 //! assert!(r.max_deviation <= m);
 //!
 //! // judged by measures the engine does not optimize: fewer curvature extrema, lower ∫(dκ/ds)² ds

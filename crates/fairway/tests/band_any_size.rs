@@ -86,10 +86,7 @@ proptest::proptest! {
         m in 0.006f64..0.03,
     ) {
         let c = long_curve(n, seed);
-        let opts = fairway::fair::FairingOptions {
-            region: region.map(|(a, w)| (a, (a + w).min(1.0))),
-            ..common::opts(m)
-        };
+        let opts = common::opts(m).region(region.map(|(a, w)| (a, (a + w).min(1.0))));
         let r = fair_curve(&c, opts).unwrap();
         let (fwd, at) = dense::dense_deviation(&c, &r.curve, 20, 2);
         let (back, back_at) = dense::dense_deviation(&r.curve, &c, 20, 2);

@@ -31,11 +31,9 @@ fn wavy(p: usize, n: usize) -> BSplineCurve {
 /// The options these tests' thresholds were measured with: the line-search E polish and G2 at curve
 /// ends (the default polish is judged against the reference smoother in tests/quality.rs).
 fn ls_opts(m: f64) -> fairway::fair::FairingOptions {
-    fairway::fair::FairingOptions {
-        polish_method: fairway::fair::PolishMethod::LineSearch,
-        curve_ends: [Some(fairway::fair::EndCondition::G2); 2],
-        ..opts(m)
-    }
+    opts(m)
+        .polish_method(fairway::fair::PolishMethod::LineSearch)
+        .curve_ends([Some(fairway::fair::EndCondition::G2); 2])
 }
 
 #[test]
@@ -224,10 +222,7 @@ fn closed_curve_is_faired_across_the_seam() {
         let held = FairingSetup::new(&c, ls_opts(m)).unwrap().fair().unwrap();
         assert!(matches!(held.seam, Seam::Held(_)), "{:?}", held.seam);
         // a loop has no curve ends to ease (FairingOptions::ease_curve_ends): the same curves
-        let eased = FairingOptions {
-            ease_curve_ends: true,
-            ..ls_opts(m)
-        };
+        let eased = (ls_opts(m)).ease_curve_ends(true);
         assert_eq!(fair_closed(&c, eased).unwrap().curve.points(), r.curve.points());
         let held_eased = FairingSetup::new(&c, eased).unwrap().fair().unwrap();
         assert_eq!(held_eased.curve.points(), held.curve.points());
@@ -345,10 +340,7 @@ fn corner_at_the_seam_is_held_and_said_so() {
 fn seam_state_of_regions_and_open_curves() {
     let c = periodic_ellipse(40, 1e-3, 3);
     let m = 3e-3;
-    let with_region = |u1: f64, u2: f64| FairingOptions {
-        region: Some((u1, u2)),
-        ..opts(m)
-    };
+    let with_region = |u1: f64, u2: f64| (opts(m)).region(Some((u1, u2)));
     // a region inside the domain does not touch the seam: one pass as for an open curve
     let r = fair_closed(&c, with_region(0.3, 0.6)).unwrap();
     assert_eq!(r.seam, Seam::Untouched);
@@ -448,10 +440,7 @@ fn region_across_the_seam_is_one_faired_stretch() {
     let c = periodic_ellipse(60, 1e-3, 4);
     let m = 3e-3;
     let (u1, u2) = (0.8, 0.25);
-    let o = FairingOptions {
-        region: Some((u1, u2)),
-        ..opts(m)
-    };
+    let o = (opts(m)).region(Some((u1, u2)));
     let r = fair_closed(&c, o).unwrap();
     assert_eq!(r.seam, Seam::Faired);
     // fair_curve takes the same path
@@ -483,27 +472,12 @@ fn region_across_the_seam_is_one_faired_stretch() {
     assert!(s.d1.distance(e.d1) <= 1e-9 * s.d1.length() && s.d2.distance(e.d2) <= 1e-8 * s.d2.length());
     assert!(dev_max(&c, f) <= m, "band");
     // fairer: the paper's E over the region's samples, original vs result (same re-seamed setup)
-    let (setup, _) = fairway::fair::closed::setup_across_seam(
-        &c,
-        FairingOptions {
-            region: Some((u1, u2)),
-            ..opts(m)
-        },
-    )
-    .unwrap();
+    let (setup, _) = fairway::fair::closed::setup_across_seam(&c, (opts(m)).region(Some((u1, u2)))).unwrap();
     let e0 = setup.energy(setup.working_curve());
     println!("region across the seam: E {e0:.4e} -> {:.4e}", r.energy);
     assert!(r.energy < 0.5 * e0, "E {e0} -> {}", r.energy);
     // errors
-    let wrap = |c: &BSplineCurve, u1: f64, u2: f64| {
-        fair_closed(
-            c,
-            FairingOptions {
-                region: Some((u1, u2)),
-                ..opts(m)
-            },
-        )
-    };
+    let wrap = |c: &BSplineCurve, u1: f64, u2: f64| fair_closed(c, (opts(m)).region(Some((u1, u2))));
     assert!(matches!(wrap(&c, 1.2, 0.3), Err(Error::OutOfDomain { .. })));
     // too short a stretch: the message names the user's region and the reason
     let e = wrap(&c, 0.99, 0.01).unwrap_err();
@@ -525,15 +499,9 @@ fn region_across_the_seam_is_one_faired_stretch() {
     };
     let e = wrap(&corner, 0.8, 0.25).unwrap_err().to_string();
     assert!(e.contains("re-seamed"), "{e}");
-    let e = fairway::fair::closed::setup_across_seam(
-        &wavy(3, 12),
-        FairingOptions {
-            region: Some((0.8, 0.25)),
-            ..opts(m)
-        },
-    )
-    .unwrap_err()
-    .to_string();
+    let e = fairway::fair::closed::setup_across_seam(&wavy(3, 12), (opts(m)).region(Some((0.8, 0.25))))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("not closed"), "{e}");
 }
 
@@ -750,10 +718,7 @@ fn region_across_the_seam_takes_separate_end_conditions() {
     use fairway::fair::closed::{setup_across_seam, setup_across_seam_with_ends};
     let c = periodic_ellipse(60, 1e-3, 4);
     let (u1, u2) = (0.8, 0.25);
-    let o = FairingOptions {
-        region: Some((u1, u2)),
-        ..opts(3e-3)
-    };
+    let o = (opts(3e-3)).region(Some((u1, u2)));
     let fair = |(mut s, back): (FairingSetup, closed::AcrossSeam)| back.back(s.fair().unwrap()).unwrap().curve;
     let g1g2 = fair(setup_across_seam_with_ends(&c, o, [EndCondition::G1, EndCondition::G2]).unwrap());
     let g2g2 = fair(setup_across_seam(&c, o).unwrap());
@@ -790,10 +755,7 @@ fn region_across_the_seam_takes_separate_end_conditions() {
 #[test]
 fn across_seam_parameters_map_onto_the_original() {
     let c = periodic_ellipse(30, 1e-3, 2);
-    let o = FairingOptions {
-        region: Some((0.8, 0.25)),
-        ..opts(3e-3)
-    };
+    let o = (opts(3e-3)).region(Some((0.8, 0.25)));
     let (setup, across) = fairway::fair::closed::setup_across_seam(&c, o).unwrap();
     let (a, b) = c.domain();
     let mut past_seam = 0;
@@ -820,10 +782,7 @@ fn region_across_the_seam_holds_the_band_on_the_originals_samples() {
         let c = periodic_ellipse(n, 2e-3, seed);
         for (u1, u2) in [(0.61, 0.24), (0.57, 0.2), (0.82, 0.35)] {
             for m in [4.6e-4, 4.6e-3] {
-                let o = FairingOptions {
-                    region: Some((u1, u2)),
-                    ..opts(m)
-                };
+                let o = (opts(m)).region(Some((u1, u2)));
                 let r = fair_closed(&c, o).unwrap();
                 let d = dev_max(&c, &r.curve);
                 assert!(r.max_deviation <= m);
@@ -842,11 +801,7 @@ fn region_across_the_seam_with_g0_ends_next_to_knots() {
     let kv = c.knots().values().to_vec();
     let (k1, k2) = (kv[3 + 17], kv[3 + 7]);
     let m = 3e-3;
-    let o = FairingOptions {
-        region: Some((k1 + 1e-14, k2 - 1e-14)),
-        ends: EndCondition::G0,
-        ..opts(m)
-    };
+    let o = (opts(m)).region(Some((k1 + 1e-14, k2 - 1e-14))).ends(EndCondition::G0);
     let r = fair_closed(&c, o).unwrap();
     assert_eq!(r.seam, Seam::Faired);
     let bp = r.curve.knots().breakpoints();
@@ -865,10 +820,7 @@ fn region_across_the_seam_with_g0_ends_next_to_knots() {
 #[test]
 fn seam_text_names_the_end_condition_at_the_seam() {
     let c = periodic_ellipse(24, 2e-3, 3);
-    let o = FairingOptions {
-        region: Some((0.3, 1.0)),
-        ..opts(3e-3)
-    };
+    let o = (opts(3e-3)).region(Some((0.3, 1.0)));
     for (e, want) in [
         (EndCondition::G2, "holds like a G2 region end"),
         (

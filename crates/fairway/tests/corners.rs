@@ -7,7 +7,6 @@ mod common;
 
 use common::{Rng, Shape, dev_max, noisy_curve, opts, reported_bound_ok, reported_bound_ok_dense};
 use fairway::corners::{Corner, corners};
-use fairway::fair::FairingOptions;
 use fairway::fair::{CornerSetups, EndCondition, FairingSetup, Seam, Target, fair_curve};
 use fairway::measure::measure;
 use fairway::{BSplineCurve, DVec3};
@@ -48,11 +47,9 @@ fn unit_circle_error(c: &BSplineCurve, u1: f64, u2: f64) -> f64 {
 /// The options these tests' thresholds were measured with: the line-search E polish and G2 at curve
 /// ends (the default polish is judged against the reference smoother in tests/quality.rs).
 fn ls_opts(m: f64) -> fairway::fair::FairingOptions {
-    fairway::fair::FairingOptions {
-        polish_method: fairway::fair::PolishMethod::LineSearch,
-        curve_ends: [Some(fairway::fair::EndCondition::G2); 2],
-        ..opts(m)
-    }
+    opts(m)
+        .polish_method(fairway::fair::PolishMethod::LineSearch)
+        .curve_ends([Some(fairway::fair::EndCondition::G2); 2])
 }
 
 #[test]
@@ -134,11 +131,7 @@ fn a_kink_is_kept_and_the_arcs_on_either_side_are_faired() {
         (fairway::fair::EndCondition::G0, 6),
         (fairway::fair::EndCondition::G1, 4),
     ] {
-        let o = fairway::fair::FairingOptions {
-            region: Some((0.3, 1.7)),
-            ends,
-            ..ls_opts(m)
-        };
+        let o = ls_opts(m).region(Some((0.3, 1.7))).ends(ends);
         let r = fair_curve(&c, o).unwrap();
         assert_eq!(r.curve.n_points() - c.n_points(), extra, "{ends:?}");
         let measured = measure(&c, &r.curve).dev_max;
@@ -210,10 +203,7 @@ fn a_region_on_one_side_of_a_corner_is_faired_as_usual_and_a_short_stretch_is_le
     let m = 3e-3;
     let (c, stop) = arc_with_a_stop();
     // a region that ends before the stop: the setup takes it, and fair_curve gives the same curve
-    let o = fairway::fair::FairingOptions {
-        region: Some((0.1, 0.4)),
-        ..opts(m)
-    };
+    let o = opts(m).region(Some((0.1, 0.4)));
     let one = FairingSetup::new(&c, o).unwrap().fair().unwrap();
     let two = fair_curve(&c, o).unwrap();
     assert_eq!(one.curve.points(), two.curve.points());
@@ -221,10 +211,7 @@ fn a_region_on_one_side_of_a_corner_is_faired_as_usual_and_a_short_stretch_is_le
     // stretch is left as it is and said so; the stretch before it is faired
     let bp = c.knots().breakpoints();
     let k = bp.iter().position(|&b| b == stop.u).unwrap();
-    let o = fairway::fair::FairingOptions {
-        region: Some((0.1, bp[k + 2])),
-        ..opts(m)
-    };
+    let o = opts(m).region(Some((0.1, bp[k + 2])));
     let r = fair_curve(&c, o).unwrap();
     assert_eq!(r.notes.len(), 1, "{:?}", r.notes);
     assert!(
@@ -394,10 +381,7 @@ fn a_region_across_the_seam_with_a_kink_is_faired_stretch_by_stretch() {
     let found = corners(&c, 0.0, 1.0);
     assert_eq!(found.len(), 1, "{found:?}");
     assert!((found[0].u - 0.25).abs() < 1e-12);
-    let o = FairingOptions {
-        region: Some((0.85, 0.4)),
-        ..opts(m)
-    };
+    let o = (opts(m)).region(Some((0.85, 0.4)));
     let split = fairway::fair::fair_between_corners(&c, o, |s| s.fair())
         .unwrap()
         .expect("the region holds the kink");
@@ -536,7 +520,7 @@ proptest::proptest! {
             1 => Some((a, a + w)),
             _ => Some((1.0 - a * 0.5, a)), // across the seam
         };
-        let o = FairingOptions { region, ..opts(m) };
+        let o = (opts(m)).region(region);
         let corners_before: Vec<Corner> = corners(&c, 0.0, 1.0);
         match fair_curve(&c, o) {
             Err(e) => {

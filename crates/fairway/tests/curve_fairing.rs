@@ -49,11 +49,7 @@ fn every_route_gives_what_its_own_functions_give() {
     // one setup: an open curve, whole and a region with G1 ends
     let open = noisy_curve(KNOWN_SHAPES[0], 30, 2e-3, 3);
     for (region, ends) in [(None, EndCondition::G2), (Some((0.2, 0.7)), EndCondition::G1)] {
-        let o = FairingOptions {
-            region,
-            ends,
-            ..opts(m)
-        };
+        let o = (opts(m)).region(region).ends(ends);
         let mut f = CurveFairing::new(&open, o).unwrap();
         assert!(!f.whole_loop() && !f.across_seam() && f.corners().is_empty());
         let got = f.fair(Pass::Full).unwrap();
@@ -79,10 +75,7 @@ fn every_route_gives_what_its_own_functions_give() {
     assert!(matches!(draft.result.seam, Seam::Held(_)), "{:?}", draft.result.seam);
     assert!(dev_max(&lp, &draft.result.curve) <= m);
     // a region across the seam: on the re-seamed curve, rotated back
-    let o = FairingOptions {
-        region: Some((0.8, 0.3)),
-        ..opts(m)
-    };
+    let o = (opts(m)).region(Some((0.8, 0.3)));
     let mut f = CurveFairing::new(&lp, o).unwrap();
     assert!(f.across_seam());
     let got = f.fair(Pass::Full).unwrap();
@@ -121,16 +114,7 @@ fn a_draft_and_the_full_fair_share_one_setup() {
     let c = noisy_curve(KNOWN_SHAPES[2], 40, 1e-3, 11);
     let mut f = CurveFairing::new(&c, opts(m)).unwrap();
     let draft = f.fair(Pass::Draft).unwrap();
-    let fresh = FairingSetup::new(
-        &c,
-        FairingOptions {
-            polish: false,
-            ..opts(m)
-        },
-    )
-    .unwrap()
-    .fair()
-    .unwrap();
+    let fresh = FairingSetup::new(&c, (opts(m)).polish(false)).unwrap().fair().unwrap();
     assert!(same(&draft.result.curve, &fresh.curve));
     let full = f.fair(Pass::Full).unwrap();
     assert!(full.result.max_deviation <= m && dev_max(&c, &full.result.curve) <= m);
@@ -151,22 +135,17 @@ fn a_draft_and_the_full_fair_share_one_setup() {
 fn run_options_change_in_place_and_setup_options_prepare_afresh() {
     let m = 3e-3;
     let c = noisy_curve(KNOWN_SHAPES[1], 30, 2e-3, 5);
-    let base = FairingOptions {
-        region: Some((0.1, 0.9)),
-        ..opts(m)
-    };
+    let base = (opts(m)).region(Some((0.1, 0.9)));
     let mut f = CurveFairing::new(&c, base).unwrap();
     let n = f.target().len();
     // a hand-edited target and a pin stay through run-option changes
     let mut g = f.target().values().to_vec();
     g[n / 2] += 0.5;
     assert!(f.set_target(Some(&g), &[n / 3]));
-    let run = FairingOptions {
-        tolerance: 2e-3,
-        polish_method: PolishMethod::LineSearch,
-        polish_iterations: 3,
-        ..base
-    };
+    let run = base
+        .tolerance(2e-3)
+        .polish_method(PolishMethod::LineSearch)
+        .polish_iterations(3);
     assert!(!f.set_options(run).unwrap(), "run options: no new setup");
     assert_eq!(f.target().values(), g.as_slice());
     assert!(f.target().pinned()[n / 3]);
@@ -186,23 +165,11 @@ fn run_options_change_in_place_and_setup_options_prepare_afresh() {
     let auto = f.target().values().to_vec();
     let fresh = |o: FairingOptions| FairingSetup::new(&c, o).unwrap().target().values().to_vec();
     assert_eq!(auto, fresh(run));
-    let binomial = FairingOptions {
-        target: TargetMethod::Binomial,
-        ..run
-    };
+    let binomial = run.target(TargetMethod::Binomial);
     assert!(!f.set_options(binomial).unwrap());
     assert_eq!(f.target().values(), fresh(binomial).as_slice());
     // a region, end or mode change prepares afresh
-    for o in [
-        FairingOptions {
-            region: Some((0.2, 0.8)),
-            ..binomial
-        },
-        FairingOptions {
-            ends: EndCondition::G1,
-            ..binomial
-        },
-    ] {
+    for o in [binomial.region(Some((0.2, 0.8))), binomial.ends(EndCondition::G1)] {
         let mut f2 = f.clone();
         assert!(f2.set_options(o).unwrap(), "{o:?}");
         assert_eq!(f2.sample_params(), FairingSetup::new(&c, o).unwrap().params());
@@ -211,11 +178,7 @@ fn run_options_change_in_place_and_setup_options_prepare_afresh() {
     assert!(!f.set_target(Some(&g[1..]), &[]));
     assert_eq!(f.target().values(), fresh(binomial).as_slice());
     // too much smoothing work is refused with the target's name, nothing changed
-    let heavy = FairingOptions {
-        target: TargetMethod::Average,
-        strength: Some(usize::MAX / 4),
-        ..binomial
-    };
+    let heavy = binomial.target(TargetMethod::Average).strength(Some(usize::MAX / 4));
     let e = f.set_options(heavy).unwrap_err().to_string();
     assert!(e.contains("average target"), "{e}");
     assert_eq!(f.options().target, TargetMethod::Binomial);
@@ -248,10 +211,7 @@ fn the_iterative_baseline_runs_on_every_route() {
 fn a_target_saved_at_parameters_is_resampled_onto_other_samples() {
     let m = 3e-3;
     let kc = kinked(&noisy_curve(KNOWN_SHAPES[0], 30, 2e-3, 4));
-    let g2 = FairingOptions {
-        region: Some((0.15, 0.85)),
-        ..opts(m)
-    };
+    let g2 = (opts(m)).region(Some((0.15, 0.85)));
     let saved = CurveFairing::new(&kc, g2).unwrap();
     assert_eq!(saved.corners().len(), 1);
     let at = saved.sample_params();
@@ -304,14 +264,7 @@ fn a_target_saved_at_parameters_is_resampled_onto_other_samples() {
     assert!(same_fair.set_target_at(&at, &values, &[]));
     assert_eq!(same_fair.target().values(), values.as_slice());
     // a target of a much shorter region does not cover this one: refused, the automatic target used
-    let short = CurveFairing::new(
-        &kc,
-        FairingOptions {
-            region: Some((0.45, 0.6)),
-            ..opts(m)
-        },
-    )
-    .unwrap();
+    let short = CurveFairing::new(&kc, (opts(m)).region(Some((0.45, 0.6)))).unwrap();
     let sat = short.sample_params();
     let sv = vec![1.0; sat.len()];
     let auto = other.clone();

@@ -35,20 +35,15 @@ fn moved(c: &BSplineCurve, f: impl Fn(DVec3) -> DVec3) -> BSplineCurve {
 
 /// G2 at the curve ends too: the table's messages are those of the held end curvature.
 fn opts(tolerance: f64, region: Option<(f64, f64)>) -> FairingOptions {
-    FairingOptions {
-        tolerance,
-        region,
-        curve_ends: [Some(fairway::fair::EndCondition::G2); 2],
-        ..Default::default()
-    }
+    FairingOptions::default()
+        .tolerance(tolerance)
+        .region(region)
+        .curve_ends([Some(fairway::fair::EndCondition::G2); 2])
 }
 
 /// [`opts`] with the given E polish.
 fn opts_p(polish_method: PolishMethod, tolerance: f64, region: Option<(f64, f64)>) -> FairingOptions {
-    FairingOptions {
-        polish_method,
-        ..opts(tolerance, region)
-    }
+    (opts(tolerance, region)).polish_method(polish_method)
 }
 
 const POLISHES: [PolishMethod; 3] = [
@@ -155,10 +150,7 @@ fn error_table() -> Vec<(&'static str, String, &'static str)> {
             "too many samples (memory)",
             fair_err(
                 &w,
-                FairingOptions {
-                    samples: Some(fairway::fair::curve::MAX_SAMPLES + 1),
-                    ..opts(0.01, None)
-                },
+                (opts(0.01, None)).samples(Some(fairway::fair::curve::MAX_SAMPLES + 1)),
             ),
             "2000001 samples are too many: at most 2000000 (each million takes about 0.4 GB of memory); ask for \
              fewer samples, or fair a region of the curve",
@@ -167,12 +159,7 @@ fn error_table() -> Vec<(&'static str, String, &'static str)> {
             "pass-based target strength too large for the samples",
             fair_err(
                 &w,
-                FairingOptions {
-                    samples: Some(1000),
-                    target: fairway::fair::TargetMethod::Binomial,
-                    strength: Some(1_000_001),
-                    ..opts(0.01, None)
-                },
+                (opts(0.01, None)).samples(Some(1000)).target(fairway::fair::TargetMethod::Binomial).strength(Some(1_000_001)),
             ),
             "target strength 1000001 is too much work for the binomial target: its passes cost strength × samples, \
              and 1000 samples allow at most 1000000 passes; use the heat target (the implicit heat flow of the \
@@ -523,23 +510,18 @@ fn fairing_refusals_are_variants() {
     ));
     let max = fairway::fair::curve::MAX_SAMPLES;
     assert!(matches!(
-        err(FairingOptions { samples: Some(max + 1), ..opts(0.01, None) }),
+        err((opts(0.01, None)).samples(Some(max + 1))),
         Error::TooManySamples { samples, max: m } if samples == max + 1 && m == max
     ));
     assert!(matches!(
-        err(FairingOptions {
-            samples: Some(4),
-            ..opts(0.01, None)
-        }),
+        err((opts(0.01, None)).samples(Some(4))),
         Error::TooFewSamples { samples: 4, .. }
     ));
     assert!(matches!(
-        err(FairingOptions {
-            samples: Some(1000),
-            target: fairway::fair::TargetMethod::Binomial,
-            strength: Some(1_000_001),
-            ..opts(0.01, None)
-        }),
+        err((opts(0.01, None))
+            .samples(Some(1000))
+            .target(fairway::fair::TargetMethod::Binomial)
+            .strength(Some(1_000_001))),
         Error::TargetTooStrong {
             strength: 1_000_001,
             samples: 1000,

@@ -29,11 +29,9 @@ fn extra_knots(a: &BSplineCurve, b: &BSplineCurve) -> Vec<f64> {
 /// The options these tests were written for: the line-search E polish and `ends` at the curve ends too
 /// (the default polish and curve ends are judged in tests/quality.rs).
 fn line_search_opts(tol: f64, ends: EndCondition) -> FairingOptions {
-    FairingOptions {
-        polish_method: fairway::fair::PolishMethod::LineSearch,
-        curve_ends: [Some(ends); 2],
-        ..opts(tol)
-    }
+    (opts(tol))
+        .polish_method(fairway::fair::PolishMethod::LineSearch)
+        .curve_ends([Some(ends); 2])
 }
 
 #[test]
@@ -65,14 +63,7 @@ fn known_answers_noisy_arcs() {
         let delta = 0.05 * kmax;
         let e0 = extrema(&c, delta);
         for ends in [EndCondition::G2, EndCondition::G1, EndCondition::G0] {
-            let r = fair_curve(
-                &c,
-                FairingOptions {
-                    ends,
-                    ..line_search_opts(tol, ends)
-                },
-            )
-            .unwrap();
+            let r = fair_curve(&c, (line_search_opts(tol, ends)).ends(ends)).unwrap();
             let (rms1, max1) = curvature_error(&r.curve, shape);
             let e1 = extrema(&r.curve, delta);
             println!(
@@ -120,7 +111,7 @@ fn circle_with_the_true_target_and_free_ends_is_recovered() {
         .fold(0.0f64, f64::max);
     assert!(off < 1e-3, "{off}");
     for (ends, want) in [(EndCondition::G0, 0), (EndCondition::G1, 1)] {
-        let mut s = FairingSetup::new(&c, FairingOptions { ends, ..opts(3e-3) }).unwrap();
+        let mut s = FairingSetup::new(&c, (opts(3e-3)).ends(ends)).unwrap();
         for k in 0..s.target().len() {
             s.target_mut().set(k, 1.0);
         }
@@ -146,14 +137,7 @@ fn g1_ends_fair_the_end_curvature_g2_ends_keep_it() {
     let k_end = |x: &BSplineCurve| [x.curvature(d0), x.curvature(d1)];
     let k0 = k_end(&c);
     for ends in [EndCondition::G2, EndCondition::G1] {
-        let r = fair_curve(
-            &c,
-            FairingOptions {
-                ends,
-                ..line_search_opts(3e-3, ends)
-            },
-        )
-        .unwrap();
+        let r = fair_curve(&c, (line_search_opts(3e-3, ends)).ends(ends)).unwrap();
         let k1 = k_end(&r.curve);
         println!("{ends:?}: end curvature {k0:.3?} -> {k1:.3?} (true 1)");
         for (a, b) in k0.iter().zip(&k1) {
@@ -174,15 +158,7 @@ fn a_fair_circle_arc_hardly_changes() {
     let (krms, kmax) = curvature_error(&c, shape);
     println!("input curvature error: rms {krms:.2e}, max {kmax:.2e}");
     for integrator in [Integrator::Arc, Integrator::Rk2] {
-        let r = fair_curve(
-            &c,
-            FairingOptions {
-                tolerance: 1e-3,
-                integrator,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let r = fair_curve(&c, FairingOptions::default().tolerance(1e-3).integrator(integrator)).unwrap();
         let moved = c
             .points()
             .iter()
@@ -270,10 +246,7 @@ fn fast_energy_no_worse_than_iterative() {
 #[test]
 fn more_polish_iterations_reach_the_iterative_energy_on_the_bench_curve() {
     let c = bench_curve();
-    let o = FairingOptions {
-        samples: Some(1000),
-        ..opts(2e-3)
-    };
+    let o = (opts(2e-3)).samples(Some(1000));
     let setup = FairingSetup::new(&c, o).unwrap();
     let it = fair_iterative(&setup, IterativeOptions::default()).unwrap();
     let mut energies = vec![];
@@ -327,14 +300,7 @@ fn reported_deviation_on_a_line_that_doubles_back_is_the_measured_one() {
     ];
     let c = BSplineCurve::new_2d(3, knots, &pts).unwrap();
     let m = 8.876850146894601e-3;
-    let r = fair_curve(
-        &c,
-        FairingOptions {
-            region: Some((2.228952169259838, 3.0701126685965985)),
-            ..opts(m)
-        },
-    )
-    .unwrap();
+    let r = fair_curve(&c, (opts(m)).region(Some((2.228952169259838, 3.0701126685965985)))).unwrap();
     let measured = measure(&c, &r.curve).dev_max;
     let moved = c
         .points()
@@ -381,10 +347,7 @@ fn degenerate_input() {
     let mut s = FairingSetup::new(&line, opts(1e-3)).unwrap();
     assert!(s.set_tolerance(-1.0).is_err());
     // regions: outside the domain, empty, tiny (fewer than p + 1 spans), NaN
-    let region = |a: f64, b: f64| FairingOptions {
-        region: Some((a, b)),
-        ..opts(1e-3)
-    };
+    let region = |a: f64, b: f64| (opts(1e-3)).region(Some((a, b)));
     assert!(matches!(
         FairingSetup::new(&line, region(1.2, 1.5)),
         Err(Error::OutOfDomain { .. })
@@ -604,7 +567,7 @@ proptest! {
         let c = noisy_curve(Shape::Ellipse { a: 2.0, b: 1.0, th: 3.0 }, ncp, 2e-3, seed);
         let u2 = (u1 + w).min(1.0);
         let tol = 10f64.powf(log_tol);
-        let o = FairingOptions { region: Some((u1, u2)), tolerance: tol, ends, integrator, target, polish_method, ..Default::default() };
+        let o = FairingOptions::default().region(Some((u1, u2))).tolerance(tol).ends(ends).integrator(integrator).target(target).polish_method(polish_method);
         let setup = match FairingSetup::new(&c, o) {
             Ok(s) => s,
             Err(Error::RegionTooSmall { .. }) => return Ok(()),
@@ -685,7 +648,7 @@ fn planar_curve_in_3d_stays_in_its_plane() {
     let mut worst: f64 = 0.0;
     for m in [1e-3, 3e-2, 0.2, 1.0] {
         for region in [None, Some((0.2, 0.9))] {
-            let r = fair_curve(&c3, FairingOptions { region, ..opts(m) }).unwrap();
+            let r = fair_curve(&c3, (opts(m)).region(region)).unwrap();
             worst = worst.max(off_plane(&r.curve) / size);
         }
     }
@@ -707,10 +670,7 @@ fn planar_curve_in_3d_stays_in_its_plane() {
 #[test]
 fn eased_g2_curve_ends_keep_the_end_and_fair_the_end_span() {
     let tol = 3e-3;
-    let eased_opts = FairingOptions {
-        ease_curve_ends: true,
-        ..line_search_opts(tol, EndCondition::G2)
-    };
+    let eased_opts = (line_search_opts(tol, EndCondition::G2)).ease_curve_ends(true);
     for shape in KNOWN_SHAPES {
         let kmax = shape.dense(200).1.iter().fold(0.0f64, |m, k| m.max(k.abs()));
         let (mut rms, mut ext) = ([0.0; 2], [0; 2]);
@@ -762,22 +722,9 @@ fn easing_leaves_region_joins_and_g1_ends_alone() {
     let c = noisy_curve(Shape::Circle { r: 1.0, a: 2.0 }, 40, 1e-3, 7);
     let (d0, d1) = c.domain();
     let region = Some((d0 + 0.2 * (d1 - d0), d0 + 0.8 * (d1 - d0)));
-    for o in [
-        FairingOptions { region, ..opts(3e-3) },
-        FairingOptions {
-            ends: EndCondition::G1,
-            ..opts(3e-3)
-        },
-    ] {
+    for o in [(opts(3e-3)).region(region), (opts(3e-3)).ends(EndCondition::G1)] {
         let plain = fair_curve(&c, o).unwrap();
-        let eased = fair_curve(
-            &c,
-            FairingOptions {
-                ease_curve_ends: true,
-                ..o
-            },
-        )
-        .unwrap();
+        let eased = fair_curve(&c, o.ease_curve_ends(true)).unwrap();
         assert_eq!(plain.curve.points(), eased.curve.points(), "{o:?}");
     }
 }
@@ -916,11 +863,7 @@ fn the_join_check_at_the_stretch_end_sees_a_broken_curvature_join() {
         2e-3,
         7,
     );
-    let o = FairingOptions {
-        region: Some((0.3, 0.7)),
-        ends: EndCondition::G2,
-        ..opts(5e-3)
-    };
+    let o = (opts(5e-3)).region(Some((0.3, 0.7))).ends(EndCondition::G2);
     let mut setup = FairingSetup::new(&c, o).unwrap();
     let r = setup.fair().unwrap();
     let (_, b) = setup.moving_range();
@@ -968,11 +911,7 @@ fn a_region_end_next_to_a_knot_snaps_onto_it_inward_only() {
     let knot = c.knots().values()[c.knots().values().partition_point(|&k| k < 0.7)];
     for ends in [EndCondition::G0, EndCondition::G1] {
         for (u2, snapped) in [(knot + 1.1e-5, true), (knot - 1.1e-5, false)] {
-            let o = FairingOptions {
-                region: Some((0.16, u2)),
-                ends,
-                ..opts(0.03)
-            };
+            let o = (opts(0.03)).region(Some((0.16, u2))).ends(ends);
             let mut setup = FairingSetup::new(&c, o).unwrap();
             let r = setup.fair().unwrap();
             let b = setup.moving_range().1;
@@ -1142,16 +1081,10 @@ fn a_fair_never_ends_with_more_curvature_extrema_than_the_input() {
     let m = 5e-4 * (hi - lo).length();
     let before = fairway::measure::measure(&c, &c).n_curv_extrema;
     assert_eq!(before, 0);
-    let f = CurveFairing::new(
-        &c,
-        FairingOptions {
-            tolerance: m,
-            ..Default::default()
-        },
-    )
-    .unwrap()
-    .fair(Pass::Full)
-    .unwrap();
+    let f = CurveFairing::new(&c, FairingOptions::default().tolerance(m))
+        .unwrap()
+        .fair(Pass::Full)
+        .unwrap();
     let after = fairway::measure::measure(&c, &f.result.curve);
     assert!(after.n_curv_extrema <= before, "{} -> {}", before, after.n_curv_extrema);
     assert!(after.dev_max <= m, "{} > {m}", after.dev_max);

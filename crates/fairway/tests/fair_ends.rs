@@ -31,11 +31,7 @@ fn wiggly() -> BSplineCurve {
 
 fn fair(c: &BSplineCurve, ends: [EndCondition; 2]) -> (FairingSetup, BSplineCurve, f64) {
     let m = 0.002;
-    let opts = FairingOptions {
-        region: Some((0.3, 0.7)),
-        tolerance: m,
-        ..Default::default()
-    };
+    let opts = FairingOptions::default().region(Some((0.3, 0.7))).tolerance(m);
     let mut s = FairingSetup::new_with_ends(c, opts, ends).unwrap();
     let r = s.fair().unwrap();
     (s, r.curve, m)
@@ -70,12 +66,10 @@ fn g2_start_and_g0_end() {
 #[test]
 fn same_ends_match_new() {
     let c = wiggly();
-    let opts = FairingOptions {
-        region: Some((0.3, 0.7)),
-        tolerance: 0.002,
-        ends: EndCondition::G1,
-        ..Default::default()
-    };
+    let opts = FairingOptions::default()
+        .region(Some((0.3, 0.7)))
+        .tolerance(0.002)
+        .ends(EndCondition::G1);
     let a = FairingSetup::new(&c, opts).unwrap().fair().unwrap();
     let b = FairingSetup::new_with_ends(&c, opts, [EndCondition::G1; 2])
         .unwrap()
@@ -125,11 +119,7 @@ fn quadratic_keeps_the_curvature_at_its_g2_joins() {
     // where the original is G2 (κ = 0 on both sides); it ends in the arc
     let (u1, u2) = (knots[11], 0.8);
     assert!(kappa_side(&c, u1, true).length() < 1e-12 && kappa_side(&c, u1, false).length() < 1e-12);
-    let opts = FairingOptions {
-        region: Some((u1, u2)),
-        tolerance: 0.01,
-        ..Default::default()
-    };
+    let opts = FairingOptions::default().region(Some((u1, u2))).tolerance(0.01);
     let mut s = FairingSetup::new_with_ends(&c, opts, [EndCondition::G2; 2]).unwrap();
     let f = s.fair().unwrap().curve;
     assert!(max_point_diff(&f, &c) > 1e-4, "the region was faired");
@@ -147,10 +137,7 @@ fn quadratic_keeps_the_curvature_at_its_g2_joins() {
     assert!(dev <= 0.01, "{dev}");
     // a region with a single free point carries both joins: it may move along both tangents only, i.e.
     // (tangents not parallel) not at all; the second restriction used to undo the first
-    let one = FairingOptions {
-        region: Some((knots[14], knots[17])),
-        ..opts
-    };
+    let one = opts.region(Some((knots[14], knots[17])));
     let mut s = FairingSetup::new_with_ends(&c, one, [EndCondition::G2; 2]).unwrap();
     assert_eq!(s.free_points().len(), 1);
     let f = s.fair().unwrap().curve;
@@ -172,11 +159,9 @@ fn g0_and_g1_ends_next_to_a_knot_are_inserted_at_that_knot() {
     let c = wiggly();
     let kv = c.knots().values().to_vec();
     let (k1, k2) = (kv[12], kv[26]);
-    let opts = FairingOptions {
-        region: Some((k1 + 1e-14, k2 - 1e-14)),
-        tolerance: 0.002,
-        ..Default::default()
-    };
+    let opts = FairingOptions::default()
+        .region(Some((k1 + 1e-14, k2 - 1e-14)))
+        .tolerance(0.002);
     let mut s = FairingSetup::new_with_ends(&c, opts, [EndCondition::G0, EndCondition::G1]).unwrap();
     let f = s.fair().unwrap().curve;
     let bp = f.knots().breakpoints();
@@ -215,11 +200,7 @@ fn joins_at_multiple_knots_keep_the_requested_continuity() {
             [EndCondition::G1, EndCondition::G2],
             [EndCondition::G2, EndCondition::G1],
         ] {
-            let opts = FairingOptions {
-                region: Some((u1, u2)),
-                tolerance: 0.002,
-                ..Default::default()
-            };
+            let opts = FairingOptions::default().region(Some((u1, u2))).tolerance(0.002);
             let mut s = FairingSetup::new_with_ends(&m, opts, ends).unwrap();
             let f = s.fair().unwrap().curve;
             assert!(max_point_diff(&f, &m) > 1e-5, "faired");
@@ -280,16 +261,10 @@ fn a_short_span_between_multiple_knots_without_samples_is_held() {
     pts[10] = pts[9] + (pts[9] - pts[8]);
     let c = BSplineCurve::new_2d(3, k, &pts).unwrap();
     // the default (variation polish) holds them too, whatever else it moves
-    let r = FairingSetup::new(
-        &c,
-        FairingOptions {
-            tolerance: 0.01,
-            ..Default::default()
-        },
-    )
-    .unwrap()
-    .fair()
-    .unwrap();
+    let r = FairingSetup::new(&c, FairingOptions::default().tolerance(0.01))
+        .unwrap()
+        .fair()
+        .unwrap();
     for i in [4, 5] {
         assert_eq!(
             r.curve.points()[i],
@@ -298,12 +273,10 @@ fn a_short_span_between_multiple_knots_without_samples_is_held() {
         );
     }
     // the line-search polish: held, and the rest faired
-    let opts = FairingOptions {
-        tolerance: 0.01,
-        polish_method: fairway::fair::PolishMethod::LineSearch,
-        curve_ends: [Some(fairway::fair::EndCondition::G2); 2],
-        ..Default::default()
-    };
+    let opts = FairingOptions::default()
+        .tolerance(0.01)
+        .polish_method(fairway::fair::PolishMethod::LineSearch)
+        .curve_ends([Some(fairway::fair::EndCondition::G2); 2]);
     let mut s = FairingSetup::new(&c, opts).unwrap();
     let r = s.fair().unwrap();
     for i in [4, 5] {

@@ -13,14 +13,7 @@ fn explore() {
             extrema(&c, 0.01)
         );
         {
-            let setup = FairingSetup::new(
-                &c,
-                FairingOptions {
-                    tolerance: 1e-3,
-                    ..Default::default()
-                },
-            )
-            .unwrap();
+            let setup = FairingSetup::new(&c, FairingOptions::default().tolerance(1e-3)).unwrap();
             let g = setup.target().values();
             let n = g.len();
             let (_, kt) = shape.dense(n);
@@ -51,12 +44,7 @@ fn explore() {
         for mode in [FitMode::Paper, FitMode::Fairway] {
             for integ in [Integrator::Euler, Integrator::Arc] {
                 for tol in [1e-3, 3e-3, 1e-2] {
-                    let opts = FairingOptions {
-                        tolerance: tol,
-                        mode,
-                        integrator: integ,
-                        ..Default::default()
-                    };
+                    let opts = FairingOptions::default().tolerance(tol).mode(mode).integrator(integ);
                     let t = std::time::Instant::now();
                     let r = fair_curve(&c, opts).unwrap();
                     let el = t.elapsed();

@@ -11,11 +11,8 @@ use fairway::fair::*;
 use fairway::{BSplineCurve, DVec3};
 
 fn ip(o: FairingOptions, iterations: usize) -> FairingOptions {
-    FairingOptions {
-        polish_method: PolishMethod::InteriorPoint,
-        polish_iterations: iterations,
-        ..o
-    }
+    o.polish_method(PolishMethod::InteriorPoint)
+        .polish_iterations(iterations)
 }
 
 /// On the bench curve (1000 samples, m = 2e-3) three interior-point iterations reach a lower E than
@@ -26,22 +23,13 @@ fn ip(o: FairingOptions, iterations: usize) -> FairingOptions {
 fn interior_point_reaches_the_iterative_energy_on_the_bench_curve_in_three_iterations() {
     let c = bench_curve();
     let m = 2e-3;
-    let o = FairingOptions {
-        samples: Some(1000),
-        ..opts(m)
-    };
+    let o = (opts(m)).samples(Some(1000));
     let setup = FairingSetup::new(&c, o).unwrap();
     let it = fair_iterative(&setup, IterativeOptions::default()).unwrap();
-    let ls = FairingSetup::new(
-        &c,
-        FairingOptions {
-            polish_method: PolishMethod::LineSearch,
-            ..o
-        },
-    )
-    .unwrap()
-    .fair()
-    .unwrap();
+    let ls = FairingSetup::new(&c, o.polish_method(PolishMethod::LineSearch))
+        .unwrap()
+        .fair()
+        .unwrap();
     let mut e = vec![];
     for n in [1, 3, 8] {
         let r = FairingSetup::new(&c, ip(o, n)).unwrap().fair().unwrap();
@@ -79,10 +67,7 @@ fn interior_point_reaches_the_iterative_energy_on_the_bench_curve_in_three_itera
 fn interior_point_recovers_a_circle_from_its_true_target() {
     let shape = Shape::Circle { r: 1.0, a: 2.0 };
     let c = noisy_curve(shape, 40, 1e-3, 7);
-    let o = FairingOptions {
-        ends: EndCondition::G0,
-        ..opts(3e-3)
-    };
+    let o = (opts(3e-3)).ends(EndCondition::G0);
     let mut out = vec![];
     for o in [o, ip(o, 8), ip(o, 24)] {
         let mut s = FairingSetup::new(&c, o).unwrap();
@@ -141,16 +126,9 @@ fn interior_point_holds_the_band_on_every_kind_of_curve() {
                 let c2 = noisy_of_degree(p, 24, 11 + p as u64);
                 let c = if dim3 { to_3d(&c2, bend) } else { c2 };
                 let m = 4e-3;
-                let o = FairingOptions {
-                    region,
-                    ends,
-                    ..opts(m)
-                };
+                let o = (opts(m)).region(region).ends(ends);
                 let what = format!("p {p}, 3D {dim3} bend {bend}, {region:?} {ends:?}");
-                let fit = FairingSetup::new(&c, FairingOptions { polish: false, ..o })
-                    .unwrap()
-                    .fair()
-                    .unwrap();
+                let fit = FairingSetup::new(&c, o.polish(false)).unwrap().fair().unwrap();
                 let mut s = FairingSetup::new(&c, ip(o, 8)).unwrap();
                 let r = s.fair().unwrap_or_else(|e| panic!("{what}: {e}"));
                 cases += 1;

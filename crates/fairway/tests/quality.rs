@@ -14,19 +14,8 @@ use fairway::measure::{deviations, measure};
 
 /// The reference smoother's and the default fair's results at tolerance `m` (with `torsion_weight`).
 fn reference_and_fair(c: &BSplineCurve, m: f64, torsion_weight: f64) -> (FairingResult, FairingResult) {
-    let opts = FairingOptions {
-        tolerance: m,
-        torsion_weight,
-        ..Default::default()
-    };
-    let reference = fair_curve(
-        c,
-        FairingOptions {
-            mode: FitMode::Smoothing,
-            ..opts
-        },
-    )
-    .unwrap();
+    let opts = FairingOptions::default().tolerance(m).torsion_weight(torsion_weight);
+    let reference = fair_curve(c, opts.mode(FitMode::Smoothing)).unwrap();
     (reference, fair_curve(c, opts).unwrap())
 }
 
@@ -134,23 +123,8 @@ fn the_reference_smoother_is_comparable_to_the_shared_reference() {
     };
     let mp = measure(&c, &peer);
     let m = mp.dev_max;
-    let ours = fair_curve(
-        &c,
-        FairingOptions {
-            tolerance: m,
-            mode: FitMode::Smoothing,
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    let fair = fair_curve(
-        &c,
-        FairingOptions {
-            tolerance: m,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let ours = fair_curve(&c, FairingOptions::default().tolerance(m).mode(FitMode::Smoothing)).unwrap();
+    let fair = fair_curve(&c, FairingOptions::default().tolerance(m)).unwrap();
     let (mo, mf, m0) = (measure(&c, &ours.curve), measure(&c, &fair.curve), measure(&c, &c));
     println!(
         "S-curve at m = {m:.3e}: extrema original {}, SciPy-made reference {}, our smoother {}, fairway {}; E_var {:.4} / {:.4} / {:.4} / {:.4}",

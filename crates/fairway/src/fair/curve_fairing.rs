@@ -85,7 +85,7 @@ enum Route {
 /// knots.extend((1..9).map(|i| i as f64 / 9.0));
 /// knots.extend([1.0; 4]);
 /// let curve = BSplineCurve::new_2d(3, knots, &pts).unwrap();
-/// let mut fairing = CurveFairing::new(&curve, FairingOptions { tolerance: 0.01, ..Default::default() }).unwrap();
+/// let mut fairing = CurveFairing::new(&curve, FairingOptions::default().tolerance(0.01)).unwrap();
 /// let draft = fairing.fair(Pass::Draft).unwrap();
 /// let full = fairing.fair(Pass::Full).unwrap();
 /// assert!(draft.result.max_deviation <= 0.01 && full.result.max_deviation <= 0.01);
@@ -133,14 +133,7 @@ impl CurveFairing {
             Err(e) => return Err(e),
         };
         let approx_error = rational.as_ref().map_or(0.0, |r| r.1);
-        let route = Self::route(
-            &input,
-            FairingOptions {
-                tolerance: opts.tolerance - approx_error,
-                ..opts
-            },
-            ends,
-        )?;
+        let route = Self::route(&input, opts.tolerance(opts.tolerance - approx_error), ends)?;
         Ok(Self {
             input,
             rational,
@@ -299,10 +292,7 @@ impl CurveFairing {
 
     /// The options the engine runs with: the band narrowed by a rational input's stand-in error.
     fn engine_opts(&self) -> FairingOptions {
-        FairingOptions {
-            tolerance: self.opts.tolerance - self.approx_error(),
-            ..self.opts
-        }
+        self.opts.tolerance(self.opts.tolerance - self.approx_error())
     }
 
     /// Change the tolerance (then [`Self::fair`] again). A rational input whose stand-in would take more
@@ -311,10 +301,7 @@ impl CurveFairing {
         if let Some((original, e)) = &self.rational
             && !(*e <= super::nurbs::APPROX_FRACTION * m)
         {
-            let opts = FairingOptions {
-                tolerance: m,
-                ..self.opts
-            };
+            let opts = self.opts.tolerance(m);
             *self = Self::with_ends(&original.clone(), opts, self.ends)?;
             return Ok(());
         }
@@ -332,16 +319,15 @@ impl CurveFairing {
     /// any other change (region, end conditions, mode, samples, …) prepares afresh, dropping a
     /// hand-edited target. Returns whether it prepared afresh.
     pub fn set_options(&mut self, opts: FairingOptions) -> Result<bool> {
-        let run_only = FairingOptions {
-            tolerance: self.opts.tolerance,
-            integrator: self.opts.integrator,
-            polish: self.opts.polish,
-            polish_iterations: self.opts.polish_iterations,
-            polish_method: self.opts.polish_method,
-            target: self.opts.target,
-            strength: self.opts.strength,
-            ..opts
-        } == self.opts;
+        let run_only = opts
+            .tolerance(self.opts.tolerance)
+            .integrator(self.opts.integrator)
+            .polish(self.opts.polish)
+            .polish_iterations(self.opts.polish_iterations)
+            .polish_method(self.opts.polish_method)
+            .target(self.opts.target)
+            .strength(self.opts.strength)
+            == self.opts;
         if !run_only {
             // `opts.ends` changed: both ends take it; else the ends given to `with_ends` stay
             let ends = if opts.ends == self.opts.ends {

@@ -24,7 +24,7 @@
 //! knots.extend((1..9).map(|i| i as f64 / 9.0));
 //! knots.extend([1.0; 4]);
 //! let curve = BSplineCurve::new_2d(3, knots, &pts).unwrap();
-//! let mut setup = FairingSetup::new(&curve, FairingOptions { tolerance: 0.01, ..Default::default() }).unwrap();
+//! let mut setup = FairingSetup::new(&curve, FairingOptions::default().tolerance(0.01)).unwrap();
 //! let first = setup.fair().unwrap();
 //! assert!(first.max_deviation <= 0.01);
 //! setup.target_mut().flatten_range(10, 40);

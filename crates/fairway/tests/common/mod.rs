@@ -59,10 +59,7 @@ pub fn prop_cases(ci: u32) -> u32 {
 
 /// Default fairing options with tolerance `tol`.
 pub fn opts(tol: f64) -> FairingOptions {
-    FairingOptions {
-        tolerance: tol,
-        ..Default::default()
-    }
+    FairingOptions::default().tolerance(tol)
 }
 
 /// xorshift64* + Box–Muller: reproducible Gaussian noise.

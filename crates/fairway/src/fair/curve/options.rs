@@ -87,8 +87,16 @@ pub enum FitMode {
     Smoothing,
 }
 
-/// Options of a curve fairing.
+/// Options of a curve fairing. Built from the defaults with one setter a field (the struct is
+/// `#[non_exhaustive]`, so that a new option is not a breaking change):
+///
+/// ```
+/// use fairway::fair::{EndCondition, FairingOptions};
+/// let opts = FairingOptions::default().tolerance(0.01).region(Some((0.2, 0.8))).ends(EndCondition::G1);
+/// assert_eq!((opts.tolerance, opts.ends), (0.01, EndCondition::G1));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct FairingOptions {
     /// Region `[u1, u2]` in the curve's parameter (`None`: the whole curve).
     pub region: Option<(f64, f64)>,
@@ -199,6 +207,41 @@ impl Default for FairingOptions {
         }
     }
 }
+
+/// One setter a field, `fn field(self, value) -> Self`, for the options structs that are
+/// `#[non_exhaustive]`.
+macro_rules! setters {
+    ($t:ty { $($field:ident: $ty:ty),* $(,)? }) => {
+        impl $t {
+            $(
+                #[doc = concat!("These options with `", stringify!($field), "` set to `value`.")]
+                #[must_use]
+                pub fn $field(mut self, value: $ty) -> Self {
+                    self.$field = value;
+                    self
+                }
+            )*
+        }
+    };
+}
+
+setters!(FairingOptions {
+    region: Option<(f64, f64)>,
+    tolerance: f64,
+    ends: EndCondition,
+    target: TargetMethod,
+    strength: Option<usize>,
+    integrator: Integrator,
+    samples: Option<usize>,
+    mode: FitMode,
+    polish: bool,
+    polish_iterations: usize,
+    ease_curve_ends: bool,
+    polish_method: PolishMethod,
+    curve_ends: [Option<EndCondition>; 2],
+    torsion_weight: f64,
+    target_weight: f64,
+});
 
 /// Gauss–Newton iterations of the E polish after the band search.
 pub const POLISH_ITERS: usize = 8;
