@@ -272,15 +272,13 @@ pub fn run(a: &Args, scene: Scene, notices: &[String]) -> Result<()> {
     Ok(())
 }
 
-/// The report of a network fair.
-fn scene_report(
-    a: &Args,
+/// Every object's part of the report of a network fair.
+fn object_reports(
     scene: &Scene,
     tols: &[Option<(f64, ToleranceFrom)>],
     r: &fairway::fair::network::NetworkFair,
-    solve_ms: f64,
-) -> SceneReport {
-    let objects = scene
+) -> Vec<ObjectReport> {
+    scene
         .objects
         .iter()
         .zip(&r.objects)
@@ -306,7 +304,18 @@ fn scene_report(
             }),
             notes: f.notes.clone(),
         })
-        .collect();
+        .collect()
+}
+
+/// The report of a network fair.
+fn scene_report(
+    a: &Args,
+    scene: &Scene,
+    tols: &[Option<(f64, ToleranceFrom)>],
+    r: &fairway::fair::network::NetworkFair,
+    solve_ms: f64,
+) -> SceneReport {
+    let objects = object_reports(scene, tols, r);
     let (b, af): (&Joins, &Joins) = (&r.joins_before, &r.joins_after);
     SceneReport {
         kind: "scene",

@@ -119,44 +119,46 @@ impl crate::curve_ws::CurveCx<'_> {
             }
         });
         let full = ui.available_rect_before_wrap();
-        let diag = self.ws.view.diag;
         let extrude = planar && self.ws.curve3d.extrusion;
-        // content box
-        let mut pts: Vec<DVec3> = curve.points().to_vec();
-        if extrude {
-            let h = extrusion_height(diag);
-            pts.extend(curve.points().iter().map(|p| *p + DVec3::Z * h));
-        }
-        if !extrude {
-            // the whole network in view
-            let others = self
-                .ws
-                .scene
-                .curves
-                .iter()
-                .filter(|c| c.object != self.ws.active_object);
-            pts.extend(others.flat_map(|c| c.pts3.iter().copied()));
-        }
-        let bb = view3d::camera::bbox(pts).unwrap_or((DVec3::splat(-1.0), DVec3::splat(1.0)));
+        let bb = self.content_box(&curve, extrude);
         if bb != self.ws.curve3d.view.bbox {
             self.ws.curve3d.view.set_bbox(bb, true);
         }
         if extrude {
             self.extrusion_panes(ui, full, &curve, faired.as_ref());
         } else {
-            let resp = ui.interact(full, ui.scope_id().with("curve3d"), Sense::click_and_drag());
-            resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "3D curve view"));
-            self.ws.curve3d.view.fit_if_needed(full);
-            self.ws.curve3d.view.interact(ui, &resp, true);
-            self.update_combs(&curve, faired.as_ref());
-            let painter = ui.painter_at(full);
-            painter.rect_filled(full, 0.0, Color32::from_gray(24));
-            self.draw_curve3d(&painter, full, &curve, faired.as_ref());
-            let v = &self.ws.curve3d.view;
-            let screen = |c: &SceneCurve| c.pts3.iter().filter_map(|&p| v.to_screen(p, full)).collect();
-            draw_curves_dimmed(&painter, &self.ws.scene.curves, self.ws.active_object, screen);
-            view3d::marks::marks_ui(ui, v, full, &self.ws.scene.marks3d, 0);
+            self.curve_view(ui, full, &curve, faired.as_ref());
         }
+    }
+
+    /// The box the camera fits: the curve (and its extrusion), else the whole network.
+    fn content_box(&self, curve: &BSplineCurve, extrude: bool) -> (DVec3, DVec3) {
+        let mut pts: Vec<DVec3> = curve.points().to_vec();
+        if extrude {
+            let h = extrusion_height(self.ws.view.diag);
+            pts.extend(curve.points().iter().map(|p| *p + DVec3::Z * h));
+        } else {
+            let active = self.ws.active_object;
+            let others = self.ws.scene.curves.iter().filter(|c| c.object != active);
+            pts.extend(others.flat_map(|c| c.pts3.iter().copied()));
+        }
+        view3d::camera::bbox(pts).unwrap_or((DVec3::splat(-1.0), DVec3::splat(1.0)))
+    }
+
+    /// The curve in 3D in `full`: comb, polygon, preview, the other curves dimmed and the joins marked.
+    fn curve_view(&mut self, ui: &mut egui::Ui, full: Rect, curve: &BSplineCurve, faired: Option<&BSplineCurve>) {
+        let resp = ui.interact(full, ui.scope_id().with("curve3d"), Sense::click_and_drag());
+        resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "3D curve view"));
+        self.ws.curve3d.view.fit_if_needed(full);
+        self.ws.curve3d.view.interact(ui, &resp, true);
+        self.update_combs(curve, faired);
+        let painter = ui.painter_at(full);
+        painter.rect_filled(full, 0.0, Color32::from_gray(24));
+        self.draw_curve3d(&painter, full, curve, faired);
+        let v = &self.ws.curve3d.view;
+        let screen = |c: &SceneCurve| c.pts3.iter().filter_map(|&p| v.to_screen(p, full)).collect();
+        draw_curves_dimmed(&painter, &self.ws.scene.curves, self.ws.active_object, screen);
+        view3d::marks::marks_ui(ui, v, full, &self.ws.scene.marks3d, 0);
     }
 
     /// Number of comb teeth and curve samples drawn for `c`.

@@ -382,9 +382,15 @@ fn marker_labels(h: &egui_kittest::Harness<'static, App>) -> Vec<String> {
 #[test]
 fn the_3d_views_mark_curve_joins_and_shared_patch_edges() {
     let dir = temp_dir("marks3d");
-    // curves: every join of the network in the 3D curve view, where the join projects
+    curve_view_marks_every_join(&dir);
+    surface_view_marks_a_shared_edge(&dir);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The network's joins in the 3D curve view, each where it projects, and none for a curve alone.
+fn curve_view_marks_every_join(dir: &std::path::Path) {
     let mut h = harness(App::default());
-    h.state_mut().open_now(&write_network(&dir));
+    h.state_mut().open_now(&write_network(dir));
     h.run();
     h.get_by_label("3D view").click();
     h.run();
@@ -419,8 +425,10 @@ fn the_3d_views_mark_curve_joins_and_shared_patch_edges() {
     one.run();
     assert!(one.query_by_label("3D curve view").is_some());
     assert_eq!(marker_labels(&one), Vec::<String>::new());
+}
 
-    // patches: the shared edge marked in the surface's 3D view
+/// Two patches: the shared edge marked in the surface's 3D view; a patch alone: nothing.
+fn surface_view_marks_a_shared_edge(dir: &std::path::Path) {
     let ron = dir.join("patches.ron");
     fairway::io::save_scene(&ron, &two_patches()).unwrap();
     // FAIRWAY_WRITE_PATCHES=path: also write the patches there (for the screenshot in the README)
@@ -449,7 +457,6 @@ fn the_3d_views_mark_curve_joins_and_shared_patch_edges() {
     h.run();
     assert!(h.state().surface.is_some());
     assert_eq!(marker_labels(&h), Vec::<String>::new());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Position, unit tangent and curvature of `c` at its start or end.
