@@ -13,7 +13,7 @@ use fairway::io::Scene;
 use fairway::network::{Continuity, CurveContinuity, Joins};
 use serde::Serialize;
 
-use crate::fair::{Args, curve_options, surface_method, write_report};
+use crate::fair::{Args, curve_options, resolve_tolerance, surface_method, write_report};
 use crate::joins::{CurveJoinInfo, SurfaceJoinInfo, curve_join, surface_join};
 
 /// An object's measures: a curve's or a surface's (the keys of `fairway measure`).
@@ -168,7 +168,7 @@ pub fn run(a: &Args, scene: Scene, notices: &[String]) -> Result<()> {
         eprintln!("fairway: {name}: {n}");
     }
     let mut a = a.clone();
-    a.tolerance = a.tolerance_given.resolve(scene.unit, &a.input)?;
+    a.tolerance = resolve_tolerance(a.tolerance_given, scene.unit, &a.input)?;
     a.unit = scene.unit;
     let chosen = selection(&a, &scene)?;
     if scene.objects.len() > 1 && matches!(fairway::io::Format::from_path(&a.output), Ok(fairway::io::Format::Json)) {
