@@ -171,9 +171,9 @@ impl Unit {
 /// [`step::read_all_with`](super::step::read_all_with).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ReadOptions {
-    /// Convert coordinates to this unit (real-world size: file coordinates
-    /// divided by the model-space scale G13, times the unit ratio). `None`
-    /// keeps the file's coordinates untouched.
+    /// Convert coordinates to this unit (times the unit ratio). `None` keeps
+    /// the file's unit. Either way an IGES file's coordinates are divided by
+    /// its model-space scale G13 (real size).
     pub unit: Option<Unit>,
 }
 
@@ -185,7 +185,8 @@ pub struct InterchangeFile {
     /// The file's length unit (IGES G14/G15, STEP `LENGTH_UNIT` of the representation context), if
     /// recognised.
     pub unit: Option<Unit>,
-    /// The IGES model-space scale (G13), 1 if absent (always 1 for STEP).
+    /// The IGES model-space scale (G13: model size over real size), 1 if absent (always 1 for STEP);
+    /// `objects` are already divided by it.
     pub scale: f64,
     /// Skipped entities and conversions made, one message each.
     pub notices: Vec<String>,
