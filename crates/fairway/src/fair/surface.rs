@@ -222,7 +222,7 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
         None => fair_surface_unbounded(surface, opts)?,
     };
     // a rational input with equal weights (the only kind the engine takes) is its polynomial form exactly
-    let (faired, t, bound) = certified_step(&surface.to_polynomial()?, r.surface, m)?;
+    let (faired, t, bound) = certified_step(&surface.to_polynomial()?, r.surface.to_polynomial()?, m)?;
     (r.surface, r.band_bound) = (faired, bound);
     if t < 1.0 {
         r.alpha *= t;
