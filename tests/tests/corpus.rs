@@ -108,9 +108,9 @@ fn check_surface(s: &BSplineSurface) -> Result<(), String> {
 
 /// Refusals that are the product's answer, not a failure, said in the user's terms: an object too small
 /// to fair at all (too few control points for its end conditions, a single-span surface), and a NURBS
-/// surface whose non-rational stand-in could not be faired without adding curvature extrema (the engine
-/// refuses rather than return a less fair surface; a known gap of issue 29 item 2). Each refusal is
-/// printed and counted.
+/// surface that could not be faired without adding curvature extrema, neither through its non-rational
+/// stand-in nor on its own knots and weights (the engine refuses rather than return a less fair surface).
+/// Each refusal is printed and counted.
 fn is_clear_refusal(msg: &str) -> bool {
     msg.starts_with(REFUSED)
         || msg.contains("no movable control point")

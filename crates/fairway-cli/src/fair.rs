@@ -13,7 +13,7 @@ use fairway::fair::{
     Combine, CurveFairing, EndCondition, FairingOptions, FitMode, Integrator, IterativeOptions, Pass, PolishMethod,
     Seam, SurfaceFairingOptions, SurfaceMethod, TargetMethod, closed, fair_surface,
 };
-use fairway::io::{Document, Unit};
+use fairway::io::{Document, Length, LengthError, Unit};
 use fairway::measure::{Measures, measure};
 use fairway::measure_surface::{SurfaceMeasures, surface_measures};
 use fairway::{BSplineCurve, BSplineSurface};
@@ -38,7 +38,7 @@ pub struct Args {
     /// (`0.05mm`, `0.002in`, `20um`) for an IGES or STEP input that declares its unit: converted to it.
     /// Default: the tolerance saved in the document (a `.ron` document saves one per object); given, it
     /// applies to every object. A file that saves none needs it.
-    #[arg(long = "tolerance", value_name = "M", allow_hyphen_values = true, value_parser = parse_length)]
+    #[arg(long = "tolerance", value_name = "M", allow_hyphen_values = true, value_parser = Length::parse)]
     pub tolerance_given: Option<Length>,
     /// The tolerance in the coordinates' units (set once the input is read: `--tolerance`, or the saved one).
     #[arg(skip)]
@@ -120,58 +120,17 @@ pub struct Args {
     pub report: Option<PathBuf>,
 }
 
-/// A length as given on the command line: a number and an optional unit (`0.05`, `0.05mm`, `2e-3 in`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Length {
-    /// The number.
-    pub value: f64,
-    /// The unit written after it, if any.
-    pub unit: Option<fairway::io::Unit>,
-}
-
-impl Length {
-    /// The length in `to` (the input's unit): the number itself without a unit; refused with a unit when
-    /// the input declares none.
-    pub(crate) fn resolve(self, to: Option<fairway::io::Unit>, input: &std::path::Path) -> Result<f64> {
-        match (self.unit, to) {
-            (None, _) => Ok(self.value),
-            (Some(u), Some(to)) => Ok(self.value * (u.in_mm() / to.in_mm())),
-            (Some(u), None) => bail!(
-                "--tolerance {}{}: {} declares no length unit, so a tolerance in {} cannot be converted; give a \
-                 plain number, in the coordinates' units",
-                self.value,
-                u.symbol(),
-                input.display(),
-                u.symbol()
-            ),
-        }
-    }
-}
-
-fn parse_length(s: &str) -> std::result::Result<Length, String> {
-    let t = s.trim();
-    if let Ok(value) = t.parse::<f64>() {
-        // a plain number (also nan, inf: refused by `run` with the usual message)
-        return Ok(Length { value, unit: None });
-    }
-    let split = t
-        .char_indices()
-        .rev()
-        .take_while(|(_, c)| c.is_alphabetic())
-        .last()
-        .map_or(t.len(), |(i, _)| i);
-    let (number, unit) = (t[..split].trim(), &t[split..]);
-    let value = number
-        .parse::<f64>()
-        .map_err(|_| format!("{s:?} is not a number, or a number and a unit (0.05, 0.05mm, 0.002in)"))?;
-    if unit.is_empty() {
-        return Ok(Length { value, unit: None });
-    }
-    let unit = fairway::io::Unit::parse(unit)
-        .ok_or_else(|| format!("{unit:?} is not a length unit (mm, cm, m, km, um, in, ft, mi, mil, uin)"))?;
-    Ok(Length {
-        value,
-        unit: Some(unit),
+/// The tolerance as given (see [`Length::parse`]) in the input's unit `to`, converted exactly; a
+/// unit on an input that declares none is refused, naming the file.
+pub(crate) fn resolve_tolerance(given: Length, to: Option<fairway::io::Unit>, input: &std::path::Path) -> Result<f64> {
+    given.in_unit(to).map_err(|e| match e {
+        LengthError::NoDocumentUnit(l) => anyhow!(
+            "--tolerance {l}: {} declares no length unit, so a tolerance in {} cannot be converted; give a plain \
+             number, in the coordinates' units",
+            input.display(),
+            l.unit.map_or("", |u| u.symbol())
+        ),
+        e => anyhow!("--tolerance {e}"),
     })
 }
 
@@ -191,7 +150,7 @@ pub enum ToleranceFrom {
 /// given, else the saved one; `None` if neither.
 pub(crate) fn tolerance_of(a: &Args, saved: Option<f64>, unit: Option<Unit>) -> Result<Option<(f64, ToleranceFrom)>> {
     Ok(match (a.tolerance_given, saved) {
-        (Some(l), _) => Some((l.resolve(unit, &a.input)?, ToleranceFrom::CommandLine)),
+        (Some(l), _) => Some((resolve_tolerance(l, unit, &a.input)?, ToleranceFrom::CommandLine)),
         (None, Some(t)) => Some((t, ToleranceFrom::Document)),
         (None, None) => None,
     })
@@ -756,45 +715,36 @@ mod tests {
     }
 
     #[test]
-    fn tolerances_with_units_parse_and_convert_exactly() {
+    fn tolerances_with_units_parse_and_convert_exactly_into_the_inputs_unit() {
         use fairway::io::Unit;
-        let l = |s: &str| parse_length(s);
-        assert_eq!(
-            l("0.05").unwrap(),
-            Length {
-                value: 0.05,
-                unit: None
-            }
-        );
-        assert_eq!(
-            l("1e-3mm").unwrap(),
-            Length {
-                value: 1e-3,
-                unit: Some(Unit::Millimeter)
-            }
-        );
-        assert_eq!(
-            l(" 2 in").unwrap(),
-            Length {
-                value: 2.0,
-                unit: Some(Unit::Inch)
-            }
-        );
-        assert_eq!(l("20µm").unwrap().unit, Some(Unit::Micron));
-        assert_eq!(l("20um").unwrap().unit, Some(Unit::Micron));
-        assert!(l("nan").unwrap().value.is_nan());
-        assert!(l("0.05 parsec").unwrap_err().contains("not a length unit"));
-        assert!(l("mm").unwrap_err().contains("not a number"));
+        let parse = |t: &str| Cmd::try_parse_from(["fair", "in.stp", "--tolerance", t, "-o", "o.stp"]);
+        let given = |t: &str| parse(t).unwrap().args.tolerance_given.expect("given");
+        assert_eq!(given("1e-3mm").unit, Some(Unit::Millimeter));
+        assert_eq!(given(" 2 in").value, 2.0);
         let p = std::path::Path::new("a.stp");
-        // 0.254 mm in an inch file: 0.01 in, exactly as 0.254 / 25.4 rounds
-        let x = l("0.254mm").unwrap().resolve(Some(Unit::Inch), p).unwrap();
-        assert!((x - 0.01).abs() <= 2e-18, "{x}");
+        // 0.05 mm in an inch file: the double nearest 1/508 (0.05 / 25.4 is one ulp off)
         assert_eq!(
-            l("0.1in").unwrap().resolve(Some(Unit::Millimeter), p).unwrap(),
-            0.1 * 25.4
+            resolve_tolerance(given("0.05mm"), Some(Unit::Inch), p).unwrap(),
+            1.0 / 508.0
         );
-        assert_eq!(l("0.1").unwrap().resolve(Some(Unit::Inch), p).unwrap(), 0.1);
-        let e = l("0.1mm").unwrap().resolve(None, p).unwrap_err().to_string();
-        assert!(e.contains("a.stp declares no length unit"), "{e}");
+        assert_eq!(
+            resolve_tolerance(given("0.3in"), Some(Unit::Millimeter), p).unwrap(),
+            7.62
+        );
+        assert_eq!(resolve_tolerance(given("0.1"), Some(Unit::Inch), p).unwrap(), 0.1);
+        let e = resolve_tolerance(given("0.1mm"), None, p).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "--tolerance 0.1 mm: a.stp declares no length unit, so a tolerance in mm cannot be converted; give a \
+             plain number, in the coordinates' units"
+        );
+        // bad text is a usage error, in the parser's words
+        for (t, want) in [
+            ("0.05 parsec", "\"parsec\" is not a length unit"),
+            ("nan", "\"nan\" is not a finite length"),
+        ] {
+            let e = parse(t).err().unwrap().to_string();
+            assert!(e.contains(want), "{t}: {e}");
+        }
     }
 }

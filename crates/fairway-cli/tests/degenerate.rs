@@ -55,8 +55,8 @@ fn degenerate_inputs_exit_1_with_the_exact_message_and_keep_the_output() {
             "--tolerance must be a positive finite number, got 0".into(),
         ),
         (
-            vec!["fair", &c, "--tolerance", "nan", "-o", &o],
-            "--tolerance must be a positive finite number, got NaN".into(),
+            vec!["fair", &c, "--tolerance", "-0.01", "-o", &o],
+            "--tolerance must be a positive finite number, got -0.01".into(),
         ),
         (
             vec!["fair", &c, "--tolerance", "0.01", "--region", "0.5,0.5", "-o", &o],

@@ -246,7 +246,37 @@ fn fair_takes_a_step_file_and_a_tolerance_with_a_unit_and_writes_step_in_the_fil
     // an unknown unit is a usage error (exit 2), said before anything is read
     let o = fairway(&["fair", s(&stp), "--tolerance", "0.1parsec", "-o", s(&sc.path("o.json"))]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("\"parsec\" is not a length unit (mm, cm, m,"));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("\"parsec\" is not a length unit; known units: in, mm,"));
+    // so is a tolerance that is not a finite number
+    let o = fairway(&["fair", s(&stp), "--tolerance", "nan", "-o", s(&sc.path("o.json"))]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("\"nan\" is not a finite length"));
+}
+
+/// `--tolerance 0.05mm` on an inch file is 1/508 in, the nearest double (the naive 0.05 / 25.4 is one ulp
+/// off): said on stderr and written in the report.
+#[test]
+fn a_tolerance_in_mm_on_an_inch_file_is_converted_exactly() {
+    let sc = Scratch::new("exact");
+    let c = io::load_geometry(&reference("s_curve.json")).unwrap();
+    let stp = sc.path("s.stp");
+    write_step(&stp, std::slice::from_ref(&c), Unit::Inch);
+    let (out, report) = (sc.path("f.stp"), sc.path("r.json"));
+    let (_, err) = run_ok(&[
+        "fair",
+        s(&stp),
+        "--tolerance",
+        "0.05mm",
+        "-o",
+        s(&out),
+        "--report",
+        s(&report),
+    ]);
+    let m = 1.0 / 508.0;
+    assert!(err.contains(&format!("tolerance {m} in")), "{err}");
+    let r: Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(r["tolerance"].as_f64(), Some(m));
+    assert_ne!(0.05 / 25.4, m);
 }
 
 #[test]

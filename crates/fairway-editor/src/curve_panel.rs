@@ -10,16 +10,12 @@ impl CurveCx<'_> {
     pub(crate) fn controls_ui(&mut self, ui: &mut egui::Ui) {
         self.region_section_ui(ui);
         ui.separator();
-        ui.heading(crate::tolerance_heading(self.unit));
-        let mut tol = self.tolerance();
-        if crate::widgets::tolerance_ui(
+        self.tolerance_ui(
             ui,
-            &mut tol,
+            self.tolerance(),
             self.ws.view.diag,
             "Tolerance band width m, in the model's units (log scale). The faired curve stays within m.",
-        ) {
-            self.push(Command::SetTolerance(tol));
-        }
+        );
         ui.separator();
         self.comb_section_ui(ui);
         ui.separator();

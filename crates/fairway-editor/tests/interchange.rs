@@ -657,3 +657,80 @@ fn step_with_several_objects_opens_the_picker_with_its_unit_and_saves_in_that_un
     assert_eq!(h.state().doc.geometry, objects[2]);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Type `text` into the exact tolerance field and press Enter.
+fn type_tolerance(h: &mut Harness<'static, App>, text: &str) {
+    h.get_by_role_and_label(Role::SpinButton, "Tolerance (exact)").focus();
+    h.run();
+    h.event(egui::Event::Text(text.into()));
+    h.run();
+    h.key_press(egui::Key::Enter);
+    h.run();
+}
+
+/// The exact tolerance field takes a typed unit and converts it into the document's unit (0.05 mm in
+/// an inch document is 1/508 in, the nearest double), shows the unit beside it, and keeps the old value
+/// with a message in the user's terms for an entry that is not a tolerance — in both workspaces.
+#[test]
+fn tolerance_field_takes_typed_units_converted_into_the_documents_unit() {
+    use fairway::io::Unit;
+    let mut app = App::with_document(Document::new(fairway_editor::demo_curve_n(9).into()), None);
+    app.unit = Some(Unit::Inch);
+    let mut h = harness(app);
+    h.get_by_label("Tolerance (in)");
+    assert!(h.query_all_by_label("in").count() >= 1, "the unit beside the field");
+    type_tolerance(&mut h, "0.05mm");
+    assert_eq!(
+        h.state().doc.settings.tolerance,
+        Some(1.0 / 508.0),
+        "{:?}",
+        h.state().error
+    );
+    assert_eq!(h.state().error, None);
+    // a plain number is in the document's unit
+    type_tolerance(&mut h, "0.002");
+    assert_eq!(h.state().doc.settings.tolerance, Some(0.002));
+    type_tolerance(&mut h, "0.1 mil");
+    assert_eq!(h.state().doc.settings.tolerance, Some(1e-4));
+    // bad entries: the value kept, the reason on the error line
+    for (text, reason) in [
+        ("0.05 parsec", "\"parsec\" is not a length unit; known units: in, mm,"),
+        ("abc", "\"abc\" is not a number"),
+        ("-1mm", "-1 mm is not a tolerance: it must be more than 0"),
+        ("nan", "\"nan\" is not a finite length"),
+    ] {
+        h.state_mut().error = None;
+        type_tolerance(&mut h, text);
+        assert_eq!(h.state().doc.settings.tolerance, Some(1e-4), "{text}");
+        let e = h.state().error.clone().unwrap_or_default();
+        assert!(
+            e.contains(reason) && e.ends_with("the tolerance stays 0.0001 in"),
+            "{text}: {e}"
+        );
+    }
+    // one undo step per accepted entry: back to 0.002 in
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    h.run();
+    assert_eq!(h.state().doc.settings.tolerance, Some(0.002));
+
+    // a surface in millimetres: 0.002 in is 0.0508 mm
+    let mut app = App::with_document(Document::new(test_surface().into()), None);
+    app.unit = Some(Unit::Millimeter);
+    let mut h = harness(app);
+    h.get_by_label("Tolerance (mm)");
+    type_tolerance(&mut h, "0.002in");
+    assert_eq!(h.state().doc.settings.tolerance, Some(0.0508), "{:?}", h.state().error);
+
+    // a document without a unit: plain numbers only
+    let mut h = harness(App::with_document(Document::new(test_curve_3d().into()), None));
+    h.get_by_label("model units");
+    type_tolerance(&mut h, "0.03");
+    assert_eq!(h.state().doc.settings.tolerance, Some(0.03));
+    type_tolerance(&mut h, "0.05mm");
+    assert_eq!(h.state().doc.settings.tolerance, Some(0.03));
+    let e = h.state().error.clone().unwrap_or_default();
+    assert!(
+        e.contains("the document declares no length unit; type a plain number"),
+        "{e}"
+    );
+}

@@ -16,7 +16,7 @@ fn rec(body: &str, letter: char, seq: usize) -> String {
 fn one_entity_file(t: i64, params: &str) -> String {
     let mut f = rec("hand-written after IGES 5.3: one B-spline with a break", 'S', 1);
     let g = [
-        "1H,,1H;,4Htest,8Hbrk.igs,4Htest,8HIGES 5.3,32,38,6,308,15,4Htest,",
+        "1H,,1H;,4Htest,7Hbrk.igs,4Htest,8HIGES 5.3,32,38,6,308,15,4Htest,",
         "1.0,2,2HMM,1,0.01,15H20240115.103000,1.0E-4,250.0,1Ha,1Hb,11,0,",
         "15H20240115.103000;",
     ];

@@ -139,16 +139,12 @@ impl SurfaceCx<'_> {
 
     /// The "Tolerance" section: max deviation and live preview.
     fn tolerance_section_ui(&mut self, ui: &mut egui::Ui) {
-        ui.heading(crate::tolerance_heading(self.unit));
-        let mut tol = self.tolerance();
-        if crate::widgets::tolerance_ui(
+        self.tolerance_ui(
             ui,
-            &mut tol,
+            self.tolerance(),
             self.ws.diag(),
             "Max deviation m of the faired surface from the original (in the model's units)",
-        ) {
-            self.push(Command::SetTolerance(tol));
-        }
+        );
         ui.checkbox(&mut self.ws.live, "Live preview")
             .on_hover_text("Re-fair whenever region or tolerance change");
     }

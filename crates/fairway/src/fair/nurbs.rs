@@ -8,6 +8,10 @@
 //! approximation error is bounded per span from 64 samples plus the interpolation margin `h²/8 · max|e''|`
 //! (doubled), the fair then runs on the approximation with the band narrowed by that bound, and the
 //! reported deviation adds it back: what is reported bounds the distance from the rational original.
+//!
+//! [`fixed_weight_fit`] goes the other way: a fit in a rational surface's own space (its knots and
+//! weights fixed), linear in the control points in homogeneous form — the fallback of the surface engine
+//! where a stand-in's fair adds curvature extrema (`fair/surface/own_weights.rs`).
 
 use glam::DVec3;
 
@@ -262,6 +266,66 @@ pub fn surface_polynomial_approximation(surface: &BSplineSurface, tol: f64) -> R
     )))
 }
 
+/// The control points of `surface`'s block `free_u × free_v` fitted to `data` at the grid `us × vs`
+/// (row-major, `data[k * vs.len() + l]` at `(us[k], vs[l])`), its knots, degrees and weights fixed. With
+/// the weights fixed the surface is linear in its control points in homogeneous form:
+/// `S · W = Σ N_ij w_ij P_ij` with `W = Σ N_ij w_ij`, so the polynomial least-squares fit of the
+/// numerator to `W · data` on the surface's own knots gives `w_ij P_ij` (the residual weighted by `W`,
+/// positive and bounded). Held points are kept bit for bit; a polynomial surface is an ordinary fit.
+pub fn fixed_weight_fit(
+    surface: &BSplineSurface,
+    us: &[f64],
+    vs: &[f64],
+    data: &[DVec3],
+    free_u: std::ops::Range<usize>,
+    free_v: std::ops::Range<usize>,
+) -> Result<BSplineSurface> {
+    let ones = vec![1.0; surface.points().len()];
+    let w = surface.weights().unwrap_or(&ones);
+    let net = |pts: Vec<DVec3>| {
+        BSplineSurface::try_new(
+            surface.degree_u(),
+            surface.degree_v(),
+            surface.knots_u().values().to_vec(),
+            surface.knots_v().values().to_vec(),
+            surface.nu(),
+            surface.nv(),
+            pts,
+            None,
+        )
+    };
+    let numerator = net(surface.points().iter().zip(w).map(|(&p, &w)| p * w).collect())?;
+    // the denominator W as the x of a polynomial surface on the same knots
+    let denominator = net(w.iter().map(|&w| DVec3::new(w, 0.0, 0.0)).collect())?;
+    if data.len() != us.len() * vs.len() {
+        return Err(Error::InvalidInput(format!(
+            "fixed-weight fit: {} data points for a {} × {} grid",
+            data.len(),
+            us.len(),
+            vs.len()
+        )));
+    }
+    let homogeneous: Vec<DVec3> = (us.iter().flat_map(|&u| vs.iter().map(move |&v| (u, v))))
+        .zip(data)
+        .map(|((u, v), &d)| d * denominator.point(u, v).x)
+        .collect();
+    let q = crate::fit_surface::fit_surface_grid(
+        &numerator,
+        us,
+        vs,
+        &homogeneous,
+        free_u.clone(),
+        free_v.clone(),
+        crate::fit_surface::SurfaceSmoothing::NONE,
+    )?;
+    let nv = surface.nv();
+    let free = |k: usize| free_u.contains(&(k / nv)) && free_v.contains(&(k % nv));
+    let pts = (surface.points().iter().enumerate())
+        .map(|(k, &p)| if free(k) { q[k] / w[k] } else { p })
+        .collect();
+    surface.with_points(pts)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -350,5 +414,55 @@ mod tests {
                 a.error
             );
         }
+    }
+
+    /// A rational bicubic net (weights in [0.3, 3]) and another with the same knots and weights and other
+    /// points: the fixed-weight fit of the first's free block to samples of the second reproduces the
+    /// second there (to rounding) and keeps the held rows of the first bit for bit.
+    #[test]
+    fn the_fixed_weight_fit_reproduces_a_surface_of_its_own_space() {
+        let n = 8;
+        let k = crate::KnotVector::uniform(3, n).unwrap().values().to_vec();
+        let net = |phase: f64| -> Vec<DVec3> {
+            (0..n * n)
+                .map(|i| {
+                    let (x, y) = ((i / n) as f64, (i % n) as f64);
+                    DVec3::new(x, y, (0.7 * x + phase).sin() * (0.4 * y).cos())
+                })
+                .collect()
+        };
+        let w: Vec<f64> = (0..n * n).map(|i| 10f64.powf(0.5 * (i as f64 * 1.3).sin())).collect();
+        let surf = |pts| BSplineSurface::try_new(3, 3, k.clone(), k.clone(), n, n, pts, Some(w.clone())).unwrap();
+        let (base, target) = (surf(net(0.0)), surf(net(0.9)));
+        // the target differs from the base only in the free block: its points elsewhere are the base's
+        let (fu, fv) = (2..6, 1..7);
+        let free = |i: usize| fu.contains(&(i / n)) && fv.contains(&(i % n));
+        let mixed: Vec<DVec3> = (0..n * n)
+            .map(|i| if free(i) { target.points()[i] } else { base.points()[i] })
+            .collect();
+        let target = surf(mixed);
+        let g: Vec<f64> = (0..=40).map(|i| i as f64 / 40.0).collect();
+        let data: Vec<DVec3> = g
+            .iter()
+            .flat_map(|&u| g.iter().map(move |&v| (u, v)))
+            .map(|(u, v)| target.point(u, v))
+            .collect();
+        let fit = fixed_weight_fit(&base, &g, &g, &data, fu.clone(), fv.clone()).unwrap();
+        assert_eq!(fit.weights(), base.weights());
+        for (i, (a, b)) in fit.points().iter().zip(target.points()).enumerate() {
+            if free(i) {
+                assert!(a.distance(*b) <= 1e-11, "point {i}: {a} vs {b}");
+            } else {
+                assert_eq!(a, &base.points()[i], "held point {i}");
+            }
+        }
+        // and the surface with it: a dense check of the fitted surface against the target
+        let worst = (0..=200)
+            .flat_map(|i| (0..=200).map(move |j| (i as f64 / 200.0, j as f64 / 200.0)))
+            .map(|(u, v)| fit.point(u, v).distance(target.point(u, v)))
+            .fold(0.0f64, f64::max);
+        assert!(worst <= 1e-11, "{worst}");
+        // a grid of the wrong size is an error, not a panic
+        assert!(fixed_weight_fit(&base, &g, &g, &data[1..], fu, fv).is_err());
     }
 }

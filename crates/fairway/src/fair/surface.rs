@@ -134,7 +134,8 @@
 //!    Measurements: docs/QUALITY.md, "Surface engine".
 //!
 //! Rational surfaces with equal weights are converted; others are faired through a close non-rational
-//! stand-in (`fair::nurbs`, [`fair_surface`]'s notes say so).
+//! stand-in (`fair::nurbs`, [`fair_surface`]'s notes say so), or, where the stand-in's fair adds isocurve
+//! curvature extrema, on their own knots and weights (`own_weights.rs`).
 //! Degree 2 gives C1 (G1) joins only; any degree ≥ 1 and any clamped knot
 //! vectors work otherwise.
 
@@ -153,6 +154,7 @@ mod check;
 mod fairness;
 mod isocurves;
 mod options;
+mod own_weights;
 mod parallel;
 mod reference;
 mod rounds;
@@ -224,33 +226,38 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
         None => fair_surface_unbounded(surface, opts)?,
     };
     // a rational input with equal weights (the only kind the engine takes) is its polynomial form exactly
-    let bound = |faired: &BSplineSurface| -> Result<Option<f64>> {
-        Ok(super::verify::surface_band_bound(
-            &surface.to_polynomial()?,
-            &faired.to_polynomial()?,
-            m,
-        ))
-    };
-    r.band_bound = bound(&r.surface)?;
-    if let Some(b) = r.band_bound
-        && b > m
-    {
-        // The grid held the band but nothing sound says so between its points: step back towards the
-        // original until the bound certifies m. The difference is linear in the step, so is its bound.
-        let t = m / b * (1.0 - 1e-9);
-        let pts: Vec<_> = surface
-            .points()
-            .iter()
-            .zip(r.surface.points())
-            .map(|(&a, &f)| a + t * (f - a))
-            .collect();
-        r.surface = r.surface.with_points(pts)?;
+    let (faired, t, bound) = certified_step(&surface.to_polynomial()?, r.surface.to_polynomial()?, m)?;
+    (r.surface, r.band_bound) = (faired, bound);
+    if t < 1.0 {
         r.alpha *= t;
-        r.band_bound = bound(&r.surface)?;
         // the grid's figure was the old surface's; the bound is this one's (and sound)
-        r.max_deviation = r.band_bound.unwrap_or(m);
+        r.max_deviation = bound.unwrap_or(m);
     }
     Ok(r)
+}
+
+/// `faired` (on `original`'s knots and weights) with the sound bound of its deviation
+/// ([`super::verify::surface_band_bound`]), stepped back towards `original` where the grid held the
+/// band but the bound exceeds `m` (the fair slid the surface along itself between the grid's points),
+/// until the bound certifies m: the difference is linear in the step, so is its bound. Returns the
+/// surface, the step t ∈ (0, 1] and its bound (`None`: other knots or weights).
+fn certified_step(
+    original: &BSplineSurface,
+    faired: BSplineSurface,
+    m: f64,
+) -> Result<(BSplineSurface, f64, Option<f64>)> {
+    match super::verify::surface_band_bound(original, &faired, m) {
+        Some(b) if b > m => {
+            let t = m / b * (1.0 - 1e-9);
+            let pts: Vec<_> = (original.points().iter().zip(faired.points()))
+                .map(|(&a, &f)| a + t * (f - a))
+                .collect();
+            let stepped = faired.with_points(pts)?;
+            let bound = super::verify::surface_band_bound(original, &stepped, m);
+            Ok((stepped, t, bound))
+        }
+        bound => Ok((faired, 1.0, bound)),
+    }
 }
 
 /// A rational surface with unequal weights (NURBS from Alias, CATIA: surfaces of revolution, fillets),
@@ -273,18 +280,10 @@ fn fair_rational_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) 
     r.max_deviation += a.error;
     r.band_bound = r.band_bound.map(|b| b + a.error);
     // never less fair than the input: the stand-in's curvature ripples must not survive the fair
-    let delta = 0.01 * crate::measure_surface::iso_stats(surface, 16, 0.0).max_abs_kappa;
-    let extrema = |x: &BSplineSurface| {
-        let st = crate::measure_surface::iso_stats(x, 16, delta);
-        st.extrema_u + st.extrema_v
-    };
+    let extrema = iso_extrema_counter(surface);
     let (before, after) = (extrema(surface), extrema(&r.surface));
     if after > before {
-        return Err(Error::InvalidInput(format!(
-            "rational surface (unequal weights): its non-rational stand-in could not be faired without adding \
-             isocurve curvature extrema ({before} → {after}); convert it to a non-rational surface in the CAD \
-             system, or fair it at a looser tolerance"
-        )));
+        return own_weights::instead_of_the_stand_in(surface, &opts, &r, &extrema, (before, after));
     }
     r.notes.insert(
         0,
@@ -301,14 +300,27 @@ fn fair_rational_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) 
     Ok(r)
 }
 
+/// The isocurve curvature extrema of a surface (16 isocurves each way), with the hysteresis of 1 % of
+/// `original`'s largest |κ|: the count fairing a NURBS face must not raise.
+fn iso_extrema_counter(original: &BSplineSurface) -> impl Fn(&BSplineSurface) -> usize {
+    let delta = 0.01 * crate::measure_surface::iso_stats(original, 16, 0.0).max_abs_kappa;
+    move |x| {
+        let st = crate::measure_surface::iso_stats(x, 16, delta);
+        st.extrema_u + st.extrema_v
+    }
+}
+
 /// The share of the band the non-rational stand-in of a rational surface may use: tighter than a curve's
 /// (a tenth), because a cubic stand-in's curvature ripples grow as its error over h², and the isocurve
 /// fair does not remove them all (impeller corpus, full: 189 of 212 NURBS faces with more curvature
 /// extrema at m/10, 33 at m/1000; at m/10⁵ two faces found no stand-in).
 const RATIONAL_APPROX_FRACTION: f64 = 1e-3;
 
+/// A parameter interval `(a, b)`.
+type UvRange = (f64, f64);
+
 /// A parameter rectangle `((u1, u2), (v1, v2))`.
-type UvRect = ((f64, f64), (f64, f64));
+type UvRect = (UvRange, UvRange);
 
 /// The interior C0 knot lines of a direction (knots of multiplicity ≥ p, p ≥ 2: the joints of a chain of
 /// Bézier patches, a crease or a G1 joint) strictly inside `(a, b)`.
@@ -480,13 +492,24 @@ fn free_block(surface: &BSplineSurface, opts: &SurfaceFairingOptions) -> Result<
     } else {
         surface.clone()
     };
-    if !(net_size(&s) > 0.0) {
+    let (ru, rv, free_u, free_v) = free_rows(&s, opts.region)?;
+    Ok((s, ru, rv, free_u, free_v))
+}
+
+/// What [`free_rows`] returns: (region in u, region in v, free rows, free columns).
+type FreeRows = (UvRange, UvRange, Range<usize>, Range<usize>);
+
+/// The region (the whole domain if `None`) checked on `s`, and its free control rows and columns: those
+/// whose supports lie inside it, less the rows next to C0 knot lines, poles and seams (step 1). Only
+/// knots and control points are read, so `s` may be rational.
+fn free_rows(s: &BSplineSurface, region: Option<UvRect>) -> Result<FreeRows> {
+    if !(net_size(s) > 0.0) {
         return Err(Error::Degenerate(
             "all control points of the surface coincide (a single point): there is no shape to fair".into(),
         ));
     }
     let ((du0, du1), (dv0, dv1)) = s.domain();
-    let ((u1, u2), (v1, v2)) = opts.region.unwrap_or(((du0, du1), (dv0, dv1)));
+    let ((u1, u2), (v1, v2)) = region.unwrap_or(((du0, du1), (dv0, dv1)));
     for (name, a, b, lo, hi) in [("u", u1, u2, du0, du1), ("v", v1, v2, dv0, dv1)] {
         if !(a.is_finite() && b.is_finite() && a < b) {
             return Err(Error::InvalidInput(format!(
@@ -506,7 +529,7 @@ fn free_block(surface: &BSplineSurface, opts: &SurfaceFairingOptions) -> Result<
     let free_u = hold_c0_neighbours(ku, free_range(ku, u1, u2));
     let free_v = hold_c0_neighbours(kv, free_range(kv, v1, v2));
     let had = !free_u.is_empty() && !free_v.is_empty();
-    let (free_u, free_v) = hold_poles_and_seams(&s, free_u, free_v);
+    let (free_u, free_v) = hold_poles_and_seams(s, free_u, free_v);
     if had && (free_u.is_empty() || free_v.is_empty()) {
         return Err(Error::InvalidInput(format!(
             "region [{u1}, {u2}] × [{v1}, {v2}] holds no movable control point: its control rows are all among \
@@ -521,7 +544,7 @@ fn free_block(surface: &BSplineSurface, opts: &SurfaceFairingOptions) -> Result<
             kv.degree() + 1
         )));
     }
-    Ok((s, (u1, u2), (v1, v2), free_u, free_v))
+    Ok(((u1, u2), (v1, v2), free_u, free_v))
 }
 
 /// The surface to fair with its free block, the moving rectangle and the grids on it (module docs,

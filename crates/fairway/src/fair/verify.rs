@@ -645,20 +645,22 @@ const SURFACE_ROUNDS: usize = 5;
 const SURFACE_NET_LIMIT: usize = 1 << 21;
 
 /// Upper bound of max over the domain of the parametric deviation |S₀(u, v) − S(u, v)| of two
-/// polynomial surfaces on the same degrees and knots — hence of the distance from every point of
-/// `original` to `faired`. The difference is itself a B-spline surface on those knots, so each patch
-/// is bounded by the largest of its (p + 1)(q + 1) difference control points (convex hull); the
-/// patches above `level` are refined by inserting their spans' midpoints (the net converges to the
-/// surface quadratically), for a few rounds. `None` where the bound does not apply (rational, other
-/// degrees or knots). A bound above `level` certifies nothing about the closest-point distance, which
-/// can be smaller where the fair slid the surface along itself.
+/// surfaces on the same degrees, knots and weights (polynomial, or rational with equal weight nets) —
+/// hence of the distance from every point of `original` to `faired`. The difference is itself a
+/// (rational) B-spline surface on those knots and weights, with the control point differences as its
+/// points, so each patch lies in the convex hull of its (p + 1)(q + 1) difference points and is bounded
+/// by the largest (the rational basis is non-negative and sums to one, as the polynomial one); the
+/// patches above `level` are refined by inserting their spans' midpoints (in homogeneous form: the
+/// weighted differences and the weights, each a polynomial net; the net converges to the surface
+/// quadratically), for a few rounds. `None` where the bound does not apply (other degrees, knots or
+/// weights). A bound above `level` certifies nothing about the closest-point distance, which can be
+/// smaller where the fair slid the surface along itself.
 pub fn surface_band_bound(
     original: &crate::surface::BSplineSurface,
     faired: &crate::surface::BSplineSurface,
     level: f64,
 ) -> Option<f64> {
-    if original.is_rational()
-        || faired.is_rational()
+    if original.weights() != faired.weights()
         || original.degree_u() != faired.degree_u()
         || original.degree_v() != faired.degree_v()
         || original.knots_u() != faired.knots_u()
@@ -666,96 +668,148 @@ pub fn surface_band_bound(
     {
         return None;
     }
-    let (p, q) = (original.degree_u(), original.degree_v());
-    let (mut ku, mut kv) = (
-        original.knots_u().values().to_vec(),
-        original.knots_v().values().to_vec(),
-    );
-    let (mut nu, mut nv) = (original.nu(), original.nv());
-    // row-major: point (i, j) at i·nv + j, i along u
-    let mut d: Vec<DVec3> = original
-        .points()
-        .iter()
-        .zip(faired.points())
-        .map(|(a, b)| *a - *b)
-        .collect();
-    let scale = original
-        .points()
-        .iter()
-        .chain(faired.points())
-        .fold(0.0f64, |a, x| a.max(x.length()));
-    let slack = 64.0 * f64::EPSILON * scale;
-    let mut bound = 0.0f64;
+    let mut net = DifferenceNet::new(original, faired);
+    let mut bound = 0.0;
     for round in 0..=SURFACE_ROUNDS {
-        // per patch: the largest difference control point; the spans of the patches above `level`
-        let (mut hot_u, mut hot_v) = (vec![false; nu], vec![false; nv]);
-        bound = 0.0;
-        for su in p..nu {
-            if ku[su + 1] <= ku[su] {
-                continue;
-            }
-            for sv in q..nv {
-                if kv[sv + 1] <= kv[sv] {
-                    continue;
-                }
-                let mut b = 0.0f64;
-                for i in su - p..=su {
-                    for j in sv - q..=sv {
-                        b = b.max(d[i * nv + j].length());
-                    }
-                }
-                bound = bound.max(b + slack);
-                if b + slack > level {
+        let (b, hot_u, hot_v) = net.patch_bounds(level);
+        bound = b;
+        if bound <= level || round == SURFACE_ROUNDS || !net.refine(&hot_u, &hot_v)? {
+            break;
+        }
+    }
+    Some(bound)
+}
+
+/// The control net of the difference of two surfaces on the same knots and weights, in homogeneous
+/// form: `d = w · (P₀ − P)` and the weights `w` (all 1 for polynomial surfaces), row-major (point (i, j)
+/// at i·nv + j, i along u).
+struct DifferenceNet {
+    p: usize,
+    q: usize,
+    ku: Vec<f64>,
+    kv: Vec<f64>,
+    nu: usize,
+    nv: usize,
+    d: Vec<DVec3>,
+    /// The weights as the x of points (refined as a polynomial net, like `d`); `None`: all 1.
+    w: Option<Vec<DVec3>>,
+    /// Rounding allowance added to each patch's bound.
+    slack: f64,
+}
+
+impl DifferenceNet {
+    fn new(original: &crate::surface::BSplineSurface, faired: &crate::surface::BSplineSurface) -> Self {
+        let w: Option<Vec<DVec3>> = original
+            .weights()
+            .map(|w| w.iter().map(|&x| DVec3::new(x, 0.0, 0.0)).collect());
+        let weight = |k: usize| w.as_ref().map_or(1.0, |w| w[k].x);
+        let d = (original.points().iter().zip(faired.points()).enumerate())
+            .map(|(k, (a, b))| (*a - *b) * weight(k))
+            .collect();
+        let scale = original
+            .points()
+            .iter()
+            .chain(faired.points())
+            .fold(0.0f64, |a, x| a.max(x.length()));
+        // the weighted differences and their division by the refined weights round relative to the
+        // largest over the smallest weight
+        let (wmin, wmax) = original.weights().map_or((1.0, 1.0), |w| {
+            w.iter().fold((f64::MAX, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)))
+        });
+        Self {
+            p: original.degree_u(),
+            q: original.degree_v(),
+            ku: original.knots_u().values().to_vec(),
+            kv: original.knots_v().values().to_vec(),
+            nu: original.nu(),
+            nv: original.nv(),
+            d,
+            w,
+            slack: 64.0 * f64::EPSILON * scale * (wmax / wmin),
+        }
+    }
+
+    /// The largest patch bound (each patch: its largest difference point, plus the slack) and the spans
+    /// (u, v) of the patches above `level`.
+    fn patch_bounds(&self, level: f64) -> (f64, Vec<bool>, Vec<bool>) {
+        let (p, q, nv) = (self.p, self.q, self.nv);
+        let (mut hot_u, mut hot_v) = (vec![false; self.nu], vec![false; nv]);
+        let mut bound = 0.0f64;
+        let point = |k: usize| self.d[k].length() / self.w.as_ref().map_or(1.0, |w| w[k].x);
+        for su in (p..self.nu).filter(|&s| self.ku[s + 1] > self.ku[s]) {
+            for sv in (q..nv).filter(|&s| self.kv[s + 1] > self.kv[s]) {
+                let b = (su - p..=su)
+                    .flat_map(|i| (sv - q..=sv).map(move |j| i * nv + j))
+                    .map(point)
+                    .fold(0.0f64, f64::max)
+                    + self.slack;
+                bound = bound.max(b);
+                if b > level {
                     hot_u[su] = true;
                     hot_v[sv] = true;
                 }
             }
         }
-        if bound <= level || round == SURFACE_ROUNDS {
-            break;
-        }
+        (bound, hot_u, hot_v)
+    }
+
+    /// Insert the midpoints of the hot spans, along u then along v; `Some(false)` when the refined net
+    /// would pass [`SURFACE_NET_LIMIT`] (nothing done), `None` if a refinement fails.
+    fn refine(&mut self, hot_u: &[bool], hot_v: &[bool]) -> Option<bool> {
         let mids = |k: &[f64], hot: &[bool]| -> Vec<f64> {
             (0..hot.len())
                 .filter(|&s| hot[s])
                 .map(|s| 0.5 * (k[s] + k[s + 1]))
                 .collect()
         };
-        let (mu, mv) = (mids(&ku, &hot_u), mids(&kv, &hot_v));
-        if (nu + mu.len()) * (nv + mv.len()) > SURFACE_NET_LIMIT {
-            break;
+        let (mu, mv) = (mids(&self.ku, hot_u), mids(&self.kv, hot_v));
+        if (self.nu + mu.len()) * (self.nv + mv.len()) > SURFACE_NET_LIMIT {
+            return Some(false);
         }
-        // refine along u (each column j a curve through the rows), then along v (each row a curve)
-        let refine =
-            |k: &[f64], deg: usize, cols: usize, stride: (usize, usize), n: usize, data: &[DVec3], ins: &[f64]| {
-                let mut out_k = k.to_vec();
-                let mut out: Vec<Vec<DVec3>> = Vec::with_capacity(cols);
-                for c in 0..cols {
-                    let pts: Vec<DVec3> = (0..n).map(|r| data[r * stride.0 + c * stride.1]).collect();
-                    let curve = BSplineCurve::new_3d(deg, k.to_vec(), pts).ok()?;
-                    let refined = curve.refine(ins).ok()?;
-                    out_k = refined.knots().values().to_vec();
-                    out.push(refined.points().to_vec());
-                }
-                Some((out_k, out))
-            };
-        let (nk, cols) = refine(&ku, p, nv, (nv, 1), nu, &d, &mu)?;
-        let nu2 = cols.first().map_or(nu, |c| c.len());
-        let mut d2 = vec![DVec3::ZERO; nu2 * nv];
-        for (j, col) in cols.iter().enumerate() {
-            for (i, x) in col.iter().enumerate() {
-                d2[i * nv + j] = *x;
-            }
+        let (ku, kv) = (self.ku.clone(), self.kv.clone());
+        let along_u = |net: &[DVec3]| refine_rows(&ku, self.p, self.nu, self.nv, net, &mu);
+        let along_v = |net: &[DVec3], nu: usize| {
+            let (k, nv, t) = refine_rows(&kv, self.q, self.nv, nu, &transpose(net, nu, self.nv), &mv)?;
+            Some((k, nv, transpose(&t, nv, nu)))
+        };
+        let (ku, nu, d) = along_u(&self.d)?;
+        let (kv, nv, d) = along_v(&d, nu)?;
+        if let Some(w) = &self.w {
+            let (_, _, w) = along_u(w)?;
+            self.w = Some(along_v(&w, nu)?.2);
         }
-        (ku, nu, d) = (nk, nu2, d2);
-        let (nk, rows) = refine(&kv, q, nu, (1, nv), nv, &d, &mv)?;
-        let nv2 = rows.first().map_or(nv, |r| r.len());
-        let mut d3 = vec![DVec3::ZERO; nu * nv2];
-        for (i, row) in rows.iter().enumerate() {
-            d3[i * nv2..(i + 1) * nv2].copy_from_slice(row);
-        }
-        (kv, nv, d) = (nk, nv2, d3);
+        (self.ku, self.kv, self.nu, self.nv, self.d) = (ku, kv, nu, nv, d);
+        Some(true)
     }
-    Some(bound)
+}
+
+/// A row-major `rows × cols` net transposed (`cols × rows`).
+fn transpose(net: &[DVec3], rows: usize, cols: usize) -> Vec<DVec3> {
+    (0..cols)
+        .flat_map(|j| (0..rows).map(move |i| net[i * cols + j]))
+        .collect()
+}
+
+/// The knots `ins` inserted along the first index of a row-major `n × cols` net of degree `deg` on the
+/// knots `k` (each column a curve): the new knots, the new n and the new net.
+fn refine_rows(
+    k: &[f64],
+    deg: usize,
+    n: usize,
+    cols: usize,
+    net: &[DVec3],
+    ins: &[f64],
+) -> Option<(Vec<f64>, usize, Vec<DVec3>)> {
+    let mut out_k = k.to_vec();
+    let mut columns = Vec::with_capacity(cols);
+    for c in 0..cols {
+        let pts: Vec<DVec3> = (0..n).map(|r| net[r * cols + c]).collect();
+        let refined = BSplineCurve::new_3d(deg, k.to_vec(), pts).ok()?.refine(ins).ok()?;
+        out_k = refined.knots().values().to_vec();
+        columns.push(refined.points().to_vec());
+    }
+    let n2 = columns.first().map_or(n, Vec::len);
+    Some((out_k, n2, transpose(&columns.concat(), cols, n2)))
 }
 
 #[cfg(test)]
@@ -867,5 +921,53 @@ mod tests {
         assert!(sharp <= dense * 1.02, "sharp {sharp} vs dense {dense}");
         let other = bumpy(13, 0.01, 0.0);
         assert!(surface_band_bound(&a, &other, 1.0).is_none());
+    }
+
+    /// A rational surface: weights in [0.3, 3] (unequal, as a CAD system's NURBS face), the same
+    /// weights on both sides.
+    fn weighted(s: &crate::surface::BSplineSurface) -> crate::surface::BSplineSurface {
+        let w: Vec<f64> = (0..s.points().len())
+            .map(|k| 10f64.powf(0.5 * ((k as f64) * 0.9).sin()))
+            .collect();
+        let (ku, kv) = (s.knots_u().values().to_vec(), s.knots_v().values().to_vec());
+        crate::surface::BSplineSurface::try_new(3, 3, ku, kv, s.nu(), s.nv(), s.points().to_vec(), Some(w)).unwrap()
+    }
+
+    /// The surface bound of two rational surfaces with the same weights: exact for a constant offset
+    /// (the rational basis sums to one), above the deviation sampled densely and, refined towards 0,
+    /// within 2 % of it; `None` where the weights differ (the difference is then no surface on them).
+    #[test]
+    fn the_surface_bound_holds_for_rational_surfaces_with_the_same_weights() {
+        let a = weighted(&bumpy(12, 0.01, 0.0));
+        assert!(!a.is_polynomial());
+        let up = a
+            .with_points(a.points().iter().map(|p| *p + DVec3::new(0.0, 0.003, 0.004)).collect())
+            .unwrap();
+        let b = surface_band_bound(&a, &up, 1.0).unwrap();
+        assert!((b - 0.005).abs() <= 1e-12, "offset: {b}");
+        let c = a.with_points(bumpy(12, 0.01, 1.1).points().to_vec()).unwrap();
+        let dense = (0..=300)
+            .flat_map(|i| (0..=300).map(move |j| (i as f64 / 300.0, j as f64 / 300.0)))
+            .map(|(u, v)| (a.point(u, v) - c.point(u, v)).length())
+            .fold(0.0f64, f64::max);
+        let coarse = surface_band_bound(&a, &c, f64::INFINITY).unwrap();
+        let sharp = surface_band_bound(&a, &c, 0.0).unwrap();
+        assert!(
+            coarse >= sharp && sharp >= dense,
+            "coarse {coarse} sharp {sharp} dense {dense}"
+        );
+        assert!(sharp <= dense * 1.02, "sharp {sharp} vs dense {dense}");
+        let reweighted = crate::surface::BSplineSurface::try_new(
+            3,
+            3,
+            a.knots_u().values().to_vec(),
+            a.knots_v().values().to_vec(),
+            12,
+            12,
+            a.points().to_vec(),
+            Some(vec![1.0; 144]),
+        )
+        .unwrap();
+        assert!(surface_band_bound(&a, &reweighted, 1.0).is_none());
     }
 }

@@ -101,20 +101,33 @@ impl Unit {
         })
     }
 
-    /// Length of one unit in millimetres.
-    pub fn in_mm(self) -> f64 {
+    /// Length of one unit in tenths of a nanometre (10⁻¹⁰ m): an integer for every unit, so ratios of
+    /// units are exact ([`Unit::convert`]).
+    pub fn in_tenth_nm(self) -> u64 {
         match self {
-            Unit::Inch => 25.4,
-            Unit::Millimeter => 1.0,
-            Unit::Foot => 304.8,
-            Unit::Mile => 1_609_344.0,
-            Unit::Meter => 1000.0,
-            Unit::Kilometer => 1.0e6,
-            Unit::Mil => 0.0254,
-            Unit::Micron => 0.001,
-            Unit::Centimeter => 10.0,
-            Unit::Microinch => 2.54e-5,
+            Unit::Inch => 254_000_000,
+            Unit::Millimeter => 10_000_000,
+            Unit::Foot => 3_048_000_000,
+            Unit::Mile => 16_093_440_000_000,
+            Unit::Meter => 10_000_000_000,
+            Unit::Kilometer => 10_000_000_000_000,
+            Unit::Mil => 254_000,
+            Unit::Micron => 10_000,
+            Unit::Centimeter => 100_000_000,
+            Unit::Microinch => 254,
         }
+    }
+
+    /// Length of one unit in millimetres (the nearest double).
+    pub fn in_mm(self) -> f64 {
+        self.in_tenth_nm() as f64 / 1e7
+    }
+
+    /// `value` in this unit, expressed in `to`: `value` times the exact ratio of the two units' sizes,
+    /// rounded once (the nearest double; 0.05 mm in inches is the double nearest 1/508, which
+    /// `0.05 / 25.4` misses by one unit in the last place). Infinite if the result overflows.
+    pub fn convert(self, value: f64, to: Unit) -> f64 {
+        super::length::scale_exact(value, self.in_tenth_nm(), to.in_tenth_nm())
     }
 
     /// The unit of a flag, or (flag 3) of a name.
@@ -158,9 +171,9 @@ impl Unit {
 /// [`step::read_all_with`](super::step::read_all_with).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ReadOptions {
-    /// Convert coordinates to this unit (real-world size: file coordinates
-    /// divided by the model-space scale G13, times the unit ratio). `None`
-    /// keeps the file's coordinates untouched.
+    /// Convert coordinates to this unit (times the unit ratio). `None` keeps
+    /// the file's unit. Either way an IGES file's coordinates are divided by
+    /// its model-space scale G13 (real size).
     pub unit: Option<Unit>,
 }
 
@@ -172,7 +185,8 @@ pub struct InterchangeFile {
     /// The file's length unit (IGES G14/G15, STEP `LENGTH_UNIT` of the representation context), if
     /// recognised.
     pub unit: Option<Unit>,
-    /// The IGES model-space scale (G13), 1 if absent (always 1 for STEP).
+    /// The IGES model-space scale (G13: model size over real size), 1 if absent (always 1 for STEP);
+    /// `objects` are already divided by it.
     pub scale: f64,
     /// Skipped entities and conversions made, one message each.
     pub notices: Vec<String>,

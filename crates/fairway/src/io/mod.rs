@@ -15,6 +15,7 @@ pub mod document;
 pub mod iges;
 pub mod interchange;
 pub mod json;
+pub mod length;
 pub mod points;
 pub mod record;
 pub mod scene;
@@ -29,6 +30,7 @@ use crate::geometry::Geometry;
 
 pub use document::{Document, DocumentSettings};
 pub use interchange::{InterchangeFile, Unit};
+pub use length::{Length, LengthError};
 pub use scene::{Scene, SceneObject, ViewPlane, load_scene, save_scene};
 
 /// A file format known by its extension.

@@ -143,7 +143,9 @@ impl Default for SurfaceFairingOptions {
 /// The outcome of [`fair_surface`](super::fair_surface).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SurfaceFairingResult {
-    /// The faired surface (original knots and degrees, non-rational).
+    /// The faired surface: the original's knots and degrees, non-rational; a NURBS face (unequal weights)
+    /// faired through its stand-in is on the stand-in's knots (degrees max(p, 3)), one faired on its own
+    /// knots and weights is rational with the original's weights (the notes say which).
     pub surface: BSplineSurface,
     /// Verified upper bound of the deviation on the check grid (≤ tolerance).
     pub max_deviation: f64,
@@ -171,8 +173,9 @@ pub struct SurfaceFairingResult {
     /// where it comes near m. `Some(b)` with b ≤ tolerance certifies the band: where the first bound came
     /// out above m (the grid held the band, but the fair slid the surface along itself between its
     /// points), the change is scaled back until it certifies m (`alpha` says by how much). A rational
-    /// input (equal weights: the engine refuses others) is bounded in its polynomial form, the same
-    /// surface. `None` only where the bound cannot apply (different knots: never for this engine's result).
+    /// input with equal weights is bounded in its polynomial form, the same surface; a NURBS face faired
+    /// on its own knots and weights on the rational difference (same weights). `None` only where the
+    /// bound cannot apply (different knots: never for this engine's result).
     pub band_bound: Option<f64>,
     /// What the fair did besides the plain method, in the user's terms: C0 knot lines faired tile by
     /// tile with the rows next to them held, tiles too short to move left as they were.

@@ -7,8 +7,8 @@
 //!
 //! * **S** start: free text.
 //! * **G** global: free-format parameters (delimiter `,`, record end `;`,
-//!   strings as Hollerith `nH...`), among them the model-space scale (G13)
-//!   and the unit flag (G14).
+//!   strings as Hollerith `nH...`), among them the model-space scale (G13:
+//!   model size over real size) and the unit flag (G14).
 //! * **D** directory: two records per entity, twenty 8-column fields (entity
 //!   type, pointer to its first **P** record, transformation matrix, status,
 //!   number of **P** records, form, ...).
@@ -28,9 +28,10 @@
 //! insertion (The NURBS Book A5.1 on homogeneous points: the curve is
 //! unchanged), and lists the skipped entities in [`IgesFile::notices`].
 //! Curves in the plane z = 0 flagged planar become 2D curves. Units: the
-//! coordinates are returned in the file's unit, reported in
-//! [`IgesFile::unit`], unless [`ReadOptions::unit`] asks for a conversion
-//! (which also divides by the model-space scale).
+//! coordinates are returned at real size (divided by the model-space scale
+//! G13, the ratio of model space to real-world size; a notice when it is not
+//! one) in the file's unit, reported in [`IgesFile::unit`], unless
+//! [`ReadOptions::unit`] asks for a conversion. The writer writes G13 = 1.
 //!
 //! Writing ([`write()`], [`to_string`]) emits each float as its shortest
 //! round-trip decimal with a `D` exponent, so Fairway → IGES → Fairway is

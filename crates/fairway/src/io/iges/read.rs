@@ -94,8 +94,9 @@ pub(super) fn global_delimiters(gtext: &[u8]) -> Result<(u8, u8)> {
     Ok((pd, rd))
 }
 
-/// Global section, units: the model-space scale (G13), the file's unit (G14/G15) and the factor
-/// converting coordinates to `opts.unit` (1 when not converting), as (scale, unit, factor).
+/// Global section, units: the model-space scale (G13: model size over real size), the file's unit
+/// (G14/G15) and the factor taking coordinates to real size in `opts.unit` (the file's unit when not
+/// converting): 1 / scale times the unit ratio, as (scale, unit, factor). A scale other than 1 is noted.
 pub(super) fn global_units(
     gtoks: &[Tok],
     opts: ReadOptions,
@@ -128,7 +129,14 @@ pub(super) fn global_units(
         Some(f) => Unit::from_flag(f, &gstr(14)),
         None => Unit::from_name(&gstr(14)),
     };
-    let factor = match opts.unit {
+    if scale != 1.0 {
+        notices.push(format!(
+            "global section: model-space scale {s} (G13): the model is drawn at {s} times its real size; its \
+             coordinates are divided by {s}",
+            s = crate::range::short(scale)
+        ));
+    }
+    let ratio = match opts.unit {
         None => 1.0,
         Some(target) => {
             let Some(from) = unit else {
@@ -138,10 +146,10 @@ pub(super) fn global_units(
                     target.name()
                 )));
             };
-            from.in_mm() / target.in_mm() / scale
+            from.in_mm() / target.in_mm()
         }
     };
-    Ok((scale, unit, factor))
+    Ok((scale, unit, ratio / scale))
 }
 
 /// Directory: the entries, one per pair of `D` records (the fields the reader uses).

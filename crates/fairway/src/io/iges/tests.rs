@@ -236,6 +236,54 @@ fn foreign_unclamped_curve_is_clamped_exactly_and_units_converted() {
     }
 }
 
+/// G13 is model size over real size: a file drawn at 4 times real size (or at a quarter of it) reads
+/// at real size, its coordinates divided by G13, with a notice; converted units apply on top; an invalid
+/// G13 is ignored with a notice; the writer declares 1, so what it writes reads back unchanged.
+#[test]
+fn model_space_scale_gives_real_size_and_is_written_as_one() {
+    let real = read_all(foreign_file("1", "1.0").as_bytes()).unwrap();
+    assert_eq!(real.scale, 1.0);
+    assert!(!real.notices.iter().any(|n| n.contains("G13")), "{:?}", real.notices);
+    let pts = |f: &IgesFile| f.objects[0].as_curve().unwrap().points().to_vec();
+    for (g13, factor) in [("4.0", 0.25), ("0.125", 8.0)] {
+        let f = read_all(foreign_file("1", g13).as_bytes()).unwrap();
+        assert_eq!(f.scale, 1.0 / factor);
+        assert_eq!(f.unit, Some(Unit::Inch));
+        let want: Vec<DVec3> = pts(&real).iter().map(|&q| q * factor).collect();
+        assert_eq!(
+            pts(&f),
+            want,
+            "G13 = {g13}: coordinates divided by it (exactly: a power of 2)"
+        );
+        let note = format!("model-space scale {} (G13)", 1.0 / factor);
+        assert!(f.notices.iter().any(|n| n.contains(&note)), "{:?}", f.notices);
+        // the unit conversion on top of real size
+        let mm = read_all_with(
+            foreign_file("1", g13).as_bytes(),
+            ReadOptions {
+                unit: Some(Unit::Millimeter),
+            },
+        )
+        .unwrap();
+        for (a, b) in want.iter().zip(pts(&mm)) {
+            assert!((*a * 25.4 - b).length() <= 1e-13 * b.length(), "{a} in, {b} mm");
+        }
+        // written at real size with G13 = 1: read back as it is, no notice
+        let back = read_all(write(&f.objects, &WriteOptions::default()).as_bytes()).unwrap();
+        assert_eq!((back.scale, &back.objects), (1.0, &f.objects));
+        assert!(!back.notices.iter().any(|n| n.contains("G13")), "{:?}", back.notices);
+    }
+    for bad in ["0.", "-2."] {
+        let f = read_all(foreign_file("1", bad).as_bytes()).unwrap();
+        assert_eq!((f.scale, pts(&f)), (1.0, pts(&real)), "G13 = {bad}");
+        assert!(
+            f.notices.iter().any(|n| n.contains("is invalid; 1 is used")),
+            "{:?}",
+            f.notices
+        );
+    }
+}
+
 #[test]
 fn transformation_matrix_is_applied() {
     let c = sample_curve_2d();
