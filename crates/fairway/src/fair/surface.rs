@@ -525,7 +525,7 @@ fn free_rows(s: &BSplineSurface, region: Option<UvRect>) -> Result<FreeRows> {
     let free_u = hold_c0_neighbours(ku, free_range(ku, u1, u2));
     let free_v = hold_c0_neighbours(kv, free_range(kv, v1, v2));
     let had = !free_u.is_empty() && !free_v.is_empty();
-    let (free_u, free_v) = hold_poles_and_seams(&s, free_u, free_v);
+    let (free_u, free_v) = hold_poles_and_seams(s, free_u, free_v);
     if had && (free_u.is_empty() || free_v.is_empty()) {
         return Err(Error::InvalidInput(format!(
             "region [{u1}, {u2}] × [{v1}, {v2}] holds no movable control point: its control rows are all among \

@@ -254,7 +254,7 @@ mod tests {
             x ^= x >> 7;
             x ^= x << 17;
             let v = f64::from_bits((x >> 2) % (0x7fe << 52)); // positive, finite, subnormals too
-            let v = if v > 1e300 || v < 1e-290 { v.sqrt() } else { v };
+            let v = if (1e-290..=1e300).contains(&v) { v } else { v.sqrt() };
             assert_eq!(Unit::Inch.convert(v, Unit::Mil), v * 1000.0, "{v:e}");
             assert_eq!(Unit::Kilometer.convert(v, Unit::Millimeter), v * 1e6, "{v:e}");
             assert_eq!(Unit::Micron.convert(v, Unit::Meter), v / 1e6, "{v:e}");

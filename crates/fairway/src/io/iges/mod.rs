@@ -29,8 +29,8 @@
 //! unchanged), and lists the skipped entities in [`IgesFile::notices`].
 //! Curves in the plane z = 0 flagged planar become 2D curves. Units: the
 //! coordinates are returned at real size — divided by the model-space scale
-//! (G13, the ratio of model space to real-world size; a notice when it is not
-//! 1) — in the file's unit, reported in [`IgesFile::unit`], unless
+//! G13, the ratio of model space to real-world size, with a notice unless it
+//! is one — in the file's unit, reported in [`IgesFile::unit`], unless
 //! [`ReadOptions::unit`] asks for a conversion. The writer writes G13 = 1.
 //!
 //! Writing ([`write()`], [`to_string`]) emits each float as its shortest
