@@ -899,6 +899,27 @@ mod tests {
     /// The surface bound: exact for a constant offset; above the parametric deviation sampled densely
     /// (41 × 41 points a patch pair … 4000 × 4000 in all would be slow: 201 × 201 over the domain) and,
     /// refined towards 0, within 2 % of it; `None` for other knots.
+    /// The bound of `c` against `a` is above their distance on an `n × n` grid, refined (tolerance 0) no
+    /// larger than the coarse one and within 2 % of the grid's.
+    fn assert_bound_holds_and_sharpens(
+        a: &crate::surface::BSplineSurface,
+        c: &crate::surface::BSplineSurface,
+        n: usize,
+    ) {
+        let t = |i: usize| i as f64 / n as f64;
+        let dense = (0..=n)
+            .flat_map(|i| (0..=n).map(move |j| (t(i), t(j))))
+            .map(|(u, v)| (a.point(u, v) - c.point(u, v)).length())
+            .fold(0.0f64, f64::max);
+        let coarse = surface_band_bound(a, c, f64::INFINITY).unwrap();
+        let sharp = surface_band_bound(a, c, 0.0).unwrap();
+        assert!(
+            coarse >= sharp && sharp >= dense,
+            "coarse {coarse} sharp {sharp} dense {dense}"
+        );
+        assert!(sharp <= dense * 1.02, "sharp {sharp} vs dense {dense}");
+    }
+
     #[test]
     fn the_surface_bound_holds_and_sharpens() {
         let a = bumpy(12, 0.01, 0.0);
@@ -907,18 +928,7 @@ mod tests {
             .unwrap();
         let b = surface_band_bound(&a, &up, 1.0).unwrap();
         assert!((b - 0.004).abs() <= 1e-12, "offset: {b}");
-        let c = bumpy(12, 0.01, 1.1);
-        let dense = (0..=200)
-            .flat_map(|i| (0..=200).map(move |j| (i as f64 / 200.0, j as f64 / 200.0)))
-            .map(|(u, v)| (a.point(u, v) - c.point(u, v)).length())
-            .fold(0.0f64, f64::max);
-        let coarse = surface_band_bound(&a, &c, f64::INFINITY).unwrap();
-        let sharp = surface_band_bound(&a, &c, 0.0).unwrap();
-        assert!(
-            coarse >= sharp && sharp >= dense,
-            "coarse {coarse} sharp {sharp} dense {dense}"
-        );
-        assert!(sharp <= dense * 1.02, "sharp {sharp} vs dense {dense}");
+        assert_bound_holds_and_sharpens(&a, &bumpy(12, 0.01, 1.1), 200);
         let other = bumpy(13, 0.01, 0.0);
         assert!(surface_band_bound(&a, &other, 1.0).is_none());
     }
@@ -946,17 +956,7 @@ mod tests {
         let b = surface_band_bound(&a, &up, 1.0).unwrap();
         assert!((b - 0.005).abs() <= 1e-12, "offset: {b}");
         let c = a.with_points(bumpy(12, 0.01, 1.1).points().to_vec()).unwrap();
-        let dense = (0..=300)
-            .flat_map(|i| (0..=300).map(move |j| (i as f64 / 300.0, j as f64 / 300.0)))
-            .map(|(u, v)| (a.point(u, v) - c.point(u, v)).length())
-            .fold(0.0f64, f64::max);
-        let coarse = surface_band_bound(&a, &c, f64::INFINITY).unwrap();
-        let sharp = surface_band_bound(&a, &c, 0.0).unwrap();
-        assert!(
-            coarse >= sharp && sharp >= dense,
-            "coarse {coarse} sharp {sharp} dense {dense}"
-        );
-        assert!(sharp <= dense * 1.02, "sharp {sharp} vs dense {dense}");
+        assert_bound_holds_and_sharpens(&a, &c, 300);
         let reweighted = crate::surface::BSplineSurface::try_new(
             3,
             3,
