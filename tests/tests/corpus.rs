@@ -81,14 +81,7 @@ fn check_curve(c: &BSplineCurve) -> Result<(), String> {
 fn check_surface(s: &BSplineSurface) -> Result<(), String> {
     let (lo, hi) = s.control_bounds();
     let m = 5e-4 * diagonal(lo, hi);
-    let r = fair_surface(
-        s,
-        SurfaceFairingOptions {
-            tolerance: m,
-            ..Default::default()
-        },
-    )
-    .map_err(|e| format!("fair failed: {e}"))?;
+    let r = fair_surface(s, SurfaceFairingOptions::default().tolerance(m)).map_err(|e| format!("fair failed: {e}"))?;
     match r.band_bound {
         Some(b) if b <= m * (1.0 + 1e-9) => {}
         b => return Err(format!("band not certified: bound {b:?}, m {m:.4e}")),

@@ -645,15 +645,13 @@ fn fair_surface_cmd(a: &Args, surface: &BSplineSurface, curve: FairingOptions, r
             r.len()
         ),
     };
-    let opts = SurfaceFairingOptions {
-        region,
-        tolerance: a.tolerance,
-        curve,
-        combine: a.combine,
-        refair_levels: a.refair_levels,
-        method,
-        ..Default::default()
-    };
+    let opts = SurfaceFairingOptions::default()
+        .region(region)
+        .tolerance(a.tolerance)
+        .curve(curve)
+        .combine(a.combine)
+        .refair_levels(a.refair_levels)
+        .method(method);
     let t0 = Instant::now();
     let result = fair_surface(surface, opts).context("surface fairing")?;
     let solve_ms = t0.elapsed().as_secs_f64() * 1e3;

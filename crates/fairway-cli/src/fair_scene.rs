@@ -201,14 +201,12 @@ fn options(a: &Args, scene: &Scene) -> Result<NetworkOptions> {
     };
     Ok(NetworkOptions {
         curve,
-        surface: SurfaceFairingOptions {
-            tolerance: a.tolerance,
-            curve,
-            combine: a.combine,
-            refair_levels: a.refair_levels,
-            method,
-            ..Default::default()
-        },
+        surface: SurfaceFairingOptions::default()
+            .tolerance(a.tolerance)
+            .curve(curve)
+            .combine(a.combine)
+            .refair_levels(a.refair_levels)
+            .method(method),
         hold_all: false,
     })
 }

@@ -34,10 +34,7 @@ fn noisy_net(n: usize) -> BSplineSurface {
 }
 
 fn opts() -> SurfaceFairingOptions {
-    SurfaceFairingOptions {
-        tolerance: 3e-3,
-        ..Default::default()
-    }
+    SurfaceFairingOptions::default().tolerance(3e-3)
 }
 
 fn benches(c: &mut Criterion) {
@@ -51,10 +48,7 @@ fn benches(c: &mut Criterion) {
         });
     }
     let s = noisy_net(30);
-    let region = SurfaceFairingOptions {
-        region: Some(((0.3, 0.7), (0.3, 0.7))),
-        ..opts()
-    };
+    let region = opts().region(Some(((0.3, 0.7), (0.3, 0.7))));
     g.bench_function("30x30 region 0.4x0.4", |b| {
         b.iter(|| fair_surface(black_box(&s), region).unwrap())
     });

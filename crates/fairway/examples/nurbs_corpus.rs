@@ -32,13 +32,7 @@ struct Stats {
 fn fair_face(s: &BSplineSurface) -> Outcome {
     let (lo, hi) = s.control_bounds();
     let m = 5e-4 * (hi - lo).length();
-    let r = match fair_surface(
-        s,
-        SurfaceFairingOptions {
-            tolerance: m,
-            ..Default::default()
-        },
-    ) {
+    let r = match fair_surface(s, SurfaceFairingOptions::default().tolerance(m)) {
         Ok(r) => r,
         Err(e) if e.to_string().contains("could not be faired without adding") => {
             return Outcome::Refused(e.to_string());

@@ -94,13 +94,11 @@ fn main() {
             for combine in [Combine::Average, Combine::Border, Combine::Weighted, Combine::Smoothed] {
                 let r = fair_surface(
                     &s,
-                    SurfaceFairingOptions {
-                        tolerance: 3e-3,
-                        combine,
-                        region,
-                        refair_levels: std::env::var("REFAIR_LEVELS").is_ok(),
-                        ..Default::default()
-                    },
+                    SurfaceFairingOptions::default()
+                        .tolerance(3e-3)
+                        .combine(combine)
+                        .region(region)
+                        .refair_levels(std::env::var("REFAIR_LEVELS").is_ok()),
                 )
                 .unwrap();
                 let st = iso_stats(&r.surface, 20, delta);

@@ -29,15 +29,7 @@ fn row(md: bool, cells: &[String]) {
 
 fn fair(s: &BSplineSurface, m: f64, method: SurfaceMethod) -> (SurfaceFairingResult, f64) {
     let t = Instant::now();
-    let r = fair_surface(
-        s,
-        SurfaceFairingOptions {
-            tolerance: m,
-            method,
-            ..Default::default()
-        },
-    )
-    .expect("fair");
+    let r = fair_surface(s, SurfaceFairingOptions::default().tolerance(m).method(method)).expect("fair");
     (r, t.elapsed().as_secs_f64() * 1e3)
 }
 

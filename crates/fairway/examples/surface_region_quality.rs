@@ -57,21 +57,21 @@ fn main() {
     for m in [2e-3, 4e-3, 6e-3, 1e-2, 2e-2] {
         let r = fair_surface(
             &s,
-            SurfaceFairingOptions {
-                region: Some(region),
-                tolerance: m,
-                combine: std::env::var("COMBINE")
-                    .ok()
-                    .map_or(Default::default(), |c| c.parse().unwrap()),
-                auto_smoothing: std::env::var("STRENGTH").is_err(),
-                refair_levels: std::env::var("REFAIR_LEVELS").is_ok(),
-                smoothing: fairway::fit_surface::SurfaceSmoothing {
+            SurfaceFairingOptions::default()
+                .region(Some(region))
+                .tolerance(m)
+                .combine(
+                    std::env::var("COMBINE")
+                        .ok()
+                        .map_or(Default::default(), |c| c.parse().unwrap()),
+                )
+                .auto_smoothing(std::env::var("STRENGTH").is_err())
+                .refair_levels(std::env::var("REFAIR_LEVELS").is_ok())
+                .smoothing(fairway::fit_surface::SurfaceSmoothing {
                     strength_u: std::env::var("STRENGTH").ok().map_or(0.0, |c| c.parse().unwrap()),
                     strength_v: std::env::var("STRENGTH").ok().map_or(0.0, |c| c.parse().unwrap()),
                     order: 3,
-                },
-                ..Default::default()
-            },
+                }),
         )
         .expect("fair");
         let f = &r.surface;

@@ -58,16 +58,16 @@ fn main() {
     );
     for n in [10, 20, 30, 50, 70, 100] {
         let s = noisy_net(n);
-        let opts = SurfaceFairingOptions {
-            tolerance: 3e-3,
-            combine: std::env::var("COMBINE").map_or(Combine::Border, |c| c.parse().expect("combine")),
-            iso_levels: std::env::var("ISO_LEVELS")
-                .ok()
-                .and_then(|x| x.parse().ok())
-                .unwrap_or(3),
-            refair_levels: std::env::var("REFAIR_LEVELS").is_ok(),
-            ..Default::default()
-        };
+        let opts = SurfaceFairingOptions::default()
+            .tolerance(3e-3)
+            .combine(std::env::var("COMBINE").map_or(Combine::Border, |c| c.parse().expect("combine")))
+            .iso_levels(
+                std::env::var("ISO_LEVELS")
+                    .ok()
+                    .and_then(|x| x.parse().ok())
+                    .unwrap_or(3),
+            )
+            .refair_levels(std::env::var("REFAIR_LEVELS").is_ok());
         // best wall time of `repeats` (least disturbed by other load on the machine), with its thread CPU time
         let mut best: Option<(Duration, f64, fairway::fair::SurfaceFairingResult)> = None;
         for _ in 0..repeats {

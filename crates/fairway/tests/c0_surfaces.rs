@@ -67,14 +67,7 @@ fn normal_jumps(s: &BSplineSurface, lines_u: &[f64], lines_v: &[f64]) -> Vec<f64
 }
 
 fn fair(s: &BSplineSurface, m: f64) -> fairway::fair::SurfaceFairingResult {
-    fair_surface(
-        s,
-        SurfaceFairingOptions {
-            tolerance: m,
-            ..Default::default()
-        },
-    )
-    .unwrap()
+    fair_surface(s, SurfaceFairingOptions::default().tolerance(m)).unwrap()
 }
 
 #[test]
@@ -148,11 +141,9 @@ fn a_surface_of_single_bezier_tiles_gets_a_clear_refusal() {
     // inside the region every stretch is a single cubic Bézier span: nothing can move without breaking a
     // joint (the outer spans, on the domain boundary, are outside the region)
     let s = noisy_chain(3, &[0.25, 0.5, 0.75], &[0.25, 0.5, 0.75], false);
-    let opts = SurfaceFairingOptions {
-        tolerance: 3e-3,
-        region: Some(((0.25, 0.75), (0.25, 0.75))),
-        ..Default::default()
-    };
+    let opts = SurfaceFairingOptions::default()
+        .tolerance(3e-3)
+        .region(Some(((0.25, 0.75), (0.25, 0.75))));
     let e = fair_surface(&s, opts).unwrap_err();
     let msg = e.to_string();
     assert!(

@@ -201,13 +201,6 @@ fn a_catia_v4_face_with_a_knot_of_multiplicity_four_opens() {
     assert_eq!(s.nu(), 7);
     assert_eq!(s.point_at(4, 2), p[5 * 5 + 2]);
     let m = 1e-2;
-    let r = fairway::fair::fair_surface(
-        s,
-        fairway::fair::SurfaceFairingOptions {
-            tolerance: m,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let r = fairway::fair::fair_surface(s, fairway::fair::SurfaceFairingOptions::default().tolerance(m)).unwrap();
     assert!(r.band_bound.unwrap() <= m);
 }

@@ -28,14 +28,7 @@ fn rational_faces_whose_stand_in_gains_extrema_are_faired_on_their_own_knots_and
     assert!(!s.is_polynomial(), "a NURBS face with unequal weights");
     let (lo, hi) = s.control_bounds();
     let m = 5e-4 * (hi - lo).length();
-    let r = fair_surface(
-        &s,
-        SurfaceFairingOptions {
-            tolerance: m,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let r = fair_surface(&s, SurfaceFairingOptions::default().tolerance(m)).unwrap();
     assert!(
         r.notes[0].starts_with("rational surface (unequal weights): faired on its own knots and weights")
             && r.notes[0].contains("stand-in's fair added isocurve curvature extrema"),

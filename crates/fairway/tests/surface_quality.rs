@@ -21,15 +21,7 @@ use fairway::fair::{SurfaceFairingOptions, SurfaceMethod, SurfacePick, fair_surf
 use fairway::measure_surface::{N_ISO, deviation, iso_stats, mean_curvature_variation};
 
 fn fair(s: &BSplineSurface, m: f64, method: SurfaceMethod) -> fairway::fair::SurfaceFairingResult {
-    fair_surface(
-        s,
-        SurfaceFairingOptions {
-            tolerance: m,
-            method,
-            ..Default::default()
-        },
-    )
-    .unwrap()
+    fair_surface(s, SurfaceFairingOptions::default().tolerance(m).method(method)).unwrap()
 }
 
 #[test]
@@ -146,11 +138,9 @@ fn the_reference_smoother_at_the_ends_of_its_range_and_on_bad_input() {
     for bad in [0.0, -1.0, f64::NAN] {
         let e = fair_surface(
             s,
-            SurfaceFairingOptions {
-                tolerance: bad,
-                method: SurfaceMethod::Smoothing,
-                ..Default::default()
-            },
+            SurfaceFairingOptions::default()
+                .tolerance(bad)
+                .method(SurfaceMethod::Smoothing),
         );
         assert!(e.is_err(), "tolerance {bad}");
     }
@@ -163,12 +153,10 @@ fn the_reference_smoother_at_the_ends_of_its_range_and_on_bad_input() {
         let m = 3.0 * big.sigma;
         let r = fair_surface(
             s,
-            SurfaceFairingOptions {
-                tolerance: m,
-                region: Some(region),
-                method,
-                ..Default::default()
-            },
+            SurfaceFairingOptions::default()
+                .tolerance(m)
+                .region(Some(region))
+                .method(method),
         )
         .unwrap();
         let nv = s.nv();

@@ -214,24 +214,19 @@ impl SurfaceWorkspace {
         if stale {
             changed = true;
             let draft = pointer_down;
-            let opts = SurfaceFairingOptions {
-                region: Some(region),
-                tolerance: tol,
-                // while dragging: one isocurve tolerance level, the live-preview setting of the core
-                iso_levels: if draft {
-                    1
-                } else {
-                    SurfaceFairingOptions::default().iso_levels
-                },
-                // while dragging: the isocurve fairing alone (the step-8 choice among the reference smoother's
-                // candidates costs 8-15 × as much); on release the default
-                method: if draft {
+            // while dragging: one isocurve tolerance level (the live-preview setting of the core) and the
+            // isocurve fairing alone (the step-8 choice among the reference smoother's candidates costs
+            // 8-15 × as much); on release the defaults
+            let defaults = SurfaceFairingOptions::default();
+            let opts = defaults
+                .region(Some(region))
+                .tolerance(tol)
+                .iso_levels(if draft { 1 } else { defaults.iso_levels })
+                .method(if draft {
                     SurfaceMethod::Isocurves
                 } else {
-                    SurfaceMethod::default()
-                },
-                ..Default::default()
-            };
+                    defaults.method
+                });
             let t0 = Instant::now();
             // a panic in the engine becomes an error message; the document is untouched
             let res = crate::guard::catch_panic("surface fairing", || fair_surface(surface, opts));

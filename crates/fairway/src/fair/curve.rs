@@ -107,6 +107,7 @@ mod check;
 mod energy;
 mod fit;
 mod options;
+pub(crate) use options::setters_for;
 mod polish;
 mod region;
 mod setup;

@@ -210,7 +210,7 @@ impl Default for FairingOptions {
 
 /// One setter a field, `fn field(self, value) -> Self`, for the options structs that are
 /// `#[non_exhaustive]`.
-macro_rules! setters {
+macro_rules! setters_for {
     ($t:ty { $($field:ident: $ty:ty),* $(,)? }) => {
         impl $t {
             $(
@@ -224,8 +224,9 @@ macro_rules! setters {
         }
     };
 }
+pub(crate) use setters_for;
 
-setters!(FairingOptions {
+setters_for!(FairingOptions {
     region: Option<(f64, f64)>,
     tolerance: f64,
     ends: EndCondition,

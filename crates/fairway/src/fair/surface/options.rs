@@ -81,8 +81,10 @@ pub enum SurfacePick {
     Original,
 }
 
-/// Options of a surface fairing.
+/// Options of a surface fairing, built from the defaults with one setter a field (`#[non_exhaustive]`):
+/// `SurfaceFairingOptions::default().tolerance(0.01).region(Some(((0.2, 0.8), (0.1, 0.9))))`.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct SurfaceFairingOptions {
     /// Region `((u1, u2), (v1, v2))` (`None`: the whole surface).
     pub region: Option<((f64, f64), (f64, f64))>,
@@ -217,3 +219,17 @@ impl std::ops::Add for SurfaceTimings {
         }
     }
 }
+
+crate::fair::curve::setters_for!(SurfaceFairingOptions {
+    region: Option<((f64, f64), (f64, f64))>,
+    tolerance: f64,
+    curve: FairingOptions,
+    combine: Combine,
+    samples_per_span: usize,
+    smoothing: SurfaceSmoothing,
+    auto_smoothing: bool,
+    threads: Option<usize>,
+    iso_levels: usize,
+    refair_levels: bool,
+    method: SurfaceMethod,
+});
