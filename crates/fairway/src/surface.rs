@@ -214,6 +214,27 @@ impl BSplineSurface {
     pub fn point_at(&self, i: usize, j: usize) -> DVec3 {
         self.points[i * self.nv + j]
     }
+    /// The same surface with u and v swapped: `S'(v, u) = S(u, v)` (control points and weights
+    /// transposed).
+    pub fn transposed(&self) -> Self {
+        let swap = |k: usize| (k % self.nu) * self.nv + k / self.nu;
+        let points = (0..self.points.len()).map(|k| self.points[swap(k)]).collect();
+        let weights = self
+            .weights
+            .as_ref()
+            .map(|w| (0..w.len()).map(|k| w[swap(k)]).collect());
+        Self::try_new(
+            self.degree_v(),
+            self.degree_u(),
+            self.knots_v().values().to_vec(),
+            self.knots_u().values().to_vec(),
+            self.nv,
+            self.nu,
+            points,
+            weights,
+        )
+        .expect("the transpose of a valid surface is valid")
+    }
     /// Weights, if rational.
     pub fn weights(&self) -> Option<&[f64]> {
         self.weights.as_deref()

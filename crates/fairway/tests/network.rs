@@ -476,25 +476,6 @@ fn patches_of_different_degrees_are_raised_and_faired_as_one() {
     }
 }
 
-/// `s` with u and v swapped.
-fn transposed(s: &fairway::BSplineSurface) -> fairway::BSplineSurface {
-    let pts = (0..s.nv())
-        .flat_map(|j| (0..s.nu()).map(move |i| (i, j)))
-        .map(|(i, j)| s.point_at(i, j))
-        .collect();
-    fairway::BSplineSurface::try_new(
-        s.degree_v(),
-        s.degree_u(),
-        s.knots_v().values().to_vec(),
-        s.knots_u().values().to_vec(),
-        s.nv(),
-        s.nu(),
-        pts,
-        None,
-    )
-    .unwrap()
-}
-
 #[test]
 fn a_strip_of_three_patches_turned_every_way_is_faired_as_one() {
     use fairway::BSplineSurface;
@@ -529,7 +510,7 @@ fn a_strip_of_three_patches_turned_every_way_is_faired_as_one() {
         .unwrap()
     };
     // the middle one transposed; listed out of order
-    let patches = [net(&parts[2]), transposed(&net(&parts[1])), net(&parts[0])];
+    let patches = [net(&parts[2]), net(&parts[1]).transposed(), net(&parts[0])];
     let objects: Vec<Geometry> = patches.iter().cloned().map(Into::into).collect();
     let before = find_joins(&objects);
     assert_eq!(before.surfaces.len(), 2, "{before:?}");

@@ -146,3 +146,25 @@ fn isocurves_match_surface_evaluation() {
         assert!(close(m.curvature(k as f64 / 10.0), 1.0 / 3.0, 1e-13));
     }
 }
+
+/// A rational surface with unequal weights and different degrees, knots and sizes in u and v: its
+/// transpose evaluates to the same point with the parameters swapped, and transposing twice gives the
+/// surface back bit for bit.
+#[test]
+fn a_transposed_surface_swaps_its_parameters_weights_included() {
+    let (nu, nv) = (5, 4);
+    let ku = vec![0.0, 0.0, 0.0, 0.0, 0.4, 1.0, 1.0, 1.0, 1.0];
+    let kv = vec![0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0];
+    let pts: Vec<DVec3> = (0..nu * nv)
+        .map(|k| DVec3::new((k / nv) as f64, (k % nv) as f64, ((k * 7 % 5) as f64) * 0.2))
+        .collect();
+    let w: Vec<f64> = (0..nu * nv).map(|k| 1.0 + 0.3 * ((k * 3 % 4) as f64)).collect();
+    let s = BSplineSurface::try_new(3, 2, ku, kv, nu, nv, pts, Some(w)).unwrap();
+    let t = s.transposed();
+    assert_eq!((t.nu(), t.nv(), t.degree_u(), t.degree_v()), (nv, nu, 2, 3));
+    for (u, v) in [(0.0, 0.0), (0.3, 0.7), (0.9, 0.2), (1.0, 1.0)] {
+        let d = (s.point(u, v) - t.point(v, u)).length();
+        assert!(d <= 1e-12, "({u}, {v}): {d}");
+    }
+    assert_eq!(t.transposed(), s);
+}

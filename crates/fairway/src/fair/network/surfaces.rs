@@ -39,25 +39,6 @@ fn from_along_v(rows: &[BSplineCurve], (pu, ku): (usize, &[f64])) -> Result<BSpl
     )
 }
 
-/// `s` with u and v swapped.
-fn transpose(s: &BSplineSurface) -> BSplineSurface {
-    let pts = (0..s.nv())
-        .flat_map(|j| (0..s.nu()).map(move |i| (i, j)))
-        .map(|(i, j)| s.point_at(i, j))
-        .collect();
-    BSplineSurface::try_new(
-        s.degree_v(),
-        s.degree_u(),
-        s.knots_v().values().to_vec(),
-        s.knots_u().values().to_vec(),
-        s.nv(),
-        s.nu(),
-        pts,
-        None,
-    )
-    .expect("a transposed valid net")
-}
-
 /// `s` with its v direction reversed.
 fn reverse_v(s: &BSplineSurface) -> BSplineSurface {
     let rows: Vec<BSplineCurve> = along_v(s).iter().map(BSplineCurve::reversed).collect();
@@ -66,7 +47,7 @@ fn reverse_v(s: &BSplineSurface) -> BSplineSurface {
 
 /// `s` with its u direction reversed.
 fn reverse_u(s: &BSplineSurface) -> BSplineSurface {
-    transpose(&reverse_v(&transpose(s)))
+    reverse_v(&s.transposed()).transposed()
 }
 
 /// The steps that turn a patch so that its side `side` is v = v₁ (`last`) or v = v₀, the u direction
@@ -82,7 +63,7 @@ fn turn_to_v(side: Side, last: bool) -> (bool, bool) {
 }
 
 fn apply(s: &BSplineSurface, (t, r): (bool, bool), flip_u: bool) -> BSplineSurface {
-    let s = if t { transpose(s) } else { s.clone() };
+    let s = if t { s.transposed() } else { s.clone() };
     let s = if r { reverse_v(&s) } else { s };
     if flip_u { reverse_u(&s) } else { s }
 }
@@ -90,7 +71,7 @@ fn apply(s: &BSplineSurface, (t, r): (bool, bool), flip_u: bool) -> BSplineSurfa
 fn undo(s: &BSplineSurface, (t, r): (bool, bool), flip_u: bool) -> BSplineSurface {
     let s = if flip_u { reverse_u(s) } else { s.clone() };
     let s = if r { reverse_v(&s) } else { s };
-    if t { transpose(&s) } else { s }
+    if t { s.transposed() } else { s }
 }
 
 /// `s` raised to the degrees `pu`, `pv` (≥ its own; [`BSplineCurve::elevate_degree`] on its rows, exact).
@@ -102,12 +83,12 @@ fn elevate(s: &BSplineSurface, pu: usize, pv: usize) -> Result<BSplineSurface> {
         s.clone()
     };
     if s.degree_u() < pu {
-        let t = transpose(&s);
+        let t = s.transposed();
         let rows: Vec<BSplineCurve> = along_v(&t)
             .iter()
             .map(|c| c.elevate_degree(pu))
             .collect::<Result<_>>()?;
-        Ok(transpose(&from_along_v(&rows, (t.degree_u(), t.knots_u().values()))?))
+        Ok(from_along_v(&rows, (t.degree_u(), t.knots_u().values()))?.transposed())
     } else {
         Ok(s)
     }
@@ -115,12 +96,12 @@ fn elevate(s: &BSplineSurface, pu: usize, pv: usize) -> Result<BSplineSurface> {
 
 /// `s` on the u domain `[a, b]` (a linear map).
 fn with_u_domain(s: &BSplineSurface, a: f64, b: f64) -> Result<BSplineSurface> {
-    let t = transpose(s);
+    let t = s.transposed();
     let rows: Vec<BSplineCurve> = along_v(&t)
         .iter()
         .map(|c| rescaled(c, a, b - a))
         .collect::<Result<_>>()?;
-    Ok(transpose(&from_along_v(&rows, (t.degree_u(), t.knots_u().values()))?))
+    Ok(from_along_v(&rows, (t.degree_u(), t.knots_u().values()))?.transposed())
 }
 
 /// `s` with the u knots `extra` inserted (exact).
@@ -128,9 +109,9 @@ fn refine_u(s: &BSplineSurface, extra: &[f64]) -> Result<BSplineSurface> {
     if extra.is_empty() {
         return Ok(s.clone());
     }
-    let t = transpose(s);
+    let t = s.transposed();
     let rows: Vec<BSplineCurve> = along_v(&t).iter().map(|c| c.refine(extra)).collect::<Result<_>>()?;
-    Ok(transpose(&from_along_v(&rows, (t.degree_u(), t.knots_u().values()))?))
+    Ok(from_along_v(&rows, (t.degree_u(), t.knots_u().values()))?.transposed())
 }
 
 /// The knots of `a` missing from `b` (multisets of sorted values, equal within `eps`).
