@@ -29,8 +29,11 @@
 //! p − 1 (p − 2), or lower where exact; the strip is faired by [`fair_surface`] and split back, each
 //! patch on its own knots across the edges. Knot vectors along an edge are first merged (knot
 //! insertion, exact), and patches of different degrees raised to the higher ones (exact; they come back
-//! raised). Any other shared edge (a 2 × 2 layout's, a crease, a neighbour not faired, a rational patch,
-//! an edge parametrized differently on its two sides) is held: each patch is faired with a region
+//! raised). Patches forming a regular grid of 2 × 2 or more, every shared edge concatenable, are joined
+//! likewise into one surface, rows first then the rows together, one rescale per column and per row
+//! (`surfaces/grid.rs`). Any other shared edge (of a layout that is neither a strip nor a full grid, a
+//! crease, a neighbour not faired, a rational patch, an edge parametrized differently on its two sides,
+//! a grid's knot line that is G2 along one edge but only C1-able along another) is held: each patch is faired with a region
 //! stopping one knot span short of it (the span next to the edge stays as it is, so the edge and the
 //! cross derivatives there do).
 

@@ -1,6 +1,6 @@
-//! The patches of a network: two patches sharing a G1 edge that is parametrically C1 after a linear
-//! rescale are concatenated, faired as one surface and split back; other shared edges are held (module
-//! docs of [`super`]).
+//! The patches of a network: patches sharing G1 edges that are parametrically C1 after a linear rescale
+//! are concatenated where they form a strip (here) or a grid (`grid.rs`), faired as one surface and split
+//! back; other shared edges are held (module docs of [`super`]).
 
 use glam::DVec3;
 
@@ -12,6 +12,8 @@ use crate::fair::surface::{SurfaceFairingOptions, fair_surface};
 use crate::geometry::Geometry;
 use crate::network::{Continuity, Joins, Side, SurfaceJoin};
 use crate::surface::BSplineSurface;
+
+mod grid;
 
 /// The curves along v of `s`, one per control row i (points `P(i, ·)`, knots V).
 fn along_v(s: &BSplineSurface) -> Vec<BSplineCurve> {
@@ -179,13 +181,10 @@ fn pair(sa: &BSplineSurface, sb: &BSplineSurface, j: &SurfaceJoin, tol: f64) -> 
     })
 }
 
-/// The patches of a pair joined along v into one surface (the rows along v concatenated, the edge's
-/// knot removed while every row allows it within 1e-9 × the net's size, at least down to C^k): the
-/// surface, the edge's v, the error made.
-fn concatenate(p: &Pair, k: usize) -> Result<(BSplineSurface, f64, f64)> {
-    let (ra, rb) = (along_v(&p.a), along_v(&p.b));
+/// The v length `b` of a pair takes in the joined surface: its own, scaled so the mean cross-derivative
+/// lengths along the edge are equal on both sides (the linear rescale across it).
+fn cross_len(p: &Pair) -> Result<f64> {
     let y = p.a.domain().1.1;
-    // the rescale across the edge: the mean cross-derivative lengths made equal
     let (mut da, mut db) = (0.0, 0.0);
     for t in 0..=10 {
         let u = p.a.domain().0.0 + (p.a.domain().0.1 - p.a.domain().0.0) * t as f64 / 10.0;
@@ -196,7 +195,20 @@ fn concatenate(p: &Pair, k: usize) -> Result<(BSplineSurface, f64, f64)> {
     if !(da > 0.0 && db > 0.0) {
         return Err(Error::InvalidInput("a patch is degenerate across the edge".into()));
     }
-    let len = (b1 - b0) * db / da;
+    Ok((b1 - b0) * db / da)
+}
+
+/// The patches of a pair joined along v into one surface (the rows along v concatenated, the edge's
+/// knot removed while every row allows it within 1e-9 × the net's size, at least down to C^k): the
+/// surface, the edge's v, the error made.
+fn concatenate(p: &Pair, k: usize) -> Result<(BSplineSurface, f64, f64)> {
+    concatenate_at(p, k, cross_len(p)?)
+}
+
+/// [`concatenate`] with `b`'s v length in the joined surface given (`len`).
+fn concatenate_at(p: &Pair, k: usize, len: f64) -> Result<(BSplineSurface, f64, f64)> {
+    let (ra, rb) = (along_v(&p.a), along_v(&p.b));
+    let y = p.a.domain().1.1;
     let (lo, hi) = crate::curve::point_bounds(p.a.points());
     let tol = 1e-9 * (hi - lo).length();
     let mut rows: Vec<BSplineCurve> = ra
@@ -505,6 +517,51 @@ fn held_region(s: &BSplineSurface, held: &[Side]) -> Option<((f64, f64), (f64, f
     Some((u, v))
 }
 
+/// Fair the grids of patches among the concatenable edges `ok` (`grid.rs`), each as one surface; a
+/// grid that cannot be joined has its edges held (`ok` says why). Which edges are a grid's.
+fn fair_grids(
+    objects: &[Geometry],
+    joins: &Joins,
+    net: &Net<'_>,
+    ok: &mut [std::result::Result<(), String>],
+    out: &mut [Geometry],
+    outcome: &mut [ObjectFair],
+    done: &mut [bool],
+) -> Vec<bool> {
+    let mut in_grid = vec![false; ok.len()];
+    for g in grid::grids(&joins.surfaces, ok, objects.len()) {
+        let members = g.objects();
+        let (tolerance, band_note) = net.band(&members);
+        let opts = SurfaceFairingOptions {
+            tolerance,
+            ..net.opts.surface
+        };
+        g.edges.iter().for_each(|&k| in_grid[k] = true);
+        match grid::fair_grid(objects, &g, &joins.surfaces, &opts, joins.tolerance) {
+            Ok(patches) => {
+                for (i, (s, bound, mut n)) in patches {
+                    n.extend(band_note.clone());
+                    out[i] = s.into();
+                    outcome[i] = ObjectFair {
+                        faired: true,
+                        group: members.clone(),
+                        max_deviation: bound,
+                        notes: n,
+                    };
+                    done[i] = true;
+                }
+            }
+            Err(e) => g.edges.iter().for_each(|&k| {
+                ok[k] = Err(format!(
+                    "a {} grid of patches that cannot be joined as one: {e}",
+                    g.size()
+                ))
+            }),
+        }
+    }
+    in_grid
+}
+
 /// Fair the chosen surfaces, keeping their shared edges (module docs of [`super`]).
 pub(crate) fn fair_surfaces(
     objects: &[Geometry],
@@ -520,7 +577,20 @@ pub(crate) fn fair_surfaces(
         .map(|j| edge_ok(objects, j, net, joins.tolerance))
         .collect();
     let mut done = vec![false; objects.len()];
-    for (order_, edges) in strips(&joins.surfaces, &mut ok, objects.len()) {
+    // grids first; their edges are kept from the strips
+    let in_grid = fair_grids(objects, joins, net, &mut ok, out, outcome, &mut done);
+    let mut free: Vec<std::result::Result<(), String>> = ok
+        .iter()
+        .zip(&in_grid)
+        .map(|(r, &g)| if g { Err(String::new()) } else { r.clone() })
+        .collect();
+    let found = strips(&joins.surfaces, &mut free, objects.len());
+    for (k, r) in free.into_iter().enumerate() {
+        if !in_grid[k] {
+            ok[k] = r;
+        }
+    }
+    for (order_, edges) in found {
         let list: Vec<&SurfaceJoin> = edges.iter().map(|&k| &joins.surfaces[k]).collect();
         let (tolerance, band_note) = net.band(&order_);
         let opts = SurfaceFairingOptions {
