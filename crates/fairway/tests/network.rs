@@ -628,3 +628,73 @@ fn a_curve_joined_at_one_end_keeps_that_end_and_leaves_its_free_end_free() {
     let j = &r.joins_after.curves[0].continuity;
     assert_eq!(j.class, Continuity::G2, "{j:?}");
 }
+
+/// The chain with the third curve's third control point moved by `delta` along its start tangent: the
+/// join keeps its position, tangent and curvature (G2) but its second derivative changes along the
+/// tangent, so it is only C1 after any linear rescale.
+fn chain_g2_not_c2(delta: f64) -> Vec<BSplineCurve> {
+    let (_, mut pieces) = chain();
+    let c = &pieces[2];
+    let mut pts = c.points().to_vec();
+    let t = (pts[1] - pts[0]).normalize();
+    pts[2] += t * delta;
+    pieces[2] = c.with_points(pts).unwrap();
+    pieces
+}
+
+#[test]
+fn a_g2_join_only_c1_in_its_parameter_is_made_c2_and_faired_through() {
+    let m = 4e-3;
+    let pieces = chain_g2_not_c2(5e-4);
+    let objects: Vec<Geometry> = pieces.iter().cloned().map(Into::into).collect();
+    let before = find_joins(&objects);
+    assert_eq!(
+        before.curves[1].continuity.class,
+        Continuity::G2,
+        "{:?}",
+        before.curves[1]
+    );
+    let o = NetworkOptions {
+        curve: opts(m),
+        ..Default::default()
+    };
+    let r = fair_network(&objects, &[], &o).unwrap();
+    assert!(
+        r.notes[1].contains("made C2 by moving a control point next to it"),
+        "{:?}",
+        r.notes
+    );
+    for (k, x) in r.outcome.iter().enumerate() {
+        assert!(
+            x.faired && x.group == vec![0, 1, 2] && x.max_deviation <= m,
+            "{k}: {x:?}"
+        );
+    }
+    let diag = scene_diagonal(&objects);
+    for j in &r.joins_after.curves {
+        let c = j.continuity;
+        eprintln!(
+            "G2-not-C2 chain, join after: gap {:.1e} × diag, angle {:.1e} rad, curvature jump {:.1e}",
+            c.gap / diag,
+            c.angle,
+            c.curvature_jump
+        );
+        assert!(
+            c.gap <= 1e-9 * diag && c.angle <= 1e-9 && c.curvature_jump <= 1e-9,
+            "{c:?}"
+        );
+    }
+    let held = fair_network(&objects, &[], &NetworkOptions { hold_all: true, ..o }).unwrap();
+    let (n0, _) = extrema_and_deviation(&pieces, &objects);
+    let (n1, d1) = extrema_and_deviation(&pieces, &r.objects);
+    let (n2, d2) = extrema_and_deviation(&pieces, &held.objects);
+    eprintln!("G2-not-C2 chain: curvature extrema {n0} → {n1} together, {n2} one by one; dev {d1:.2e} / {d2:.2e}");
+    assert!(d1 <= m && n1 < n2, "together {n1} (dev {d1}) vs one by one {n2}");
+    // a move over a quarter of the band: held, and said so
+    let far = chain_g2_not_c2(3e-3);
+    let objects: Vec<Geometry> = far.iter().cloned().map(Into::into).collect();
+    assert_eq!(find_joins(&objects).curves[1].continuity.class, Continuity::G2);
+    let r = fair_network(&objects, &[], &o).unwrap();
+    assert!(r.notes[1].contains("over a quarter of the band"), "{:?}", r.notes);
+    assert_eq!(r.outcome[2].group, vec![2]);
+}

@@ -239,8 +239,46 @@ pub(crate) fn on_knots_of(c: &BSplineCurve, reference: &BSplineCurve) -> Result<
 
 /// Concatenate `first` (ending at the join) and `second` (starting there, its parameter rescaled so its
 /// speed at the join is `first`'s) with `link`: the curve, the join's parameter and the error made
-/// (half the gap, plus the knot removals' tolerance). Errors if the join is not C^k after the rescale.
+/// (half the gap, plus the knot removals' tolerance). A G2 join that is only C1 after the rescale (the
+/// second derivatives differ along the tangent) is made C2 by [`matched_second_derivative`], whose move
+/// is added to the error. Errors if the join is not C^k after the rescale (and that move).
 pub(crate) fn concatenate(first: &BSplineCurve, second: &BSplineCurve, link: Link) -> Result<(BSplineCurve, f64, f64)> {
+    match concatenate_as(first, second, link, false) {
+        Err(e) if link == Link::Smooth(2) => concatenate_as(first, second, link, true).map_err(|_| e),
+        r => r,
+    }
+}
+
+/// `second` (starting where `first` ends, with its speed there) with its third control point moved so
+/// that its second derivative at the join is `first`'s: C2 there. At a G2 join the two differ along the
+/// tangent (up to the curvature's tolerance), so the move keeps the joint's position, tangent and
+/// curvature; the curve moves by at most the move's length (the basis functions sum to one). The curve
+/// and that length. Refused below degree 3, and where the point is among the last three (the far end's
+/// tangent and curvature would change).
+fn matched_second_derivative(first: &BSplineCurve, second: &BSplineCurve) -> Result<(BSplineCurve, f64)> {
+    let (p, t) = (second.degree(), second.knots().values());
+    if p < 3 || second.n_points() < 6 {
+        return Err(Error::InvalidInput(
+            "too few control points (or degree below 3) to make it C2".into(),
+        ));
+    }
+    // c''(t₀) depends on P₂ with the weight p(p−1) / ((t_{p+1} − t₂)(t_{p+2} − t₂)) (NURBS Book, 3.3)
+    let w = (p * (p - 1)) as f64 / ((t[p + 1] - t[2]) * (t[p + 2] - t[2]));
+    let d2a = first.derivs(first.domain().1).d2;
+    let d2b = second.derivs(second.domain().0).d2;
+    let delta = (d2a - d2b) / w;
+    let mut pts = second.points().to_vec();
+    pts[2] += delta;
+    Ok((second.with_points(pts)?, delta.length()))
+}
+
+/// [`concatenate`], `second` first made C2 with `first` ([`matched_second_derivative`]) if `match_d2`.
+pub(crate) fn concatenate_as(
+    first: &BSplineCurve,
+    second: &BSplineCurve,
+    link: Link,
+    match_d2: bool,
+) -> Result<(BSplineCurve, f64, f64)> {
     let (_, y) = first.domain();
     let (b0, b1) = second.domain();
     let (d_first, d_second) = (first.d1(y).length(), second.d1(b0).length());
@@ -249,11 +287,16 @@ pub(crate) fn concatenate(first: &BSplineCurve, second: &BSplineCurve, link: Lin
     }
     let len = (b1 - b0) * d_second / d_first;
     let second = rescaled(second, y, len)?;
+    let (second, moved) = if match_d2 {
+        matched_second_derivative(first, &second)?
+    } else {
+        (second, 0.0)
+    };
     let gap = first.point(y).distance(second.point(y));
     let mut c = super::closed::join(first, &second)?;
     let p = c.degree();
     let tol = removal_tolerance(&c);
-    let mut err = 0.5 * gap;
+    let mut err = 0.5 * gap + moved;
     if let Link::Smooth(k) = link {
         let mut mult = p;
         while mult > 0 {

@@ -1,7 +1,10 @@
 //! The curves of a network: which joins are concatenated and which held ([`plan`]), the chains that
 //! result, and their fair ([`fair_chain`]).
 
-use super::{Link, Net, ObjectFair, at, concatenate, fair_one_curve, hold_condition, is_corner, on_knots_of, oriented};
+use super::{
+    Link, Net, ObjectFair, at, concatenate, concatenate_as, fair_one_curve, hold_condition, is_corner, on_knots_of,
+    oriented,
+};
 use crate::curve::BSplineCurve;
 use crate::error::{Error, Result};
 use crate::fair::curve::{EndCondition, FairingOptions};
@@ -21,14 +24,22 @@ pub(crate) struct Chain {
     pub(crate) needs: [Option<EndCondition>; 2],
 }
 
-/// How each join is kept: concatenated (`Ok(link)`) or held (`Err(why)`).
-fn decide(objects: &[Geometry], joins: &Joins, net: &Net<'_>) -> Vec<std::result::Result<Link, String>> {
+/// How each join is kept: concatenated (`Ok(link)`, and how far a control point moves to make it C2:
+/// `moved`, 0 where it already is) or held (`Err(why)`).
+fn decide(
+    objects: &[Geometry],
+    joins: &Joins,
+    net: &Net<'_>,
+    moved: &mut Vec<f64>,
+) -> Vec<std::result::Result<Link, String>> {
+    moved.resize(joins.curves.len(), 0.0);
     let chosen = &net.chosen;
     let count = |e: CurveEnd| joins.curves.iter().filter(|j| j.a == e || j.b == e).count();
     joins
         .curves
         .iter()
-        .map(|j| {
+        .zip(moved.iter_mut())
+        .map(|(j, moved)| {
             let (ca, cb) = (curve(objects, j.a.object), curve(objects, j.b.object));
             if net.opts.hold_all {
                 return Err("every join held (one by one)".into());
@@ -64,9 +75,25 @@ fn decide(objects: &[Geometry], joins: &Joins, net: &Net<'_>) -> Vec<std::result
                 crate::network::Continuity::G2 => Link::Smooth(2),
             };
             let (first, second) = oriented_pair(objects, j).map_err(|e| e.to_string())?;
-            concatenate(&first, &second, link)
-                .map(|_| link)
-                .map_err(|e| e.to_string())
+            let err = match concatenate_as(&first, &second, link, false) {
+                Ok(_) => return Ok(link),
+                Err(e) if link == Link::Smooth(2) => {
+                    concatenate_as(&first, &second, link, true)
+                        .map_err(|_| e.to_string())?
+                        .2
+                }
+                Err(e) => return Err(e.to_string()),
+            };
+            // a control point moved to make a G2 join C2: at most a quarter of the band, else held
+            let band = net.tolerance[j.a.object].min(net.tolerance[j.b.object]);
+            if err > 0.25 * band {
+                return Err(format!(
+                    "making it C2 moves a control point next to it by {}, over a quarter of the band",
+                    crate::range::short(err)
+                ));
+            }
+            *moved = err;
+            Ok(link)
         })
         .collect()
 }
@@ -103,7 +130,8 @@ fn other(e: End) -> End {
 /// The chains of the chosen curves, and a note per join (module docs of [`super`]).
 pub(crate) fn plan(objects: &[Geometry], joins: &Joins, net: &Net<'_>, notes: &mut Vec<String>) -> Vec<Chain> {
     let chosen = &net.chosen;
-    let decided = decide(objects, joins, net);
+    let mut moved = vec![];
+    let decided = decide(objects, joins, net, &mut moved);
     // the concatenated join at each curve end: (join, the end on the other side)
     let link_at = |e: CurveEnd| -> Option<(usize, CurveEnd)> {
         joins.curves.iter().enumerate().find_map(|(k, j)| match &decided[k] {
@@ -127,6 +155,11 @@ pub(crate) fn plan(objects: &[Geometry], joins: &Joins, net: &Net<'_>, notes: &m
         );
         notes.push(match &decided[k] {
             Ok(Link::Corner) => format!("{what}: concatenated as a corner (kept exactly, the curves faired as one)"),
+            Ok(Link::Smooth(c)) if moved[k] > 0.0 => format!(
+                "{what}: concatenated (C1 after a linear rescale, made C{c} by moving a control point next to it \
+                 {} along the tangent, which keeps the joint's curvature; the joint moves within the band)",
+                crate::range::short(moved[k])
+            ),
             Ok(Link::Smooth(c)) => {
                 format!("{what}: concatenated (C{c} after a linear rescale; the joint moves within the band)")
             }
