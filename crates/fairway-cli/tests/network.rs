@@ -332,6 +332,81 @@ fn patches_sharing_an_edge_are_listed_and_faired_together() {
     assert_eq!(load_scene(&out).unwrap().0.names(), vec!["PORT", "STARBOARD"]);
 }
 
+/// `s` cut across u at its knot `u` (each curve along u split there, exact): the two patches.
+fn halves(s: &fairway::BSplineSurface, u: f64) -> [fairway::BSplineSurface; 2] {
+    let (mut left, mut right) = (vec![], vec![]);
+    for j in 0..s.nv() {
+        let pts = (0..s.nu()).map(|i| s.point_at(i, j)).collect();
+        let c = BSplineCurve::try_new(3, s.knots_u().values().to_vec(), pts, None, 3).unwrap();
+        let (l, r) = split(&c, u).unwrap();
+        left.push(l);
+        right.push(r);
+    }
+    [left, right].map(|cs| {
+        let (nu, nv) = (cs[0].n_points(), cs.len());
+        let pts = (0..nu).flat_map(|i| (0..nv).map(move |j| cs[j].points()[i])).collect();
+        let k = (cs[0].knots().values().to_vec(), s.knots_v().values().to_vec());
+        fairway::BSplineSurface::try_new(3, 3, k.0, k.1, nu, nv, pts, None).unwrap()
+    })
+}
+
+#[test]
+fn a_two_by_two_grid_of_patches_is_faired_as_one_keeping_every_edge() {
+    let sc = Scratch::new("grid");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/bumpy_surface.json");
+    let whole = fairway::io::load_geometry(&path).unwrap().as_surface().unwrap().clone();
+    let (u, v) = (whole.knots_u().values()[12], whole.knots_v().values()[10]);
+    let patches: Vec<fairway::BSplineSurface> = halves(&whole, u)
+        .iter()
+        .flat_map(|h| halves(&h.transposed(), v).map(|p| p.transposed()))
+        .collect();
+    let ron = sc.path("grid.ron");
+    let scene = Scene {
+        objects: patches
+            .into_iter()
+            .zip(["A", "B", "C", "D"])
+            .map(|(g, n)| SceneObject {
+                name: n.into(),
+                geometry: g.into(),
+                settings: DocumentSettings::default(),
+            })
+            .collect(),
+        unit: None,
+        ..Default::default()
+    };
+    save_scene(&ron, &scene).unwrap();
+    let (out, rep) = (sc.path("out.ron"), sc.path("rep.json"));
+    let (_, err) = run_ok(&[
+        "fair",
+        s(&ron),
+        "--tolerance",
+        "0.004",
+        "-o",
+        s(&out),
+        "--report",
+        s(&rep),
+    ]);
+    assert!(err.contains("a 2 × 2 grid of patches"), "{err}");
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&rep).unwrap()).unwrap();
+    let edges = v["surface_joins"].as_array().unwrap();
+    assert_eq!(edges.len(), 4, "{v}");
+    for e in edges {
+        assert_eq!(e["kept"], true, "{e}");
+        assert!(e["after"]["normal_angle_deg"].as_f64().unwrap() <= 0.01, "{e}");
+    }
+    for o in v["objects"].as_array().unwrap() {
+        assert_eq!(o["group"], serde_json::json!([0, 1, 2, 3]), "{o}");
+        assert!(o["measures"]["hausdorff"].as_f64().unwrap() <= 0.004, "{o}");
+    }
+    let (back, _) = load_scene(&out).unwrap();
+    assert_eq!(back.names(), vec!["A", "B", "C", "D"]);
+    let after = find_joins(&back.geometries());
+    assert!(
+        after.surfaces.iter().all(|j| j.continuity.class == Continuity::G2),
+        "{after:?}"
+    );
+}
+
 /// The deviation of each object of `out` from the same object of `scene` (`fairway::measure`).
 fn deviations(scene: &Scene, out: &Path) -> Vec<f64> {
     let (back, _) = load_scene(out).unwrap();

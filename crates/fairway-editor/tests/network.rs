@@ -518,3 +518,108 @@ fn fairing_a_curve_joined_at_one_end_keeps_that_join_and_frees_the_other_end() {
     assert!(dk > 1e-3, "the free end's curvature changed: {dk:.1e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The bundled bumpy surface cut into a 2 × 2 grid of patches at interior knots (every edge G2), named.
+fn four_patches() -> Scene {
+    let s = fairway::io::load_geometry(&common::asset("bumpy_surface.json"))
+        .unwrap()
+        .as_surface()
+        .unwrap()
+        .clone();
+    // `s` cut across u at its knot `u`: the two patches
+    let halves = |s: &fairway::BSplineSurface, u: f64| -> [fairway::BSplineSurface; 2] {
+        let (mut left, mut right) = (vec![], vec![]);
+        for j in 0..s.nv() {
+            let pts = (0..s.nu()).map(|i| s.point_at(i, j)).collect();
+            let row = BSplineCurve::try_new(3, s.knots_u().values().to_vec(), pts, None, 3).unwrap();
+            let (l, r) = fairway::fair::closed::split(&row, u).unwrap();
+            left.push(l);
+            right.push(r);
+        }
+        [left, right].map(|rows| {
+            let (nu, nv) = (rows[0].n_points(), rows.len());
+            let pts = (0..nu)
+                .flat_map(|i| (0..nv).map(move |j| rows[j].points()[i]))
+                .collect();
+            let k = (rows[0].knots().values().to_vec(), s.knots_v().values().to_vec());
+            fairway::BSplineSurface::try_new(3, 3, k.0, k.1, nu, nv, pts, None).unwrap()
+        })
+    };
+    let (u, v) = (s.knots_u().values()[12], s.knots_v().values()[10]);
+    let patches: Vec<fairway::BSplineSurface> = halves(&s, u)
+        .iter()
+        .flat_map(|h| halves(&h.transposed(), v).map(|p| p.transposed()))
+        .collect();
+    Scene {
+        objects: patches
+            .into_iter()
+            .zip(["AFT_PORT", "AFT_STBD", "FWD_PORT", "FWD_STBD"])
+            .map(|(p, n)| SceneObject {
+                name: n.into(),
+                geometry: p.into(),
+                settings: DocumentSettings::default(),
+            })
+            .collect(),
+        ..Default::default()
+    }
+}
+
+#[test]
+fn the_surface_view_draws_every_patch_a_click_selects_one_and_fair_all_keeps_the_grid_edges() {
+    let dir = temp_dir("grid3d");
+    let ron = dir.join("grid.ron");
+    fairway::io::save_scene(&ron, &four_patches()).unwrap();
+    // FAIRWAY_WRITE_GRID=path: also write the patches there (for the screenshot in the README)
+    if let Some(out) = std::env::var_os("FAIRWAY_WRITE_GRID") {
+        fairway::io::save_scene(std::path::Path::new(&out), &four_patches()).unwrap();
+    }
+    let mut h = harness(App::default());
+    h.state_mut().open_now(&ron);
+    h.run();
+    let app = h.state();
+    assert!(app.error.is_none(), "{:?}", app.error);
+    let ws = app.surface.as_ref().expect("a surface is active");
+    assert_eq!(app.active, 0);
+    assert_eq!(ws.others.iter().map(|o| o.object).collect::<Vec<_>>(), vec![1, 2, 3]);
+    // every patch painted: the active one's triangles and the three others' (one density)
+    let per_patch = ws.mesh.indices.len() / 3;
+    assert_eq!(ws.drawn_triangles(), 4 * per_patch);
+    // a click on the middle of the fourth patch selects it
+    let view = h.get_by_label("3D view").rect();
+    let ws = h.state().surface.as_ref().unwrap();
+    let target = &ws.others[2].surface;
+    let ((u0, u1), (v0, v1)) = target.domain();
+    let at = ws
+        .view
+        .to_screen(target.point(0.5 * (u0 + u1), 0.5 * (v0 + v1)), view)
+        .unwrap();
+    click(&mut h, at);
+    h.run();
+    let app = h.state();
+    assert_eq!(app.active, 3, "{}", app.status);
+    let ws = app.surface.as_ref().unwrap();
+    assert_eq!(ws.others.iter().map(|o| o.object).collect::<Vec<_>>(), vec![0, 1, 2]);
+    assert_eq!(ws.drawn_triangles(), 4 * per_patch);
+    // Fair all: the grid faired as one, every shared edge still G1 (to 0.01°) and G2
+    let before = find_joins(&h.state().objects.iter().map(|o| o.geometry.clone()).collect::<Vec<_>>());
+    assert_eq!(before.surfaces.len(), 4);
+    h.get_by_label("Fair all (keep joins)").click();
+    h.run();
+    let app = h.state();
+    assert!(
+        app.status.starts_with("Fair all: 4 of 4 objects changed"),
+        "{}",
+        app.status
+    );
+    assert!(
+        app.status.contains("4 of 4 joins keep their continuity"),
+        "{}",
+        app.status
+    );
+    let after = find_joins(&app.objects.iter().map(|o| o.geometry.clone()).collect::<Vec<_>>());
+    for j in &after.surfaces {
+        assert!(j.continuity.normal_angle.to_degrees() <= 0.01, "{j:?}");
+        assert_eq!(j.continuity.class, Continuity::G2, "{j:?}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

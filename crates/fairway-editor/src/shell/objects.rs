@@ -1,7 +1,7 @@
 //! Documents with many objects: every curve and surface of a scene (an IGES / STEP file, a RON
 //! document of version 2) is one document. One object is active: its workspace shows, edits and fairs
 //! it, the others are drawn dimmed on the canvas. Selecting another object, and "Fair all (keep joins)"
-//! (the core's [`fair_network`] on every curve), are commands with one undo step each; the objects
+//! (the core's [`fair_network`] on every object), are commands with one undo step each; the objects
 //! panel lists the objects and the joins the core measured between them.
 
 use std::path::PathBuf;
@@ -152,6 +152,7 @@ impl App {
                 let mut s =
                     SurfaceWorkspace::new(doc, self.curve_ws.curve3d.surface_shading).map_err(|e| e.to_string())?;
                 s.marks = self.curve_ws.scene.marks3d.clone();
+                s.set_others(self.other_patches());
                 self.surface = Some(Box::new(s));
             }
         }
@@ -180,6 +181,16 @@ impl App {
         self.refresh_scene_view();
         self.status = format!("Selected {} (Ctrl+Z to go back)", self.object_name(k));
         true
+    }
+
+    /// The document's patches but the active one, with their indices (drawn dimmed in the surface views).
+    fn other_patches(&self) -> Vec<(usize, fairway::BSplineSurface)> {
+        self.objects
+            .iter()
+            .enumerate()
+            .filter(|&(k, _)| k != self.active)
+            .filter_map(|(k, o)| o.geometry.as_surface().map(|s| (k, s.clone())))
+            .collect()
     }
 
     /// The label of object `k` ([`object_label`]).
@@ -212,8 +223,10 @@ impl App {
     pub(crate) fn refresh_scene_view(&mut self) {
         let view = self.scene_view_of(&self.objects, &self.doc);
         let new_frame = view.frame != self.curve_ws.scene.frame;
+        let others = self.other_patches();
         if let Some(s) = self.surface.as_mut() {
             s.marks = view.marks3d.clone();
+            s.set_others(others);
         }
         self.curve_ws.scene = view;
         self.curve_ws.active_object = self.active;
@@ -247,37 +260,38 @@ impl App {
                 let (a, b) = c.control_bounds();
                 (b - a).length().max(1e-12) * 1e-3
             }
-            Geometry::Surface(_) => f64::INFINITY,
+            // as the surface workspace's default: 1e-3 of the patch's diagonal
+            Geometry::Surface(s) => {
+                let (a, b) = s.control_bounds();
+                (b - a).length().max(1e-12) * 1e-3
+            }
         })
     }
 
-    /// Fair every curve of the document together keeping their joins (the core's network fair, each at
-    /// its own tolerance in effect, curves faired as one at the smallest of theirs); true if a curve
-    /// changed. Faired curves lose their region and hand-edited target (they belong to the old curve);
-    /// surfaces are left as they are.
+    /// Fair every object of the document together keeping their joins (the core's network fair, each at
+    /// its own tolerance in effect, objects faired as one at the smallest of theirs): curves joined into
+    /// chains, patches sharing edges into strips or grids; true if an object changed. Faired objects lose
+    /// their region and hand-edited target (they belong to the old geometry).
     pub(crate) fn fair_all(&mut self) -> bool {
         let mut objects = self.objects_now();
-        let curves: Vec<usize> = (0..objects.len())
-            .filter(|&k| objects[k].geometry.as_curve().is_some())
-            .collect();
-        if curves.is_empty() {
-            self.status = "Fair all: the document has no curve".into();
+        let all: Vec<usize> = (0..objects.len()).collect();
+        if all.is_empty() {
+            self.status = "Fair all: the document is empty".into();
             return false;
         }
         let tols: Vec<Option<f64>> = objects
             .iter()
             .enumerate()
-            .map(|(k, o)| curves.contains(&k).then(|| self.object_tolerance(k, o)))
+            .map(|(k, o)| Some(self.object_tolerance(k, o)))
             .collect();
         let tol = tols.iter().flatten().fold(f64::INFINITY, |a, &b| a.min(b));
         let opts = NetworkOptions {
             curve: crate::fairing::curve_options(tol, &self.prefs.fair),
+            surface: fairway::fair::surface::SurfaceFairingOptions::default().tolerance(tol),
             ..Default::default()
         };
         let geometries: Vec<Geometry> = objects.iter().map(|o| o.geometry.clone()).collect();
-        let res = crate::guard::catch_panic("network fairing", || {
-            fair_network_at(&geometries, &curves, &opts, &tols)
-        });
+        let res = crate::guard::catch_panic("network fairing", || fair_network_at(&geometries, &all, &opts, &tols));
         let r = match res {
             Ok(r) => r,
             Err(e) => {
@@ -300,7 +314,7 @@ impl App {
                 }
             }
         }
-        self.status = fair_all_summary(&r, changed, curves.len(), tol);
+        self.status = fair_all_summary(&r, changed, all.len(), tol);
         if changed == 0 {
             return false;
         }
@@ -347,8 +361,9 @@ impl App {
         if ui
             .button("Fair all (keep joins)")
             .on_hover_text(
-                "Fair every curve together: curves meeting with G1/G2 are faired as one and split back, so \
-                 each join keeps its continuity; each curve stays within the smallest tolerance (one undo step)",
+                "Fair every object together: curves meeting with G1/G2, and patches sharing G1/G2 edges in a strip \
+                 or a grid, are faired as one and split back, so each join keeps its continuity; each object \
+                 stays within its own tolerance (one undo step)",
             )
             .clicked()
         {
@@ -389,18 +404,23 @@ impl App {
 }
 
 /// The status line after "Fair all".
-fn fair_all_summary(r: &fairway::fair::network::NetworkFair, changed: usize, curves: usize, tol: f64) -> String {
-    let kept = r
-        .joins_before
+fn fair_all_summary(r: &fairway::fair::network::NetworkFair, changed: usize, objects: usize, tol: f64) -> String {
+    let (b, a) = (&r.joins_before, &r.joins_after);
+    let kept = b
         .curves
         .iter()
-        .zip(&r.joins_after.curves)
-        .filter(|(a, b)| b.continuity.class >= a.continuity.class)
-        .count();
+        .zip(&a.curves)
+        .filter(|(x, y)| y.continuity.class >= x.continuity.class)
+        .count()
+        + b.surfaces
+            .iter()
+            .zip(&a.surfaces)
+            .filter(|(x, y)| y.continuity.class >= x.continuity.class)
+            .count();
     let dev = r.outcome.iter().map(|o| o.max_deviation).fold(0.0, f64::max);
     format!(
-        "Fair all: {changed} of {curves} curves changed (each within its own tolerance, the smallest {tol:.3e}; max \
+        "Fair all: {changed} of {objects} objects changed (each within its own tolerance, the smallest {tol:.3e}; max \
          deviation {dev:.3e}); {kept} of {} joins keep their continuity (Ctrl+Z to undo)",
-        r.joins_before.curves.len()
+        b.curves.len() + b.surfaces.len()
     )
 }

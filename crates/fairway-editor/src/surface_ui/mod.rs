@@ -15,7 +15,7 @@ use fairway::fair::surface::{SurfaceFairingOptions, SurfaceMethod, fair_surface}
 use fairway::io::Document;
 use fairway::measure_surface::{SurfaceMeasures, surface_measures};
 use fairway::mesh::SurfaceMesh;
-use fairway::{BSplineSurface, DVec2, Geometry};
+use fairway::{BSplineSurface, DVec2, DVec3, Geometry};
 
 use crate::Command;
 use crate::commands::set_tolerance;
@@ -81,7 +81,8 @@ type PreviewKey = (u64, Option<UvRect>, u64, usize);
 
 /// Cached scene of one view.
 pub(crate) struct SceneCache {
-    pub(crate) key: (u64, u64, Shading, u64, Option<UvRect>),
+    /// (revision, the shown surface, shading, colour range, region, the other patches' revision)
+    pub(crate) key: (u64, u64, Shading, u64, Option<UvRect>, u64),
     pub(crate) scene: Arc<view3d::Scene>,
 }
 
@@ -114,6 +115,20 @@ pub struct SurfaceWorkspace {
     edit_error: Option<String>,
     /// The document's joins and shared patch edges, drawn over the views (set by the shell).
     pub marks: Vec<crate::scene_view::Mark3d>,
+    /// The document's other patches, drawn dimmed in the views (set by the shell, [`Self::set_others`]).
+    pub others: Vec<OtherPatch>,
+    /// Counts changes of `others` (the scene caches' key).
+    others_rev: u64,
+}
+
+/// Another patch of the document, drawn dimmed in the 3D views; a click on it selects it.
+pub struct OtherPatch {
+    /// Its index among the document's objects.
+    pub object: usize,
+    /// The patch.
+    pub surface: BSplineSurface,
+    /// Its tessellation.
+    pub mesh: SurfaceMesh,
 }
 
 /// The surface workspace with the shell's context: what its panels are written against.
@@ -162,6 +177,8 @@ impl SurfaceWorkspace {
             hover: None,
             edit_error: None,
             marks: vec![],
+            others: vec![],
+            others_rev: 0,
         })
     }
 
@@ -179,8 +196,40 @@ impl SurfaceWorkspace {
 
     /// Diagonal of the surface's bounding box.
     pub fn diag(&self) -> f64 {
-        let (a, b) = self.view.bbox;
+        let (a, b) = bbox_of(&self.mesh);
         (b - a).length().max(1e-12)
+    }
+
+    /// The box of the active patch and the others: what the views show.
+    fn scene_bbox(&self) -> (DVec3, DVec3) {
+        self.others.iter().fold(bbox_of(&self.mesh), |(lo, hi), o| {
+            let (a, b) = bbox_of(&o.mesh);
+            (lo.min(a), hi.max(b))
+        })
+    }
+
+    /// Show the document's other patches (`object`, surface) dimmed beside the active one; unchanged
+    /// patches keep their tessellation. A patch that cannot be tessellated is left out.
+    pub fn set_others(&mut self, others: Vec<(usize, BSplineSurface)>) {
+        let same = others.len() == self.others.len()
+            && others
+                .iter()
+                .zip(&self.others)
+                .all(|((k, s), o)| *k == o.object && *s == o.surface);
+        if same {
+            return;
+        }
+        let n = self.shading.density;
+        self.others = others
+            .into_iter()
+            .filter_map(|(object, surface)| {
+                let mesh = SurfaceMesh::tessellate(&surface, n, n).ok()?;
+                Some(OtherPatch { object, surface, mesh })
+            })
+            .collect();
+        self.others_rev += 1;
+        let b = self.scene_bbox();
+        self.view.set_bbox(b, false);
     }
 
     /// The document's surface changed (or the mesh density): re-tessellate, drop the preview.
@@ -189,7 +238,8 @@ impl SurfaceWorkspace {
         self.preview = None;
         self.mesh = SurfaceMesh::tessellate(surface, self.shading.density, self.shading.density)
             .map_err(|e| anyhow::anyhow!("tessellation failed: {e}"))?;
-        self.view.set_bbox(bbox_of(&self.mesh), false);
+        let b = self.scene_bbox();
+        self.view.set_bbox(b, false);
         Ok(())
     }
 

@@ -10,7 +10,7 @@ use fairway::{BSplineSurface, DVec3};
 
 use super::{SceneCache, SurfaceCx, SurfaceWorkspace, points_hash};
 use crate::Command;
-use crate::view3d::scene::{effective_range, mode_values, surface_scene};
+use crate::view3d::scene::{append_other, append_outline, effective_range, mode_values, surface_scene};
 use crate::view3d::{self, ShadeMode, Shading};
 
 impl SurfaceWorkspace {
@@ -58,14 +58,21 @@ impl SurfaceWorkspace {
             light_elevation: 0.0,
             ..self.shading
         };
-        let key = (self.rev, id, baked, range.to_bits(), region);
+        let key = (self.rev, id, baked, range.to_bits(), region, self.others_rev);
         if let Some(c) = &self.scenes[slot]
             && c.key == key
         {
             return c.scene.clone();
         }
         let origin = 0.5 * (self.view.bbox.0 + self.view.bbox.1);
-        let scene = Arc::new(surface_scene(s, mesh, &self.shading, range, region, origin));
+        let mut scene = surface_scene(s, mesh, &self.shading, range, region, origin);
+        if !self.others.is_empty() {
+            for o in &self.others {
+                append_other(&mut scene, &o.mesh, &self.shading, range, origin);
+            }
+            append_outline(&mut scene, s, origin);
+        }
+        let scene = Arc::new(scene);
         self.scenes[slot] = Some(SceneCache {
             key,
             scene: scene.clone(),
@@ -130,6 +137,13 @@ impl SurfaceCx<'_> {
             } else {
                 self.ws.view.interact(ui, &resp, true);
             }
+            if resp.clicked()
+                && !ctrl
+                && let Some(p) = resp.interact_pointer_pos()
+                && let Some(k) = self.ws.picked_other(&s, &mesh, self.ws.view.ray(p, rect))
+            {
+                self.push(Command::Select(k));
+            }
             if let Some(p) = resp.hover_pos() {
                 let (o, d) = self.ws.view.ray(p, rect);
                 let hv = pick_uv(&s, &mesh, o, d).map(|uv| {
@@ -170,6 +184,31 @@ impl SurfaceCx<'_> {
                 view3d::legend(&painter, rect, self.ws.shading.mode.label(), range);
             }
         }
+    }
+}
+
+impl SurfaceWorkspace {
+    /// The triangles of the scenes last drawn (every pane's: the active patch and the others).
+    pub fn drawn_triangles(&self) -> usize {
+        self.scenes
+            .iter()
+            .flatten()
+            .map(|c| c.scene.tri_indices.len() / 3)
+            .sum()
+    }
+
+    /// The object of the other patch that the ray `(origin, dir)` hits nearer than the active patch
+    /// `s` (tessellated as `mesh`), if any: a click there selects it.
+    pub fn picked_other(&self, s: &BSplineSurface, mesh: &SurfaceMesh, (o, d): (DVec3, DVec3)) -> Option<usize> {
+        let depth =
+            |s: &BSplineSurface, m: &SurfaceMesh| pick_uv(s, m, o, d).map(|uv| (s.point(uv.x, uv.y) - o).dot(d));
+        let active = depth(s, mesh).unwrap_or(f64::INFINITY);
+        self.others
+            .iter()
+            .filter_map(|p| depth(&p.surface, &p.mesh).map(|t| (t, p.object)))
+            .filter(|&(t, _)| t < active)
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(_, k)| k)
     }
 }
 

@@ -15,6 +15,13 @@ const SURFACE_GREY: [f32; 4] = [0.78, 0.80, 0.84, 1.0];
 const ISO_COLOR: [f32; 4] = [0.10, 0.11, 0.14, 0.85];
 const NET_COLOR: [f32; 4] = [0.35, 0.65, 1.0, 1.0];
 const REGION_COLOR: [f32; 4] = [1.0, 0.55, 0.1, 1.0];
+/// The outline of the active patch where the document has others.
+const ACTIVE_OUTLINE: [f32; 4] = [1.0, 0.85, 0.2, 1.0];
+/// Grey of the other patches of the document (plain shading).
+const OTHER_GREY: [f32; 4] = [0.62, 0.66, 0.74, 1.0];
+/// The brightness of the other patches relative to the active one (the vertex colour's alpha, which
+/// the surface shader multiplies in every mode).
+pub const OTHER_DIM: f32 = 0.6;
 
 /// Per-vertex values of a curvature mode (`None` for the other modes).
 pub fn mode_values(mesh: &SurfaceMesh, mode: ShadeMode) -> Option<&[f64]> {
@@ -102,6 +109,46 @@ pub fn surface_scene(
         polyline(&mut sc, &|t| s.point(a2, b1 + (b2 - b1) * t), 64, REGION_COLOR);
     }
     sc
+}
+
+/// Append another patch of the document (tessellated as `mesh`) to `sc`, dimmed ([`OTHER_DIM`]): grey in
+/// the plain mode, the curvature map on the same range in the curvature modes, the stripes of the active
+/// one in the stripe modes (the shader's), so they flow across the shared edges.
+pub fn append_other(sc: &mut Scene, mesh: &SurfaceMesh, shading: &Shading, range: f64, origin: DVec3) {
+    let first = sc.n_tri_vertices() as u32;
+    let values = mode_values(mesh, shading.mode);
+    for k in 0..mesh.positions.len() {
+        let c = match values {
+            Some(v) => diverging(v[k], range),
+            None => [OTHER_GREY[0], OTHER_GREY[1], OTHER_GREY[2]],
+        };
+        sc.tri_vertex(
+            f3(mesh.positions[k] - origin),
+            f3(mesh.normals[k]),
+            [c[0], c[1], c[2], OTHER_DIM],
+        );
+    }
+    sc.tri_indices.extend(mesh.indices.iter().map(|i| i + first));
+}
+
+/// Append the boundary of `s` (the active patch) as a highlighted outline.
+pub fn append_outline(sc: &mut Scene, s: &BSplineSurface, origin: DVec3) {
+    let ((u0, u1), (v0, v1)) = s.domain();
+    let n = 96;
+    let at = |k: usize, side: usize| {
+        let t = k as f64 / n as f64;
+        match side {
+            0 => s.point(u0 + (u1 - u0) * t, v0),
+            1 => s.point(u1, v0 + (v1 - v0) * t),
+            2 => s.point(u1 - (u1 - u0) * t, v1),
+            _ => s.point(u0, v1 - (v1 - v0) * t),
+        }
+    };
+    for side in 0..4 {
+        for k in 0..n {
+            sc.line(f3(at(k, side) - origin), f3(at(k + 1, side) - origin), ACTIVE_OUTLINE);
+        }
+    }
 }
 
 #[cfg(test)]

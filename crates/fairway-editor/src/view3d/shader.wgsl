@@ -81,7 +81,7 @@ fn fs_surface(i: VOut) -> @location(0) vec4<f32> {
         // isophotes: stripes of constant angle between normal and light
         let theta = acos(clamp(dot(n, l), -1.0, 1.0));
         let s = stripes(theta / w);
-        return vec4<f32>(vec3<f32>(0.06 + 0.9 * s), 1.0);
+        return vec4<f32>(vec3<f32>(0.06 + 0.9 * s) * i.color.a, 1.0);
     }
     if (mode == 2u) {
         // reflection lines of a family of parallel light tubes along axis_a
@@ -89,13 +89,14 @@ fn fs_surface(i: VOut) -> @location(0) vec4<f32> {
         let phi = atan2(dot(r, u.axis_b.xyz), dot(r, u.axis_c.xyz));
         let s = stripes(phi / w);
         let diff = 0.75 + 0.25 * max(dot(n, l), 0.0);
-        return vec4<f32>(vec3<f32>((0.06 + 0.9 * s) * diff), 1.0);
+        return vec4<f32>(vec3<f32>((0.06 + 0.9 * s) * diff) * i.color.a, 1.0);
     }
     let diff = max(dot(n, l), 0.0);
     let h = normalize(l + v);
     let spec = pow(max(dot(n, h), 0.0), 48.0) * 0.22;
     let base = i.color.rgb;
-    return vec4<f32>(base * (0.28 + 0.72 * diff) + vec3<f32>(spec), 1.0);
+    // the alpha dims (another patch of the document), the surface stays opaque
+    return vec4<f32>((base * (0.28 + 0.72 * diff) + vec3<f32>(spec)) * i.color.a, 1.0);
 }
 
 // ---- blit of the offscreen image ----
