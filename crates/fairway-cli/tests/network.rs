@@ -343,6 +343,7 @@ fn halves(s: &fairway::BSplineSurface, u: f64) -> [fairway::BSplineSurface; 2] {
         right.push(r);
     }
     [left, right].map(|cs| {
+        let cs = &cs;
         let (nu, nv) = (cs[0].n_points(), cs.len());
         let pts = (0..nu).flat_map(|i| (0..nv).map(move |j| cs[j].points()[i])).collect();
         let k = (cs[0].knots().values().to_vec(), s.knots_v().values().to_vec());

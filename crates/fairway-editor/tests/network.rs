@@ -537,6 +537,7 @@ fn four_patches() -> Scene {
             right.push(r);
         }
         [left, right].map(|rows| {
+            let rows = &rows;
             let (nu, nv) = (rows[0].n_points(), rows.len());
             let pts = (0..nu)
                 .flat_map(|i| (0..nv).map(move |j| rows[j].points()[i]))
