@@ -16,7 +16,9 @@
 //!
 //! Each curve's band is its own: the concatenated curve equals the pieces (but for the knot removal's
 //! tolerance and half of the join's gap, both subtracted from the band), so the band around it is the
-//! pieces' bands. Where a join cannot be concatenated (a G2 join that is only C1 after the rescale, a
+//! pieces' bands. A G2 join that is only C1 after the rescale is made C2 by moving the next curve's third
+//! control point along the tangent (which keeps the joint's curvature; the move, at most a quarter of the
+//! band, is subtracted from it). Where a join cannot be concatenated (a G2 join needing a larger move, a
 //! G1 join not C1, a tangent break below the corner angle, three or more ends at one point, a neighbour
 //! not being faired, a rational curve), each curve *holds* its end there with the join's continuity (at
 //! least G1, so an angle stays) through [`FairingOptions::curve_ends`] of that end: a G1 end keeps its
