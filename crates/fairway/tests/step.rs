@@ -14,8 +14,8 @@ use shapes::*;
 fn opts(unit: Unit) -> WriteOptions {
     WriteOptions {
         unit,
-        file_name: "test.stp".into(),
-        date: Some("2026-01-01T00:00:00".into()),
+        file_name: Some("test.stp".into()),
+        date: Some(fairway::io::Timestamp::from_unix(1_767_225_600)), // 2026-01-01
     }
 }
 

@@ -5,11 +5,12 @@
 use crate::geometry::Geometry;
 
 /// A length unit: the IGES global section's (field G14) or a STEP file's length unit.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Unit {
     /// Inch (flag 1).
     Inch,
-    /// Millimetre (flag 2).
+    /// Millimetre (flag 2), the unit files are written in unless told otherwise.
+    #[default]
     Millimeter,
     /// Foot (flag 4).
     Foot,
@@ -204,4 +205,146 @@ pub struct EntityInfo {
     /// and, when non-zero, its subscript (field 19) in parentheses; STEP: the
     /// entity's name; empty if none.
     pub label: String,
+}
+
+/// How an IGES or STEP file is written ([`super::iges::write`], [`super::step::write`]).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct WriteOptions {
+    /// The unit the coordinates are in, declared in the file (IGES G14/G15, STEP's unit context).
+    /// Fairway documents are unitless: millimetres unless the objects came from a file in another unit.
+    pub unit: Unit,
+    /// The file name written into the header (IGES G4, STEP `FILE_NAME`, whose stem also names the
+    /// product); `None`: `fairway.igs` / `fairway.stp`.
+    pub file_name: Option<String>,
+    /// The time stamp written into the header; `None`: now.
+    pub date: Option<Timestamp>,
+}
+
+impl WriteOptions {
+    /// The options of a file written to `path` in `unit`: the header names the file as it is saved.
+    pub fn for_path(path: &std::path::Path, unit: Unit) -> Self {
+        Self {
+            unit,
+            file_name: path.file_name().map(|n| n.to_string_lossy().into_owned()),
+            date: None,
+        }
+    }
+
+    /// The file name to write, `default` if none was given.
+    pub(crate) fn file_name_or<'a>(&'a self, default: &'a str) -> &'a str {
+        self.file_name.as_deref().unwrap_or(default)
+    }
+
+    /// The time stamp to write: the one given, or now.
+    pub(crate) fn date_or_now(&self) -> Timestamp {
+        self.date.unwrap_or_else(Timestamp::now)
+    }
+}
+
+/// A date and time (UTC) as written into a file header.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Timestamp {
+    /// Year, e.g. 2026.
+    pub year: i64,
+    /// Month, 1–12.
+    pub month: u8,
+    /// Day of the month, 1–31.
+    pub day: u8,
+    /// Hour, 0–23.
+    pub hour: u8,
+    /// Minute, 0–59.
+    pub minute: u8,
+    /// Second, 0–59.
+    pub second: u8,
+}
+
+impl Timestamp {
+    /// The time now, UTC (the Unix epoch if the clock is before it).
+    pub fn now() -> Self {
+        let secs = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_secs());
+        Self::from_unix(secs)
+    }
+
+    /// The UTC date and time `secs` seconds after 1970-01-01T00:00:00 (civil from days, H. Hinnant).
+    pub fn from_unix(secs: u64) -> Self {
+        let days = (secs / 86_400) as i64;
+        let rem = secs % 86_400;
+        let z = days + 719_468;
+        let era = z.div_euclid(146_097);
+        let doe = z - era * 146_097;
+        let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+        let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+        let mp = (5 * doy + 2) / 153;
+        let day = doy - (153 * mp + 2) / 5 + 1;
+        let month = if mp < 10 { mp + 3 } else { mp - 9 };
+        let year = yoe + era * 400 + i64::from(month <= 2);
+        Self {
+            year,
+            month: month as u8,
+            day: day as u8,
+            hour: (rem / 3600) as u8,
+            minute: (rem / 60 % 60) as u8,
+            second: (rem % 60) as u8,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Timestamp, Unit, WriteOptions};
+    use crate::curve::BSplineCurve;
+    use crate::geometry::Geometry;
+    use crate::io::{iges, step};
+    use glam::DVec3;
+
+    #[test]
+    fn both_writers_put_the_same_options_into_their_headers() {
+        let pts = vec![
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::new(2.0, 1.0, 0.5),
+            DVec3::new(3.0, 0.0, 1.0),
+        ];
+        let c = BSplineCurve::new_3d(3, vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0], pts).unwrap();
+        let objects = [Geometry::Curve(c)];
+        let opts = |name: &str| WriteOptions {
+            unit: Unit::Inch,
+            file_name: Some(name.into()),
+            date: Some(Timestamp::from_unix(951_827_696)), // 2000-02-29T12:34:56
+        };
+        let igs = iges::write(&objects, &opts("wing.igs"));
+        assert!(igs.contains("8Hwing.igs"), "{igs}");
+        assert!(igs.contains("15H20000229.123456"), "{igs}");
+        let stp = step::write(&objects, &opts("wing.stp"));
+        assert!(stp.contains("FILE_NAME('wing.stp','2000-02-29T12:34:56'"), "{stp}");
+        assert!(stp.contains("PRODUCT('wing','wing'"), "{stp}");
+        assert_eq!(iges::read_all(igs.as_bytes()).unwrap().unit, Some(Unit::Inch));
+        assert_eq!(step::read_all(stp.as_bytes()).unwrap().unit, Some(Unit::Inch));
+        // the defaults: millimetres, the format's own file name
+        let igs = iges::write(&objects, &WriteOptions::default());
+        assert!(igs.contains("11Hfairway.igs"), "{igs}");
+        assert_eq!(iges::read_all(igs.as_bytes()).unwrap().unit, Some(Unit::Millimeter));
+        let stp = step::write(&objects, &WriteOptions::default());
+        assert!(stp.contains("FILE_NAME('fairway.stp'"), "{stp}");
+        assert_eq!(step::read_all(stp.as_bytes()).unwrap().unit, Some(Unit::Millimeter));
+    }
+
+    #[test]
+    fn unix_times_convert_to_civil_dates() {
+        let t = |y, mo, d, h, mi, s| Timestamp {
+            year: y,
+            month: mo,
+            day: d,
+            hour: h,
+            minute: mi,
+            second: s,
+        };
+        assert_eq!(Timestamp::from_unix(0), t(1970, 1, 1, 0, 0, 0));
+        // 2000-02-29 (a leap day of a century leap year) 12:34:56
+        assert_eq!(Timestamp::from_unix(951_827_696), t(2000, 2, 29, 12, 34, 56));
+        // the last second of 2026
+        assert_eq!(Timestamp::from_unix(1_798_761_599), t(2026, 12, 31, 23, 59, 59));
+    }
 }

@@ -53,7 +53,7 @@ pub use write::format_real;
 
 use crate::error::{Error, Result};
 use crate::geometry::Geometry;
-pub use crate::io::interchange::{EntityInfo, InterchangeFile, ReadOptions, Unit};
+pub use crate::io::interchange::{EntityInfo, InterchangeFile, ReadOptions, Timestamp, Unit, WriteOptions};
 
 /// The name that marks a 2D curve written with z = 0 (`'2D curve 3'`): read back as a 2D curve when
 /// all its z coordinates are 0.
@@ -63,27 +63,6 @@ fn perr(message: impl Into<String>) -> Error {
     Error::Parse {
         format: "STEP".into(),
         message: message.into(),
-    }
-}
-
-/// Options of [`write()`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct WriteOptions {
-    /// Length unit of the representation context (Fairway documents are unitless; default mm).
-    pub unit: Unit,
-    /// File name written to `FILE_NAME`; its stem names the product.
-    pub file_name: String,
-    /// Time stamp written to `FILE_NAME` (ISO 8601, `2026-01-31T12:00:00`); `None` = now (UTC).
-    pub date: Option<String>,
-}
-
-impl Default for WriteOptions {
-    fn default() -> Self {
-        Self {
-            unit: Unit::Millimeter,
-            file_name: "fairway.stp".into(),
-            date: None,
-        }
     }
 }
 
