@@ -178,6 +178,45 @@ pub struct ReadOptions {
     pub unit: Option<Unit>,
 }
 
+/// How a reader takes a file's coordinates to real size in the unit asked for: each coordinate times the
+/// exact ratio of the two units, rounded once ([`Unit::convert`]), then divided by the IGES model-space
+/// scale (1 for STEP).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Conversion {
+    /// (the file's unit, the unit asked for); `None`: keep the file's unit.
+    pub(crate) units: Option<(Unit, Unit)>,
+    /// The model-space scale the coordinates are divided by.
+    pub(crate) scale: f64,
+}
+
+impl Conversion {
+    /// Coordinates kept as they are.
+    pub(crate) fn is_identity(&self) -> bool {
+        self.scale == 1.0 && self.units.is_none_or(|(from, to)| from == to)
+    }
+
+    /// One coordinate converted.
+    pub(crate) fn value(&self, x: f64) -> f64 {
+        let y = match self.units {
+            Some((from, to)) if from != to => from.convert(x, to),
+            _ => x,
+        };
+        if self.scale == 1.0 { y } else { y / self.scale }
+    }
+
+    /// `g` with every control point converted (knots and weights kept).
+    pub(crate) fn apply(&self, g: Geometry) -> crate::error::Result<Geometry> {
+        if self.is_identity() {
+            return Ok(g);
+        }
+        let f = |q: &glam::DVec3| glam::DVec3::new(self.value(q.x), self.value(q.y), self.value(q.z));
+        Ok(match g {
+            Geometry::Curve(c) => c.with_points(c.points().iter().map(f).collect())?.into(),
+            Geometry::Surface(s) => s.with_points(s.points().iter().map(f).collect())?.into(),
+        })
+    }
+}
+
 /// Everything read from an interchange file (IGES or STEP).
 #[derive(Debug, Clone, PartialEq)]
 pub struct InterchangeFile {
@@ -329,6 +368,36 @@ mod tests {
         let stp = step::write(&objects, &WriteOptions::default());
         assert!(stp.contains("FILE_NAME('fairway.stp'"), "{stp}");
         assert_eq!(step::read_all(stp.as_bytes()).unwrap().unit, Some(Unit::Millimeter));
+    }
+
+    #[test]
+    fn both_readers_convert_units_exactly() {
+        use crate::io::ReadOptions;
+        // 7 in is 177.8 mm and 0.3 in is 7.62 mm; 7 × 25.4 is 177.79999999999998
+        let pts = vec![
+            DVec3::new(7.0, 0.3, 0.0),
+            DVec3::X,
+            DVec3::new(2.0, 1.0, 0.5),
+            DVec3::new(3.0, 0.0, 1.0),
+        ];
+        let c = BSplineCurve::new_3d(3, vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0], pts).unwrap();
+        let objects = [Geometry::Curve(c)];
+        let inch = WriteOptions {
+            unit: Unit::Inch,
+            ..Default::default()
+        };
+        let to_mm = ReadOptions {
+            unit: Some(Unit::Millimeter),
+        };
+        let igs = iges::read_all_with(iges::write(&objects, &inch).as_bytes(), to_mm).unwrap();
+        let stp = step::read_all_with(step::write(&objects, &inch).as_bytes(), to_mm).unwrap();
+        for f in [igs, stp] {
+            let Geometry::Curve(c) = &f.objects[0] else {
+                panic!("a curve")
+            };
+            assert_eq!(c.points()[0], DVec3::new(177.8, 7.62, 0.0));
+            assert_eq!(c.points()[3], DVec3::new(76.2, 0.0, 25.4));
+        }
     }
 
     #[test]

@@ -29,7 +29,7 @@ use crate::error::{Error, Result};
 use crate::geometry::Geometry;
 
 pub use document::{Document, DocumentSettings};
-pub use interchange::{InterchangeFile, Timestamp, Unit, WriteOptions};
+pub use interchange::{InterchangeFile, ReadOptions, Timestamp, Unit, WriteOptions};
 pub use length::{Length, LengthError};
 pub use scene::{Scene, SceneObject, ViewPlane, load_scene, save_scene};
 

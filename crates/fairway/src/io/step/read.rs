@@ -11,7 +11,7 @@ use super::perr;
 use crate::curve::BSplineCurve;
 use crate::error::{Error, Result};
 use crate::geometry::Geometry;
-use crate::io::interchange::{EntityInfo, InterchangeFile, ReadOptions};
+use crate::io::interchange::{Conversion, EntityInfo, InterchangeFile, ReadOptions};
 use crate::knots::MAX_DEGREE;
 use crate::surface::BSplineSurface;
 
@@ -548,11 +548,11 @@ fn parameter_space_items(ex: &Exchange) -> HashSet<u64> {
     set
 }
 
-/// One B-spline instance as geometry, the unit factor applied and the coordinates range-checked.
+/// One B-spline instance as geometry, converted to the unit asked for and the coordinates range-checked.
 fn read_instance(
     ex: &Exchange,
     p: &Parts<'_>,
-    factor: f64,
+    conversion: Conversion,
     what: &str,
     notices: &mut Vec<String>,
 ) -> Result<(Vec<Geometry>, bool)> {
@@ -562,14 +562,14 @@ fn read_instance(
     };
     let pieces = pieces
         .into_iter()
-        .map(|g| instance_geometry(g, p, factor))
+        .map(|g| instance_geometry(g, p, conversion))
         .collect::<Result<Vec<_>>>()?;
     Ok((pieces, clamped))
 }
 
 /// A piece of an instance as Fairway holds it: a 2D curve as Fairway writes it (named so, z = 0) made
 /// 2D, converted to the requested unit, and checked against the range Fairway computes in.
-fn instance_geometry(g: Geometry, p: &Parts<'_>, factor: f64) -> Result<Geometry> {
+fn instance_geometry(g: Geometry, p: &Parts<'_>, conversion: Conversion) -> Result<Geometry> {
     // a 2D curve as Fairway writes it: named so, z = 0
     let g = match g {
         Geometry::Curve(c)
@@ -587,16 +587,9 @@ fn instance_geometry(g: Geometry, p: &Parts<'_>, factor: f64) -> Result<Geometry
         }
         g => g,
     };
-    let g = if factor == 1.0 { g } else { scale(g, factor)? };
+    let g = conversion.apply(g)?;
     crate::range::check_geometry(&g)?;
     Ok(g)
-}
-
-fn scale(g: Geometry, f: f64) -> Result<Geometry> {
-    Ok(match g {
-        Geometry::Curve(c) => c.with_points(c.points().iter().map(|q| *q * f).collect())?.into(),
-        Geometry::Surface(s) => s.with_points(s.points().iter().map(|q| *q * f).collect())?.into(),
-    })
 }
 
 fn reason(e: &Error) -> String {
@@ -610,9 +603,9 @@ fn reason(e: &Error) -> String {
 pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile> {
     let mut notices: Vec<String> = ex.errors.iter().map(|e| format!("{e} (skipped)")).collect();
     let unit = super::units::file_unit(ex, &mut notices);
-    let factor = match (opts.unit, unit) {
-        (None, _) => 1.0,
-        (Some(to), Some(from)) => from.in_mm() / to.in_mm(),
+    let units = match (opts.unit, unit) {
+        (None, _) => None,
+        (Some(to), Some(from)) => Some((from, to)),
         (Some(to), None) => {
             return Err(perr(format!(
                 "the file's length unit is not recognised, cannot convert to {}",
@@ -620,6 +613,7 @@ pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile
             )));
         }
     };
+    let conversion = Conversion { units, scale: 1.0 };
     let pcurves = parameter_space_items(ex);
     let (mut objects, mut entities) = (Vec::new(), Vec::new());
     let mut first_error = None;
@@ -645,7 +639,7 @@ pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile
         }
         let mut piece_notes = vec![];
         let read = parts(inst, kind, form, entity)
-            .and_then(|p| Ok((read_instance(ex, &p, factor, &what, &mut piece_notes)?, p.name)));
+            .and_then(|p| Ok((read_instance(ex, &p, conversion, &what, &mut piece_notes)?, p.name)));
         match read {
             Ok(((pieces, clamped), name)) => {
                 if clamped {
