@@ -766,7 +766,8 @@ impl FairingSetup {
             (_, true) => from_smoother,
             _ => return None,
         };
-        let blend = |t: f64, a: &[DVec3]| -> Vec<DVec3> { a.iter().zip(&goal).map(|(a, g)| *a + t * (*g - *a)).collect() };
+        let blend =
+            |t: f64, a: &[DVec3]| -> Vec<DVec3> { a.iter().zip(&goal).map(|(a, g)| *a + t * (*g - *a)).collect() };
         // a blend must beat the reference with a margin: `measure` integrates E_var with its own nodes
         let clear = |r: (usize, f64)| r.0 <= reference.0 && r.1 <= reference.1 * (1.0 - STEP_BLEND_MARGIN);
         let (mut lo, mut hi) = (0.0, 1.0);
