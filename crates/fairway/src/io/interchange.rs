@@ -209,12 +209,33 @@ impl Conversion {
         if self.is_identity() {
             return Ok(g);
         }
-        let f = |q: &glam::DVec3| glam::DVec3::new(self.value(q.x), self.value(q.y), self.value(q.z));
-        Ok(match g {
-            Geometry::Curve(c) => c.with_points(c.points().iter().map(f).collect())?.into(),
-            Geometry::Surface(s) => s.with_points(s.points().iter().map(f).collect())?.into(),
+        map_points(g, |q| {
+            glam::DVec3::new(self.value(q.x), self.value(q.y), self.value(q.z))
         })
     }
+}
+
+/// `g` with every control point mapped by `f` (knots and weights kept: B-splines, rational ones too, are
+/// invariant under affine maps). A 2D curve stays 2D while its points stay in z = 0.
+pub(crate) fn map_points(g: Geometry, f: impl Fn(glam::DVec3) -> glam::DVec3) -> crate::error::Result<Geometry> {
+    Ok(match g {
+        Geometry::Curve(c) => {
+            let pts: Vec<glam::DVec3> = c.points().iter().map(|&q| f(q)).collect();
+            let dim = if c.dim() == 2 && pts.iter().all(|q| q.z == 0.0) {
+                2
+            } else {
+                3
+            };
+            Geometry::Curve(crate::curve::BSplineCurve::try_new(
+                c.degree(),
+                c.knots().values().to_vec(),
+                pts,
+                c.weights().map(<[f64]>::to_vec),
+                dim,
+            )?)
+        }
+        Geometry::Surface(s) => Geometry::Surface(s.with_points(s.points().iter().map(|&q| f(q)).collect())?),
+    })
 }
 
 /// Everything read from an interchange file (IGES or STEP).

@@ -2,7 +2,7 @@
 //! their transformation matrices.
 
 use super::*;
-use crate::io::interchange::Conversion;
+use crate::io::interchange::{Conversion, map_points};
 
 /// Read every curve (126) and surface (128) of an IGES file, coordinates in
 /// the file's unit. Other entities are skipped and listed in `notices`.
@@ -272,7 +272,7 @@ impl DataSections<'_> {
         let mut out = Vec::with_capacity(pieces.len());
         for mut geom in pieces {
             if let Some(m) = xf {
-                geom = apply(geom, |q| m.apply(q))?;
+                geom = map_points(geom, |q| m.apply(q))?;
             }
             geom = self.conversion.apply(geom)?;
             crate::range::check_geometry(&geom).map_err(|e| perr(format!("{what}: {e}")))?;
@@ -428,25 +428,4 @@ pub(super) fn transform_chain(
         ptr = e.transform;
     }
     Ok(acc)
-}
-
-pub(super) fn apply(g: Geometry, f: impl Fn(DVec3) -> DVec3) -> Result<Geometry> {
-    Ok(match g {
-        Geometry::Curve(c) => {
-            let pts: Vec<DVec3> = c.points().iter().map(|&q| f(q)).collect();
-            let planar_z0 = pts.iter().all(|q| q.z == 0.0);
-            let dim = if c.dim() == 2 && planar_z0 { 2 } else { 3 };
-            Geometry::Curve(BSplineCurve::try_new(
-                c.degree(),
-                c.knots().values().to_vec(),
-                pts,
-                c.weights().map(|w| w.to_vec()),
-                dim,
-            )?)
-        }
-        Geometry::Surface(s) => {
-            let pts = s.points().iter().map(|&q| f(q)).collect();
-            Geometry::Surface(s.with_points(pts)?)
-        }
-    })
 }

@@ -21,8 +21,9 @@
 //! `GLOBAL_UNIT_ASSIGNED_CONTEXT`: `SI_UNIT` with a prefix or a
 //! `CONVERSION_BASED_UNIT` such as `'INCH'`), reported in
 //! [`InterchangeFile::unit`], unless [`ReadOptions::unit`] asks for a
-//! conversion. Trims (of `TRIMMED_CURVE`, face bounds) and placements of
-//! assemblies are not applied: the underlying B-spline is returned.
+//! conversion. Trims (of `TRIMMED_CURVE`, face bounds) are not applied: the
+//! underlying B-spline is returned, once per placement of its part in the
+//! assembly, in the assembly's coordinates (module `placement`).
 //!
 //! The Part 21 parser ([`parse`]) is written here rather than taken from a
 //! crate: `ruststep` 0.4 (Apache-2.0) parses complex instances but comes
@@ -45,6 +46,7 @@
 //! round-trip decimal, so Fairway → STEP → Fairway is exact.
 
 pub mod parse;
+mod placement;
 mod read;
 mod units;
 mod write;
