@@ -28,7 +28,7 @@
 //!      curvature stay. One pass treats the seam of a closed curve (first
 //!      point = last point) the same way: the seam keeps its original G2
 //!      state and shape, unfaired ([`FairingResult::seam`] is
-//!      [`Seam::Held`]). [`fair_curve`] (and `fairway fair`) fairs a whole
+//!      [`Seam::Held`]). [`fair_curve`](crate::fair::fair_curve) (and `fairway fair`) fairs a whole
 //!      closed curve across the seam instead, by re-seaming and a second
 //!      pass ([`super::closed::fair_closed`]).
 //!
@@ -141,7 +141,7 @@ pub struct FairingResult {
     /// The paper's E = Σ (κ(p_k) − g_k)² at the sample parameters.
     pub energy: f64,
     /// What happened at the seam of a closed curve (see [`Seam`]): a single pass of
-    /// [`FairingSetup`] holds it; [`fair_curve`] on a whole closed curve fairs across it, or says
+    /// [`FairingSetup`] holds it; [`fair_curve`](crate::fair::fair_curve) on a whole closed curve fairs across it, or says
     /// why it could not.
     pub seam: Seam,
     /// What the fair left as it was, and why: one line per stretch between corners whose setup was

@@ -145,8 +145,8 @@ pub(super) fn label_fields(label: &str) -> (String, i64) {
     (name, sub)
 }
 
-/// [`write`] with a label per object (`labels[k]` for `objects[k]`; missing or empty: none), written to
-/// directory fields 18–19 ([`label_fields`]), so that [`read_all`] reports them again.
+/// [`write()`] with a label per object (`labels[k]` for `objects[k]`; missing or empty: none), written to
+/// directory fields 18–19 (`label_fields`), so that [`read_all`] reports them again.
 pub fn write_labeled(objects: &[Geometry], labels: &[String], opts: &WriteOptions) -> String {
     let date = iges_date(opts.date_or_now());
     let mut out = String::new();

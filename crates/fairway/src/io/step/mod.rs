@@ -103,7 +103,7 @@ pub fn write(objects: &[Geometry], opts: &WriteOptions) -> String {
     write::write(objects, &[], opts)
 }
 
-/// [`write`] with a name per object (`names[k]` for `objects[k]`; missing or empty: `curve k`,
+/// [`write()`] with a name per object (`names[k]` for `objects[k]`; missing or empty: `curve k`,
 /// `surface k`), written as the entity's name so that [`read_all`] reports it again (a 2D curve's name
 /// keeps the prefix that marks it 2D, which the reader strips).
 pub fn write_labeled(objects: &[Geometry], names: &[String], opts: &WriteOptions) -> String {
