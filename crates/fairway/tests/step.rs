@@ -742,3 +742,33 @@ fn assembly_placements_put_each_occurrence_of_a_part_where_the_assembly_places_i
     assert_eq!(f.objects[0].as_curve().unwrap().points(), part);
     assert!(!f.notices.iter().any(|n| n.contains("placements")), "{:?}", f.notices);
 }
+
+/// A `MAPPED_ITEM` places its `REPRESENTATION_MAP`'s representation (origin → target placement) in the
+/// representation that holds the item.
+#[test]
+fn a_mapped_item_places_its_representation_at_its_target() {
+    let text = "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\nFILE_NAME('m.stp','',(''),(''),'','','');\n\
+        FILE_SCHEMA(('AUTOMOTIVE_DESIGN'));\nENDSEC;\nDATA;\n\
+        #1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=CARTESIAN_POINT('',(1.,0.,0.));\n\
+        #3=CARTESIAN_POINT('',(2.,1.,0.));\n#4=CARTESIAN_POINT('',(3.,0.,1.));\n\
+        #5=B_SPLINE_CURVE_WITH_KNOTS('rib',3,(#1,#2,#3,#4),.UNSPECIFIED.,.F.,.F.,(4,4),(0.,1.),.UNSPECIFIED.);\n\
+        #6=GEOMETRIC_CURVE_SET('',(#5));\n\
+        #10=CARTESIAN_POINT('',(1.,1.,1.));\n#11=AXIS2_PLACEMENT_3D('',#10,$,$);\n\
+        #12=GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION('part',(#6,#11),#100);\n\
+        #21=AXIS2_PLACEMENT_3D('',#22,#23,#24);\n#22=CARTESIAN_POINT('',(10.,0.,0.));\n\
+        #23=DIRECTION('',(0.,0.,1.));\n#24=DIRECTION('',(0.,1.,0.));\n\
+        #30=REPRESENTATION_MAP(#11,#12);\n#31=MAPPED_ITEM('',#30,#21);\n\
+        #20=SHAPE_REPRESENTATION('top',(#31),#100);\n\
+        #100=(GEOMETRIC_REPRESENTATION_CONTEXT(3)GLOBAL_UNIT_ASSIGNED_CONTEXT((#101))REPRESENTATION_CONTEXT('',''));\n\
+        #101=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));\n\
+        ENDSEC;\nEND-ISO-10303-21;\n";
+    let f = step::read_all(text.as_bytes()).unwrap();
+    assert_eq!(f.objects.len(), 1, "{:?}", f.notices);
+    // origin (1, 1, 1) with the file's axes onto the target at (10, 0, 0) turned by 90° about z:
+    // (x, y, z) ↦ (10 − (y − 1), x − 1, z − 1)
+    let part = [DVec3::ZERO, DVec3::X, DVec3::new(2., 1., 0.), DVec3::new(3., 0., 1.)];
+    for (got, q) in f.objects[0].as_curve().unwrap().points().iter().zip(part) {
+        let want = DVec3::new(11.0 - q.y, q.x - 1.0, q.z - 1.0);
+        assert!((*got - want).length() < 1e-12, "{q} -> {got}, expected {want}");
+    }
+}

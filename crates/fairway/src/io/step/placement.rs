@@ -17,7 +17,7 @@ use super::parse::{Exchange, Instance, Param};
 
 /// The most placements one representation may have (an assembly that uses a part more often is read
 /// with its first ones, and said so).
-pub(super) const MAX_OCCURRENCES: usize = 4096;
+const MAX_OCCURRENCES: usize = 4096;
 /// The deepest assembly tree followed.
 const MAX_LEVELS: usize = 64;
 
@@ -33,6 +33,24 @@ pub(super) struct Placements {
 }
 
 impl Placements {
+    /// What the reader says of the placements: none for a file without an assembly.
+    pub(super) fn notice(&self) -> Option<String> {
+        let dropped = if self.dropped > 0 {
+            format!(
+                " ({} occurrences beyond {MAX_OCCURRENCES} of one part not read)",
+                self.dropped
+            )
+        } else {
+            String::new()
+        };
+        (self.placed > 0).then(|| {
+            format!(
+                "assembly placements applied: {} representations placed in their parents{dropped}",
+                self.placed
+            )
+        })
+    }
+
     /// The placements of the B-spline `#id`: one identity where the file places it nowhere else.
     pub(super) fn of(&self, id: u64) -> &[DAffine3] {
         self.of.get(&id).map_or(&[DAffine3::IDENTITY], Vec::as_slice)

@@ -688,10 +688,10 @@ pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile
                 let n = occurrences.len();
                 for (j, pieces) in occurrences.into_iter().enumerate() {
                     // a part used more than once in an assembly: one object per placement
-                    let name = if n > 1 {
-                        format!("{name} (occurrence {} of {n})", j + 1)
-                    } else {
-                        name.clone()
+                    let name = match (n, name.is_empty()) {
+                        (1, _) => name.clone(),
+                        (_, true) => format!("occurrence {} of {n}", j + 1),
+                        (_, false) => format!("{name} (occurrence {} of {n})", j + 1),
                     };
                     push_pieces(pieces, &name, inst.id, &mut objects, &mut entities);
                 }
@@ -702,17 +702,7 @@ pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile
             }
         }
     }
-    if placements.placed > 0 {
-        notices.push(format!(
-            "assembly placements applied: {} representations placed in their parents{}",
-            placements.placed,
-            if placements.dropped > 0 {
-                format!(" ({} occurrences beyond {{}} a part not read)", placements.dropped)
-            } else {
-                String::new()
-            }
-        ));
-    }
+    notices.extend(placements.notice());
     if !others.is_empty() {
         let list: Vec<String> = others.iter().map(|(k, n)| format!("{n} {k}")).collect();
         notices.push(format!(
