@@ -327,6 +327,32 @@ impl Timestamp {
         Self::from_unix(secs)
     }
 
+    /// `YYYYMMDD.HHNNSS`, the IGES form (global fields G18, G25).
+    pub fn to_iges(&self) -> String {
+        let Self {
+            year,
+            month,
+            day,
+            hour,
+            minute,
+            second,
+        } = *self;
+        format!("{year:04}{month:02}{day:02}.{hour:02}{minute:02}{second:02}")
+    }
+
+    /// `YYYY-MM-DDTHH:MM:SS`, ISO 8601 as STEP's `FILE_NAME` has it.
+    pub fn to_iso8601(&self) -> String {
+        let Self {
+            year,
+            month,
+            day,
+            hour,
+            minute,
+            second,
+        } = *self;
+        format!("{year:04}-{month:02}-{day:02}T{hour:02}:{minute:02}:{second:02}")
+    }
+
     /// The UTC date and time `secs` seconds after 1970-01-01T00:00:00 (civil from days, H. Hinnant).
     pub fn from_unix(secs: u64) -> Self {
         let days = (secs / 86_400) as i64;

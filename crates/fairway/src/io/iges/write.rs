@@ -44,19 +44,6 @@ pub(super) fn wrap(tokens: &[String], width: usize) -> Vec<String> {
     lines
 }
 
-/// `YYYYMMDD.HHNNSS`, the IGES date form (G18, G25).
-fn iges_date(t: Timestamp) -> String {
-    let Timestamp {
-        year,
-        month,
-        day,
-        hour,
-        minute,
-        second,
-    } = t;
-    format!("{year:04}{month:02}{day:02}.{hour:02}{minute:02}{second:02}")
-}
-
 pub(super) fn curve_params(c: &BSplineCurve) -> Vec<String> {
     let p = c.degree();
     let n = c.n_points();
@@ -148,7 +135,7 @@ pub(super) fn label_fields(label: &str) -> (String, i64) {
 /// [`write()`] with a label per object (`labels[k]` for `objects[k]`; missing or empty: none), written to
 /// directory fields 18–19 (`label_fields`), so that [`read_all`] reports them again.
 pub fn write_labeled(objects: &[Geometry], labels: &[String], opts: &WriteOptions) -> String {
-    let date = iges_date(opts.date_or_now());
+    let date = opts.date_or_now().to_iges();
     let mut out = String::new();
     // S
     let s_lines = ["Fairway IGES export: rational B-spline curves (126) and surfaces (128)."];

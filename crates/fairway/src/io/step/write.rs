@@ -6,7 +6,7 @@
 use glam::DVec3;
 
 use super::units::{conversion_name, si_prefix};
-use super::{PLANAR_NAME, Timestamp, WriteOptions};
+use super::{PLANAR_NAME, WriteOptions};
 use crate::curve::BSplineCurve;
 use crate::geometry::Geometry;
 use crate::surface::BSplineSurface;
@@ -237,15 +237,7 @@ fn representation(d: &mut Data, opts: &WriteOptions, shape: u64, items: &[u64], 
 
 /// The whole file; see [`super::write`].
 pub fn write(objects: &[Geometry], names: &[String], opts: &WriteOptions) -> String {
-    let Timestamp {
-        year,
-        month,
-        day,
-        hour,
-        minute,
-        second,
-    } = opts.date_or_now();
-    let stamp = format!("{year:04}-{month:02}-{day:02}T{hour:02}:{minute:02}:{second:02}");
+    let stamp = opts.date_or_now().to_iso8601();
     let file_name = opts.file_name_or("fairway.stp");
     let stem = std::path::Path::new(file_name)
         .file_stem()
