@@ -8,17 +8,7 @@
 # exceeds 1e-7 mm (the model is ~100 mm across).
 #
 # Usage: scripts/step_assembly_occ.sh [VENV]   (default VENV: /tmp/occ-venv)
-set -euo pipefail
-cd "$(dirname "$0")/.."
-VENV=${1:-/tmp/occ-venv}
-if [ ! -x "$VENV/bin/python" ] || ! "$VENV/bin/python" -c 'import OCP' 2>/dev/null; then
-    python3 -m venv "$VENV"
-    "$VENV/bin/pip" install --quiet cadquery-ocp
-fi
-cargo build --release --quiet -p fairway-cli
-FAIRWAY=${CARGO_TARGET_DIR:-$PWD/target}/release/fairway
-WORK=$(mktemp -d /tmp/fairway-occ-asm-XXXXXX)
-trap 'rm -rf "$WORK"' EXIT
+source "$(dirname "$0")/occ-env.sh"
 "$VENV/bin/python" - "$WORK/assembly.stp" > /dev/null <<'PY'
 import json, math, os, subprocess, sys
 from OCP.OCP.collections import Array1_gp_Pnt, Array1_double, Array1_int, Array2_gp_Pnt
