@@ -14,17 +14,7 @@
 # any distance exceeds 1e-9 × the object's size or a file is not read.
 #
 # Usage: scripts/step_roundtrip_occ.sh [VENV]   (default VENV: /tmp/occ-venv)
-set -euo pipefail
-cd "$(dirname "$0")/.."
-VENV=${1:-/tmp/occ-venv}
-if [ ! -x "$VENV/bin/python" ] || ! "$VENV/bin/python" -c 'import OCP' 2>/dev/null; then
-    python3 -m venv "$VENV"
-    "$VENV/bin/pip" install --quiet cadquery-ocp
-fi
-cargo build --release --quiet -p fairway-cli
-FAIRWAY=${CARGO_TARGET_DIR:-$PWD/target}/release/fairway
-WORK=$(mktemp -d /tmp/fairway-occ-XXXXXX)
-trap 'rm -rf "$WORK"' EXIT
+source "$(dirname "$0")/occ-env.sh"
 FAIRWAY="$FAIRWAY" WORK="$WORK" "$VENV/bin/python" - <<'PY'
 import json, math, os, random, subprocess, sys
 

@@ -25,5 +25,7 @@ echo "== cargo fmt --check"
 cargo fmt --all -- --check
 echo "== cargo clippy"
 cargo clippy --workspace --all-targets -- -D warnings
+echo "== cargo doc (the core's API docs: no broken or private links)"
+RUSTDOCFLAGS="-D warnings" cargo doc -p fairway --no-deps --quiet
 echo "== cargo test"
 cargo test --workspace

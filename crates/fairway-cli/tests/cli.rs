@@ -4,19 +4,15 @@
 //! bad input.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use serde_json::Value;
 
+mod common;
+use common::*;
+
 fn reference_dir() -> PathBuf {
     PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/data/reference"))
-}
-
-fn fairway(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fairway"))
-        .args(args)
-        .output()
-        .expect("run the fairway binary")
 }
 
 fn stdout_json(out: &Output) -> Value {
@@ -198,27 +194,6 @@ fn info_surface_json_and_text() {
     assert!(text.contains("14 × 12"), "{text}");
 }
 
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(tag: &str) -> Self {
-        let d = std::env::temp_dir().join(format!("fairway-cli-test-{}-{tag}", std::process::id()));
-        std::fs::create_dir_all(&d).unwrap();
-        Scratch(d)
-    }
-    fn file(&self, name: &str, contents: &str) -> PathBuf {
-        let p = self.0.join(name);
-        std::fs::write(&p, contents).unwrap();
-        p
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
 fn expect_failure(args: &[&str], code: i32, needles: &[&str]) {
     let out = fairway(args);
     assert_eq!(out.status.code(), Some(code), "args {args:?}");
@@ -254,7 +229,7 @@ fn bad_files_exit_1_with_file_and_problem() {
     expect_failure(&["eval", ext.to_str().unwrap()], 1, &["curve.dat", "extension"]);
     let pts = s.file("curve.txt", "{}");
     expect_failure(&["eval", pts.to_str().unwrap()], 1, &["curve.txt", "no points found"]);
-    let missing = s.0.join("missing.json");
+    let missing = s.path("missing.json");
     expect_failure(
         &["eval", missing.to_str().unwrap()],
         1,
@@ -278,7 +253,7 @@ fn eval_reads_ron_documents() {
     let s = Scratch::new("ron");
     let src = reference_dir().join("s_curve.json");
     let g = fairway::io::load_geometry(&src).unwrap();
-    let ron_path = s.0.join("s_curve.ron");
+    let ron_path = s.path("s_curve.ron");
     fairway::io::save(&ron_path, &fairway::io::Document::new(g)).unwrap();
     let from_json = stdout_json(&fairway(&["eval", src.to_str().unwrap(), "--samples", "33", "--json"]));
     let from_ron = stdout_json(&fairway(&[

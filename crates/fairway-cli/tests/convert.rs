@@ -2,49 +2,11 @@
 //! that reproduce every float, IGES files with several objects (`--index`),
 //! point lists fitted on the way in, SVG out, and clear failures.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
 use fairway::io::{self, Document};
 use fairway::{DVec3, Geometry};
 
-fn fairway(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fairway"))
-        .args(args)
-        .output()
-        .expect("run the fairway binary")
-}
-
-fn asset(name: &str) -> PathBuf {
-    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets")).join(name)
-}
-
-fn reference(name: &str) -> PathBuf {
-    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/data/reference")).join(name)
-}
-
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(tag: &str) -> Self {
-        let d = std::env::temp_dir().join(format!("fairway-convert-test-{}-{tag}", std::process::id()));
-        std::fs::create_dir_all(&d).unwrap();
-        Scratch(d)
-    }
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
+mod common;
+use common::*;
 
 fn convert_ok(args: &[&str]) -> String {
     let mut all = vec!["convert"];

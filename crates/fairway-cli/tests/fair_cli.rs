@@ -5,21 +5,13 @@
 //! and messages on bad input).
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use fairway::{BSplineCurve, BSplineSurface, Geometry};
 use serde_json::Value;
 
-fn reference(name: &str) -> PathBuf {
-    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/data/reference")).join(name)
-}
-
-fn fairway(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fairway"))
-        .args(args)
-        .output()
-        .expect("run the fairway binary")
-}
+mod common;
+use common::*;
 
 /// A fresh temporary directory for one test.
 fn temp_dir(tag: &str) -> PathBuf {
@@ -62,10 +54,6 @@ fn surface(path: &Path) -> BSplineSurface {
 
 fn json_file(path: &Path) -> Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 /// The reference's measure keys (README of shared/reference).

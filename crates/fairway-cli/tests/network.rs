@@ -3,8 +3,7 @@
 //! order with its names, the report has each object's measures and each join before and after;
 //! `--index` still fairs one object alone.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 
 use fairway::fair::closed::split;
 use fairway::io::{DocumentSettings, Scene, SceneObject, Unit, load_scene, save_scene};
@@ -12,52 +11,8 @@ use fairway::network::{Continuity, find_joins};
 use fairway::{BSplineCurve, DVec3, Geometry};
 use serde_json::Value;
 
-fn fairway(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fairway"))
-        .args(args)
-        .output()
-        .expect("run the fairway binary")
-}
-
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(tag: &str) -> Self {
-        let d = std::env::temp_dir().join(format!("fairway-network-test-{}-{tag}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&d);
-        std::fs::create_dir_all(&d).unwrap();
-        Scratch(d)
-    }
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
-fn run_ok(args: &[&str]) -> (String, String) {
-    let out = fairway(args);
-    let err = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(out.status.success(), "{args:?}: exit {:?}: {err}", out.status.code());
-    (String::from_utf8_lossy(&out.stdout).into_owned(), err)
-}
-
-fn run_fails(args: &[&str], needles: &[&str]) {
-    let out = fairway(args);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
-    for n in needles {
-        assert!(err.contains(n), "{args:?}: {n:?} not in {err}");
-    }
-}
+mod common;
+use common::*;
 
 /// A noisy planar cubic (a sine arc, 30 control points, deterministic noise of ±4e-3) split at two
 /// interior knots: three curves meeting with G2.

@@ -3,66 +3,14 @@
 //! a broken entity is skipped with its reason, `fair` takes a tolerance with a unit and writes STEP in
 //! the input's unit, and bad files fail with a clear message and leave no output.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 
 use fairway::io::{self, Unit, step};
 use fairway::{BSplineCurve, DVec3, Geometry};
 use serde_json::Value;
 
-fn fairway(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fairway"))
-        .args(args)
-        .output()
-        .expect("run the fairway binary")
-}
-
-fn reference(name: &str) -> PathBuf {
-    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/data/reference")).join(name)
-}
-
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(tag: &str) -> Self {
-        let d = std::env::temp_dir().join(format!("fairway-step-test-{}-{tag}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&d);
-        std::fs::create_dir_all(&d).unwrap();
-        Scratch(d)
-    }
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
-/// Run, expect success, return (stdout, stderr).
-fn run_ok(args: &[&str]) -> (String, String) {
-    let out = fairway(args);
-    let err = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(out.status.success(), "{args:?}: exit {:?}: {err}", out.status.code());
-    (String::from_utf8_lossy(&out.stdout).into_owned(), err)
-}
-
-/// Run, expect exit 1 with every needle in stderr and no panic.
-fn run_fails(args: &[&str], needles: &[&str]) {
-    let out = fairway(args);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
-    for n in needles {
-        assert!(err.contains(n), "{args:?}: stderr {err:?} should mention {n:?}");
-    }
-    assert!(!err.contains("panicked"), "{err}");
-}
+mod common;
+use common::*;
 
 /// A rational cubic in 3D (weights ≠ 1).
 fn rational_curve() -> BSplineCurve {

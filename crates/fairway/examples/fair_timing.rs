@@ -11,28 +11,11 @@
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
-use fairway::fair::{FairingOptions, FairingSetup};
-use fairway::{BSplineCurve, DVec2, KnotVector};
+use fairway::fair::FairingSetup;
 
-/// The bench's cubic through a sine wave with deterministic noise of ~1 % of the amplitude.
-fn noisy_curve(n: usize) -> BSplineCurve {
-    let mut state = 0x9E37_79B9_7F4A_7C15u64;
-    let pts: Vec<DVec2> = (0..n)
-        .map(|i| {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let noise = ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.01;
-            let t = i as f64 / (n - 1) as f64;
-            DVec2::new(4.0 * t, 0.5 * (3.0 * t).sin() + noise)
-        })
-        .collect();
-    BSplineCurve::new_2d(3, KnotVector::uniform(3, n).unwrap().values().to_vec(), &pts).unwrap()
-}
-
-fn opts(samples: usize) -> FairingOptions {
-    FairingOptions::default().tolerance(2e-3).samples(Some(samples))
-}
+#[path = "../benches/common/mod.rs"]
+mod common;
+use common::{noisy_curve, opts};
 
 /// This thread's CPU time (ns), 0 where `/proc` does not have it.
 fn cpu_ns() -> u64 {

@@ -167,9 +167,12 @@ impl KnotVector {
         self.find_span(u)
     }
 
-    /// Multiplicity of the value `u` in the knot vector (0 if absent).
+    /// Multiplicity of the value `u` in the knot vector (0 if absent): the length of its run, found by
+    /// two binary searches in the non-decreasing values (O(log n): the fair asks it at every breakpoint).
     pub fn multiplicity(&self, u: f64) -> usize {
-        self.values.iter().filter(|&&v| v == u).count()
+        let lo = self.values.partition_point(|&v| v < u);
+        let hi = self.values.partition_point(|&v| v <= u);
+        hi - lo
     }
 
     /// The distinct breakpoints `t_p < … < t_n` of the domain.
@@ -383,6 +386,32 @@ mod tests {
         assert_eq!(k.breakpoints(), vec![0., 1., 2., 3., 4.]);
         assert_eq!(k.n_spans(), 4);
         assert_eq!(k.multiplicity(2.0), 2);
+    }
+
+    #[test]
+    fn multiplicity_counts_the_run_of_each_value() {
+        let v = vec![0., 0., 0., 0., 0.5, 1., 1., 1., 2., 3., 3., 3., 3.];
+        let k = KnotVector::try_new(v.clone(), 3, 9, "k").unwrap();
+        for u in [
+            -1.0,
+            -0.0,
+            0.0,
+            0.25,
+            0.5,
+            1.0,
+            1.5,
+            2.0,
+            3.0,
+            4.0,
+            f64::NAN,
+            f64::INFINITY,
+        ] {
+            let count = v.iter().filter(|&&x| x == u).count();
+            assert_eq!(k.multiplicity(u), count, "u = {u}");
+        }
+        assert_eq!(k.multiplicity(0.0), 4);
+        assert_eq!(k.multiplicity(1.0), 3);
+        assert_eq!(k.multiplicity(0.75), 0);
     }
 
     #[test]

@@ -991,17 +991,17 @@ fn a_sliver_span_at_the_curve_end_stays_and_the_fair_is_fairer() {
     };
     let (s0, s1) = (steps(&c), steps(&r.curve));
     println!("Σ curvature steps² at the joints {s0:.4e} -> {s1:.4e}");
-    // fairer: no more extrema, and a lower ∫(dκ/ds)² inside the spans or clearly smaller steps at the
-    // joints (with the joints kept G1 the polish trades a little of the one for the other: measured
-    // ∫(dκ/ds)² +1.5 %, steps −27 %)
+    // fairer by the independent measures: no more extrema and no larger ∫(dκ/ds)² inside the spans (the
+    // polish prices the steps at the joints too, but runs on without those prices where its result would
+    // lose to the reference smoother on ∫(dκ/ds)²); and not a no-op: a lower ∫(dκ/ds)² or smaller steps
     assert!(m1.n_curv_extrema <= m0.n_curv_extrema);
+    assert!(m1.E_var <= m0.E_var, "E_var {} -> {}", m0.E_var, m1.E_var);
     assert!(
-        m1.E_var <= m0.E_var || s1 <= 0.8 * s0,
-        "E_var {} -> {}, steps {s0} -> {s1}",
+        m1.E_var < m0.E_var * (1.0 - 1e-3) || s1 < 0.9 * s0,
+        "the fair did nothing: E_var {} -> {}, steps {s0} -> {s1}",
         m0.E_var,
         m1.E_var
     );
-    assert!(r.max_deviation > 0.1 * m, "the fair barely moved: {}", r.max_deviation);
     // the chain's joints (triple knots, G1 in the original to rounding) stay G1: before, the fair opened
     // them into kinks of about a degree (1.25° at joint 3) inside the band; now ≤ 1e-6 rad (measured
     // 1.5e-8)

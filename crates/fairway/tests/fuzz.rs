@@ -138,7 +138,7 @@ fn seeds_ron() -> Vec<Vec<u8>> {
 
 fn seeds_iges() -> Vec<Vec<u8>> {
     let opts = iges::WriteOptions {
-        date: Some("20240101.000000".into()),
+        date: Some(fairway::io::Timestamp::from_unix(1_704_067_200)), // 2024-01-01
         ..Default::default()
     };
     vec![

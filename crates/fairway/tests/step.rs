@@ -14,8 +14,8 @@ use shapes::*;
 fn opts(unit: Unit) -> WriteOptions {
     WriteOptions {
         unit,
-        file_name: "test.stp".into(),
-        date: Some("2026-01-01T00:00:00".into()),
+        file_name: Some("test.stp".into()),
+        date: Some(fairway::io::Timestamp::from_unix(1_767_225_600)), // 2026-01-01
     }
 }
 
@@ -253,8 +253,7 @@ fn a_file_as_a_cad_system_writes_it_is_read_with_known_values() {
     );
     assert_eq!(
         f.notices[2],
-        "trims and placements not applied (1 ADVANCED_FACE, 1 EDGE_CURVE, 1 TRIMMED_CURVE): the B-splines are \
-         read whole, in their own coordinates"
+        "trims not applied (1 ADVANCED_FACE, 1 EDGE_CURVE, 1 TRIMMED_CURVE): the B-splines are read whole"
     );
 }
 
@@ -664,4 +663,112 @@ fn a_break_in_a_step_curve_is_reduced_where_continuous_and_split_where_not() {
         "{:?}",
         f.notices
     );
+}
+
+/// A part (a cubic in its own wireframe representation) placed twice in a sub-assembly, which is placed
+/// in the top assembly: each occurrence is read in world coordinates, x ↦ A₂ A₁⁻¹ x at every level
+/// (`ITEM_DEFINED_TRANSFORMATION(item in the child, item in the parent)`), the parent's placement applied
+/// after the child's.
+#[test]
+fn assembly_placements_put_each_occurrence_of_a_part_where_the_assembly_places_it() {
+    let text = "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\nFILE_NAME('asm.stp','',(''),(''),'','','');\n\
+        FILE_SCHEMA(('AUTOMOTIVE_DESIGN'));\nENDSEC;\nDATA;\n\
+        #1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=CARTESIAN_POINT('',(1.,0.,0.));\n\
+        #3=CARTESIAN_POINT('',(2.,1.,0.));\n#4=CARTESIAN_POINT('',(3.,0.,1.));\n\
+        #5=B_SPLINE_CURVE_WITH_KNOTS('rib',3,(#1,#2,#3,#4),.UNSPECIFIED.,.F.,.F.,(4,4),(0.,1.),.UNSPECIFIED.);\n\
+        #6=GEOMETRIC_CURVE_SET('',(#5));\n\
+        #10=CARTESIAN_POINT('',(0.,0.,0.));\n#11=AXIS2_PLACEMENT_3D('',#10,$,$);\n\
+        #12=GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION('part',(#6,#11),#100);\n\
+        #21=AXIS2_PLACEMENT_3D('',#22,#23,#24);\n#22=CARTESIAN_POINT('',(10.,0.,0.));\n\
+        #23=DIRECTION('',(0.,0.,1.));\n#24=DIRECTION('',(0.,1.,0.));\n\
+        #31=AXIS2_PLACEMENT_3D('',#32,#33,#34);\n#32=CARTESIAN_POINT('',(0.,0.,5.));\n\
+        #33=DIRECTION('',(1.,0.,0.));\n#34=DIRECTION('',(0.,1.,0.));\n\
+        #35=AXIS2_PLACEMENT_3D('',#10,$,$);\n\
+        #20=SHAPE_REPRESENTATION('sub-assembly',(#35,#21,#31),#100);\n\
+        #40=ITEM_DEFINED_TRANSFORMATION('','',#11,#21);\n\
+        #41=(REPRESENTATION_RELATIONSHIP('','',#12,#20)REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION(#40)\
+        SHAPE_REPRESENTATION_RELATIONSHIP());\n\
+        #42=ITEM_DEFINED_TRANSFORMATION('','',#11,#31);\n\
+        #43=(REPRESENTATION_RELATIONSHIP('','',#12,#20)REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION(#42)\
+        SHAPE_REPRESENTATION_RELATIONSHIP());\n\
+        #52=AXIS2_PLACEMENT_3D('',#53,$,#24);\n#53=CARTESIAN_POINT('',(0.,100.,0.));\n\
+        #50=SHAPE_REPRESENTATION('top',(#52),#100);\n\
+        #54=ITEM_DEFINED_TRANSFORMATION('','',#35,#52);\n\
+        #55=(REPRESENTATION_RELATIONSHIP('','',#20,#50)REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION(#54)\
+        SHAPE_REPRESENTATION_RELATIONSHIP());\n\
+        #100=(GEOMETRIC_REPRESENTATION_CONTEXT(3)GLOBAL_UNIT_ASSIGNED_CONTEXT((#101))REPRESENTATION_CONTEXT('',''));\n\
+        #101=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));\n\
+        ENDSEC;\nEND-ISO-10303-21;\n";
+    let f = step::read_all(text.as_bytes()).unwrap();
+    let pts = |k: usize| match &f.objects[k] {
+        Geometry::Curve(c) => c.points().to_vec(),
+        g => panic!("a curve, not {}", g.kind()),
+    };
+    assert_eq!(f.objects.len(), 2, "{:?}", f.notices);
+    assert_eq!(f.entities[0].label, "rib (occurrence 1 of 2)");
+    assert_eq!(f.entities[1].label, "rib (occurrence 2 of 2)");
+    // the top turns the sub-assembly by 90° about z and moves it by (0, 100, 0): (x, y, z) ↦ (−y, x + 100, z)
+    let top = |q: DVec3| DVec3::new(-q.y, q.x + 100.0, q.z);
+    // occurrence 1: turned by 90° about z, moved by (10, 0, 0): (x, y, z) ↦ (10 − y, x, z)
+    let first = |q: DVec3| DVec3::new(10.0 - q.y, q.x, q.z);
+    // occurrence 2: axes x' = (0,1,0), z' = (1,0,0), y' = z' × x' = (0,0,1), at (0, 0, 5): (x, y, z) ↦ (z, x, y + 5)
+    let second = |q: DVec3| DVec3::new(q.z, q.x, q.y + 5.0);
+    let part = [DVec3::ZERO, DVec3::X, DVec3::new(2., 1., 0.), DVec3::new(3., 0., 1.)];
+    for (k, place) in [(0, &first as &dyn Fn(DVec3) -> DVec3), (1, &second)] {
+        for (got, q) in pts(k).iter().zip(part) {
+            let want = top(place(q));
+            assert!(
+                (*got - want).length() < 1e-12,
+                "occurrence {}: {q} -> {got}, expected {want}",
+                k + 1
+            );
+        }
+    }
+    assert!(
+        f.notices
+            .iter()
+            .any(|n| n.contains("assembly placements applied: 2 representations")),
+        "{:?}",
+        f.notices
+    );
+    // the same file without its relationships: the part once, where it is written
+    let flat: String = text
+        .lines()
+        .filter(|l| !l.contains("RELATIONSHIP"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let f = step::read_all(flat.as_bytes()).unwrap();
+    assert_eq!(f.objects.len(), 1);
+    assert_eq!(f.objects[0].as_curve().unwrap().points(), part);
+    assert!(!f.notices.iter().any(|n| n.contains("placements")), "{:?}", f.notices);
+}
+
+/// A `MAPPED_ITEM` places its `REPRESENTATION_MAP`'s representation (origin → target placement) in the
+/// representation that holds the item.
+#[test]
+fn a_mapped_item_places_its_representation_at_its_target() {
+    let text = "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\nFILE_NAME('m.stp','',(''),(''),'','','');\n\
+        FILE_SCHEMA(('AUTOMOTIVE_DESIGN'));\nENDSEC;\nDATA;\n\
+        #1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=CARTESIAN_POINT('',(1.,0.,0.));\n\
+        #3=CARTESIAN_POINT('',(2.,1.,0.));\n#4=CARTESIAN_POINT('',(3.,0.,1.));\n\
+        #5=B_SPLINE_CURVE_WITH_KNOTS('rib',3,(#1,#2,#3,#4),.UNSPECIFIED.,.F.,.F.,(4,4),(0.,1.),.UNSPECIFIED.);\n\
+        #6=GEOMETRIC_CURVE_SET('',(#5));\n\
+        #10=CARTESIAN_POINT('',(1.,1.,1.));\n#11=AXIS2_PLACEMENT_3D('',#10,$,$);\n\
+        #12=GEOMETRICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION('part',(#6,#11),#100);\n\
+        #21=AXIS2_PLACEMENT_3D('',#22,#23,#24);\n#22=CARTESIAN_POINT('',(10.,0.,0.));\n\
+        #23=DIRECTION('',(0.,0.,1.));\n#24=DIRECTION('',(0.,1.,0.));\n\
+        #30=REPRESENTATION_MAP(#11,#12);\n#31=MAPPED_ITEM('',#30,#21);\n\
+        #20=SHAPE_REPRESENTATION('top',(#31),#100);\n\
+        #100=(GEOMETRIC_REPRESENTATION_CONTEXT(3)GLOBAL_UNIT_ASSIGNED_CONTEXT((#101))REPRESENTATION_CONTEXT('',''));\n\
+        #101=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));\n\
+        ENDSEC;\nEND-ISO-10303-21;\n";
+    let f = step::read_all(text.as_bytes()).unwrap();
+    assert_eq!(f.objects.len(), 1, "{:?}", f.notices);
+    // origin (1, 1, 1) with the file's axes onto the target at (10, 0, 0) turned by 90° about z:
+    // (x, y, z) ↦ (10 − (y − 1), x − 1, z − 1)
+    let part = [DVec3::ZERO, DVec3::X, DVec3::new(2., 1., 0.), DVec3::new(3., 0., 1.)];
+    for (got, q) in f.objects[0].as_curve().unwrap().points().iter().zip(part) {
+        let want = DVec3::new(11.0 - q.y, q.x - 1.0, q.z - 1.0);
+        assert!((*got - want).length() < 1e-12, "{q} -> {got}, expected {want}");
+    }
 }

@@ -28,7 +28,7 @@
 //!      curvature stay. One pass treats the seam of a closed curve (first
 //!      point = last point) the same way: the seam keeps its original G2
 //!      state and shape, unfaired ([`FairingResult::seam`] is
-//!      [`Seam::Held`]). [`fair_curve`] (and `fairway fair`) fairs a whole
+//!      [`Seam::Held`]). [`fair_curve`](crate::fair::fair_curve) (and `fairway fair`) fairs a whole
 //!      closed curve across the seam instead, by re-seaming and a second
 //!      pass ([`super::closed::fair_closed`]).
 //!
@@ -141,7 +141,7 @@ pub struct FairingResult {
     /// The paper's E = Σ (κ(p_k) − g_k)² at the sample parameters.
     pub energy: f64,
     /// What happened at the seam of a closed curve (see [`Seam`]): a single pass of
-    /// [`FairingSetup`] holds it; [`fair_curve`] on a whole closed curve fairs across it, or says
+    /// [`FairingSetup`] holds it; [`fair_curve`](crate::fair::fair_curve) on a whole closed curve fairs across it, or says
     /// why it could not.
     pub seam: Seam,
     /// What the fair left as it was, and why: one line per stretch between corners whose setup was
@@ -227,6 +227,10 @@ pub struct FairingSetup {
     /// The check sample of the last band violation: the next scan starts there (a violated band is
     /// usually violated at the same place again, and a check stops at the first violation it finds).
     scan_from: usize,
+    /// Set by [`Self::fair`] for its second pass where the check samples are sparse and the first left the
+    /// band between them: the variation polish then keeps `SPARSE_BULGE / k²` of the band free instead of
+    /// `VAR_BAND_MARGIN` (`FairingSetup::var_band_margin`).
+    sparse_margin: bool,
     /// Free points (local index) constrained at a join whose knot is too multiple for the requested
     /// continuity to come by itself: `Some(T)` moves only along the join's tangent T, `None` not at
     /// all ([`Self::constrain_update`]).
@@ -371,6 +375,15 @@ impl FairingSetup {
     /// narrowed by the excess (at most `BAND_RETRIES` (3) times); if that does not hold it either, the
     /// original is returned, with a note.
     pub fn fair(&mut self) -> Result<FairingResult> {
+        let r = self.fair_certified();
+        self.sparse_margin = false;
+        r
+    }
+
+    /// [`Self::fair`]: the pass, its band bound, and the passes again where the result left the band between
+    /// the check samples — first, where the samples are at their per-span floor, with the polish's band
+    /// narrowed by the bulge expected between them (`sparse_margin`), then with the band narrowed by the excess.
+    fn fair_certified(&mut self) -> Result<FairingResult> {
         let m = self.opts.tolerance;
         validate_tolerance(m)?;
         let mut r = self.fair_pass()?;
@@ -382,6 +395,14 @@ impl FairingSetup {
         let Some(mut bb) = certify(&r.curve) else {
             return Ok(r);
         };
+        if bb.bound > m && self.sparse_check_samples() {
+            self.sparse_margin = true;
+            r = self.fair_pass()?;
+            match certify(&r.curve) {
+                Some(b) => bb = b,
+                None => return Ok(r),
+            }
+        }
         let mut narrowed = m;
         let mut retries = 0;
         while bb.bound > m && retries < BAND_RETRIES {

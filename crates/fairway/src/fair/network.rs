@@ -28,7 +28,7 @@
 //! **Surfaces.** Patches sharing edges with G1 (G2) that are parametrically C1 (C2) after a linear
 //! rescale across them are concatenated into one surface where they form a strip (each patch joined on at
 //! most two opposite sides; a ring is opened at one edge): each edge becomes a knot line of multiplicity
-//! p − 1 (p − 2), or lower where exact; the strip is faired by [`fair_surface`] and split back, each
+//! p − 1 (p − 2), or lower where exact; the strip is faired by [`fair_surface`](crate::fair::fair_surface) and split back, each
 //! patch on its own knots across the edges. Knot vectors along an edge are first merged (knot
 //! insertion, exact), and patches of different degrees raised to the higher ones (exact; they come back
 //! raised). Patches forming a regular grid of 2 × 2 or more, every shared edge concatenable, are joined

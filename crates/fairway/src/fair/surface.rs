@@ -74,7 +74,7 @@
 //!    level only those next to the pick, see below); among the
 //!    candidates that hold the band (step 7) the one with the least
 //!    *fairness energy* is taken: the Dirichlet energy of the mean curvature
-//!    H on a grid of [`ENERGY_PER_SPAN`] samples per knot span of the moving
+//!    H on a grid of `ENERGY_PER_SPAN` samples per knot span of the moving
 //!    rectangle, `Σ_edges (H_a − H_b)² w_⊥/|P_a − P_b|` (a discrete
 //!    `∫∫|∇H|²`). **Why**: taking the *largest* strength that holds the band
 //!    made interior regions less fair at larger m: each isocurve's own
@@ -107,7 +107,7 @@
 //! 8. **The fairest candidate** (default [`SurfaceMethod::Fairway`]; [`SurfaceMethod::Isocurves`] stops
 //!    after step 7). The **reference smoother** ([`SurfaceMethod::Smoothing`], `fairway fair --method
 //!    smoothing`) is the surface counterpart of the curve engine's `FitMode::Smoothing`: on the same
-//!    free block and grid as step 5, with the original's samples as data, [`PlateFit`](crate::fit_surface::PlateFit) minimises
+//!    free block and grid as step 5, with the original's samples as data, [`PlateFit`] minimises
 //!    `‖S − S₀‖² + λ ∫∫ S_xxx² + 3 S_xxy² + 3 S_xyy² + S_yyy²` (order `REFERENCE_ORDER` = 3, the
 //!    rotation-invariant curvature-variation energy, x, y the parameters scaled by the mean speeds), the
 //!    largest λ on a log bisection whose result holds the band. Candidates: the original, step 7's
@@ -121,7 +121,7 @@
 //!    (projected distances are never larger; without the peaks the smoother's nets exceeded m by up to
 //!    0.1 % between nodes, measured by dense projection). Each candidate is ranked by
 //!    (isocurve curvature extrema with the 1 % dead band, `∫∫|∇H|²`), the measures of
-//!    [`crate::measure_surface`] over the moving rectangle ([`RANK_ISO`] isocurves; for a whole-surface
+//!    [`crate::measure_surface`] over the moving rectangle (`RANK_ISO` isocurves; for a whole-surface
 //!    fair exactly `measure`'s numbers). Returned: the lexicographically fairest candidate that is no
 //!    less fair on either measure than the reference and than step 7's result and has no more extrema
 //!    than the original; if none, the fairest no less fair than the reference with no more extrema than

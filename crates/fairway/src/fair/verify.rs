@@ -18,8 +18,8 @@
 //! * φ linear between the closest-point parameters of the interval's ends (the faired curve may slide
 //!   along the original).
 //!
-//! The spans are refined largest bound first (sampled at [`PIECES`] intervals, then bisected) until no
-//! interval's bound exceeds the largest sampled distance by more than [`SHARPNESS`], or the budget of
+//! The spans are refined largest bound first (sampled at `PIECES` intervals, then bisected) until no
+//! interval's bound exceeds the largest sampled distance by more than `SHARPNESS`, or the budget of
 //! evaluations is spent: the bound is then the largest interval bound left, still an upper bound.
 
 use std::cmp::Ordering;

@@ -29,7 +29,7 @@ use crate::error::{Error, Result};
 use crate::geometry::Geometry;
 
 pub use document::{Document, DocumentSettings};
-pub use interchange::{InterchangeFile, Unit};
+pub use interchange::{InterchangeFile, ReadOptions, Timestamp, Unit, WriteOptions};
 pub use length::{Length, LengthError};
 pub use scene::{Scene, SceneObject, ViewPlane, load_scene, save_scene};
 
@@ -256,26 +256,8 @@ pub fn save_in(path: &Path, doc: &Document, unit: Option<interchange::Unit>) -> 
     let text = match Format::from_path(path)? {
         Format::Json => json::to_string(&doc.geometry),
         Format::Ron => doc.to_ron()?,
-        Format::Iges => iges::write(
-            std::slice::from_ref(&doc.geometry),
-            &iges::WriteOptions {
-                file_name: path
-                    .file_name()
-                    .map_or("fairway.igs".into(), |n| n.to_string_lossy().into_owned()),
-                unit,
-                ..Default::default()
-            },
-        ),
-        Format::Step => step::write(
-            std::slice::from_ref(&doc.geometry),
-            &step::WriteOptions {
-                file_name: path
-                    .file_name()
-                    .map_or("fairway.stp".into(), |n| n.to_string_lossy().into_owned()),
-                unit,
-                ..Default::default()
-            },
-        ),
+        Format::Iges => iges::write(std::slice::from_ref(&doc.geometry), &WriteOptions::for_path(path, unit)),
+        Format::Step => step::write(std::slice::from_ref(&doc.geometry), &WriteOptions::for_path(path, unit)),
         Format::Points => {
             return Err(Error::InvalidInput(format!(
                 "{}: point files (.csv, .txt, .xyz) are import only; save as .json, .ron, .igs or .stp",

@@ -213,7 +213,7 @@ pub fn load_scene(path: &Path) -> Result<(Scene, Vec<String>)> {
 /// JSON holds one object only (refused with more).
 pub fn save_scene(path: &Path, scene: &Scene) -> Result<()> {
     let unit = scene.unit.unwrap_or(Unit::Millimeter);
-    let file_name = |d: &str| path.file_name().map_or(d.into(), |n| n.to_string_lossy().into_owned());
+    let opts = super::WriteOptions::for_path(path, unit);
     let (objects, names) = (scene.geometries(), scene.names());
     let text = match Format::from_path(path)? {
         Format::Ron => scene.to_ron()?,
@@ -227,24 +227,8 @@ pub fn save_scene(path: &Path, scene: &Scene) -> Result<()> {
                 )));
             }
         },
-        Format::Iges => super::iges::write_labeled(
-            &objects,
-            &names,
-            &super::iges::WriteOptions {
-                file_name: file_name("fairway.igs"),
-                unit,
-                ..Default::default()
-            },
-        ),
-        Format::Step => super::step::write_labeled(
-            &objects,
-            &names,
-            &super::step::WriteOptions {
-                file_name: file_name("fairway.stp"),
-                unit,
-                ..Default::default()
-            },
-        ),
+        Format::Iges => super::iges::write_labeled(&objects, &names, &opts),
+        Format::Step => super::step::write_labeled(&objects, &names, &opts),
         Format::Points => {
             return Err(Error::InvalidInput(format!(
                 "{}: point files (.csv, .txt, .xyz) are import only; save as .ron, .igs or .stp",

@@ -5,12 +5,12 @@ use glam::DVec3;
 
 use crate::surface::BSplineSurface;
 
-/// Light direction (normalized on use) of the isophotes in [`surface_measures`].
+/// Light direction (normalized on use) of the isophotes in [`surface_measures`](crate::measure_surface::surface_measures).
 pub const ISOPHOTE_LIGHT: [f64; 3] = [1.0, 1.0, 1.0];
-/// Angle between successive isophotes in [`surface_measures`], degrees.
+/// Angle between successive isophotes in [`surface_measures`](crate::measure_surface::surface_measures), degrees.
 pub const ISOPHOTE_STEP_DEG: f64 = 2.0;
 /// uv grid nodes per knot span (and direction) on which the isophotes are traced (at least
-/// [`ISOPHOTE_MIN_NODES`] per direction).
+/// `ISOPHOTE_MIN_NODES` per direction).
 pub(crate) const ISOPHOTE_GRID_PER_SPAN: usize = 8;
 /// Least number of uv grid nodes per direction of the isophote tracing.
 pub(crate) const ISOPHOTE_MIN_NODES: usize = 240;
@@ -39,11 +39,11 @@ pub struct IsophoteStats {
 /// Definition. The isophotes of the light direction `light` are the level lines of `n·L` (n the unit
 /// normal `S_u × S_v`) at the angles `arccos(n·L) = k · step_deg`, k = 1, 2, …: the reflection lines
 /// a designer looks at. They are traced by marching squares on a uv grid of
-/// [`ISOPHOTE_GRID_PER_SPAN`] nodes per knot span (at least [`ISOPHOTE_MIN_NODES`] per direction, at
-/// most [`ISOPHOTE_MAX_NODES`], then uniform in the parameter;
+/// `ISOPHOTE_GRID_PER_SPAN` nodes per knot span (at least `ISOPHOTE_MIN_NODES` per direction, at
+/// most `ISOPHOTE_MAX_NODES`, then uniform in the parameter;
 /// the ambiguous saddle cells resolved by the cell-centre value), linked into polylines, mapped to 3D
 /// by linear interpolation of the node positions and normals along the crossed grid edges, and
-/// resampled at equal arc length with a step `h = D ·` [`ISOPHOTE_STEP_REL`] (D the bounding-box
+/// resampled at equal arc length with a step `h = D ·` `ISOPHOTE_STEP_REL` (D the bounding-box
 /// diagonal of the grid samples; a geometric scale, not the grid's, so refining the grid changes the
 /// count only where it was unresolved; the grid's kinks average out). At each inner
 /// resampled point the signed geodesic curvature is `κ_g = ∠(a, b) / h` with the turning angle
@@ -104,8 +104,8 @@ struct IsophoteGrid {
     diag: f64,
 }
 
-/// The grid parameters of one direction: [`ISOPHOTE_GRID_PER_SPAN`] a span (at least
-/// [`ISOPHOTE_MIN_NODES`] in all), or [`ISOPHOTE_MAX_NODES`] uniform in the parameter.
+/// The grid parameters of one direction: `ISOPHOTE_GRID_PER_SPAN` a span (at least
+/// `ISOPHOTE_MIN_NODES` in all), or `ISOPHOTE_MAX_NODES` uniform in the parameter.
 fn isophote_grid_params(k: &crate::knots::KnotVector) -> Vec<f64> {
     let bp = k.breakpoints();
     let spans = bp.len().saturating_sub(1).max(1);

@@ -230,6 +230,7 @@ impl FairingSetup {
             pad: Vec::new(),
             seam: Seam::Open,
             scan_from: 0,
+            sparse_margin: false,
             join_fix: Vec::new(),
             plane: None,
             kappa0: Vec::new(),

@@ -444,17 +444,29 @@ impl FairingSetup {
     /// `E_var` of `c₀ + Σ N_i d_i` over the moving stretch (module docs) with the curvature steps, and the
     /// torsion-variation energy of a non-planar 3D curve ([`TwistRows`]).
     pub(crate) fn variation_parts(&self, d: &[DVec3]) -> (f64, f64) {
+        let [inner, steps, third] = self.variation_terms(d);
+        (inner + steps, third)
+    }
+
+    /// `E_var` over the knot spans only, as `measure` integrates it: without the curvature steps at knots
+    /// below C2 that [`Self::variation_parts`] prices.
+    pub(crate) fn variation_in_spans(&self, d: &[DVec3]) -> f64 {
+        self.variation_terms(d)[0]
+    }
+
+    /// (∫(dκ/ds)² over the spans, the priced curvature steps, the torsion-variation energy) at `d`.
+    fn variation_terms(&self, d: &[DVec3]) -> [f64; 3] {
         match self.work.degree() {
-            2 => self.variation_parts_n::<3>(d),
-            3 => self.variation_parts_n::<4>(d),
-            4 => self.variation_parts_n::<5>(d),
-            5 => self.variation_parts_n::<6>(d),
-            _ => self.variation_parts_n::<0>(d),
+            2 => self.variation_terms_n::<3>(d),
+            3 => self.variation_terms_n::<4>(d),
+            4 => self.variation_terms_n::<5>(d),
+            5 => self.variation_terms_n::<6>(d),
+            _ => self.variation_terms_n::<0>(d),
         }
     }
 
-    /// [`Self::variation_parts`] with `N` = p + 1 known at compile time (0: read p from the curve).
-    fn variation_parts_n<const N: usize>(&self, d: &[DVec3]) -> (f64, f64) {
+    /// [`Self::variation_terms`] with `N` = p + 1 known at compile time (0: read p from the curve).
+    fn variation_terms_n<const N: usize>(&self, d: &[DVec3]) -> [f64; 3] {
         let np1 = self.work.degree() + 1;
         let plane = self.signed_plane();
         let v = &self.var;
@@ -507,7 +519,7 @@ impl FairingSetup {
             })
             .sum();
         let third = v.twist.energy(np1, d);
-        (inner + steps, third)
+        [inner, steps, third]
     }
 
     /// Adds `weight · JᵀJ` to `h` and `−weight · Jᵀr` to `rhs` for `E_var` at the update `d` (unknown

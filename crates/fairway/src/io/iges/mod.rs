@@ -47,7 +47,7 @@ use crate::geometry::Geometry;
 use crate::knots::MAX_DEGREE;
 use crate::surface::BSplineSurface;
 
-pub use super::interchange::{EntityInfo, ReadOptions, Unit};
+pub use super::interchange::{EntityInfo, ReadOptions, Timestamp, Unit, WriteOptions};
 
 /// Everything read from an IGES file: the shared [`InterchangeFile`](super::interchange::InterchangeFile).
 pub type IgesFile = super::interchange::InterchangeFile;
@@ -56,27 +56,6 @@ fn perr(message: impl Into<String>) -> Error {
     Error::Parse {
         format: "IGES".into(),
         message: message.into(),
-    }
-}
-
-/// Options of [`write()`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct WriteOptions {
-    /// Unit written to G14/G15 (Fairway documents are unitless; default mm).
-    pub unit: Unit,
-    /// File name written to G4.
-    pub file_name: String,
-    /// Date written to G18/G25 as `YYYYMMDD.HHNNSS`; `None` = now (UTC).
-    pub date: Option<String>,
-}
-
-impl Default for WriteOptions {
-    fn default() -> Self {
-        Self {
-            unit: Unit::Millimeter,
-            file_name: "fairway.igs".into(),
-            date: None,
-        }
     }
 }
 
@@ -94,5 +73,4 @@ use lex::*;
 
 pub use clamp::read_first;
 pub use read::{read_all, read_all_with};
-pub(crate) use write::now_utc;
 pub use write::{format_real, to_string, write, write_labeled};

@@ -2,6 +2,7 @@
 //! their transformation matrices.
 
 use super::*;
+use crate::io::interchange::{Conversion, map_points};
 
 /// Read every curve (126) and surface (128) of an IGES file, coordinates in
 /// the file's unit. Other entities are skipped and listed in `notices`.
@@ -22,14 +23,14 @@ pub fn read_all_with(bytes: &[u8], opts: ReadOptions) -> Result<IgesFile> {
     let (pd, rd) = global_delimiters(&gtext)?;
     let gtoks = tokenize(&gtext, pd, rd);
     let mut notices = Vec::new();
-    let (scale, unit, factor) = global_units(&gtoks, opts, &mut notices)?;
+    let (unit, conversion) = global_units(&gtoks, opts, &mut notices)?;
     let entries = directory_entries(&dlines)?;
     let data = DataSections {
         entries: &entries,
         plines: &plines,
         pd,
         rd,
-        factor,
+        conversion,
     };
     let (objects, infos, first_error) = data.read_entities(&mut notices);
     // nothing readable: the first entity's reason is the file's
@@ -41,7 +42,7 @@ pub fn read_all_with(bytes: &[u8], opts: ReadOptions) -> Result<IgesFile> {
     Ok(IgesFile {
         objects,
         unit,
-        scale,
+        scale: conversion.scale,
         notices,
         entities: infos,
     })
@@ -95,13 +96,13 @@ pub(super) fn global_delimiters(gtext: &[u8]) -> Result<(u8, u8)> {
 }
 
 /// Global section, units: the model-space scale (G13: model size over real size), the file's unit
-/// (G14/G15) and the factor taking coordinates to real size in `opts.unit` (the file's unit when not
-/// converting): 1 / scale times the unit ratio, as (scale, unit, factor). A scale other than 1 is noted.
+/// (G14/G15) and the conversion taking coordinates to real size in `opts.unit` (the file's unit when not
+/// converting), as (unit, conversion). A scale other than 1 is noted.
 pub(super) fn global_units(
     gtoks: &[Tok],
     opts: ReadOptions,
     notices: &mut Vec<String>,
-) -> Result<(f64, Option<Unit>, f64)> {
+) -> Result<(Option<Unit>, Conversion)> {
     let greal = |i: usize| -> Option<f64> {
         match gtoks.get(i) {
             Some(Tok::Num(s)) => parse_real(s),
@@ -136,8 +137,8 @@ pub(super) fn global_units(
             s = crate::range::short(scale)
         ));
     }
-    let ratio = match opts.unit {
-        None => 1.0,
+    let units = match opts.unit {
+        None => None,
         Some(target) => {
             let Some(from) = unit else {
                 return Err(perr(format!(
@@ -146,10 +147,10 @@ pub(super) fn global_units(
                     target.name()
                 )));
             };
-            from.in_mm() / target.in_mm()
+            Some((from, target))
         }
     };
-    Ok((scale, unit, ratio / scale))
+    Ok((unit, Conversion { units, scale }))
 }
 
 /// Directory: the entries, one per pair of `D` records (the fields the reader uses).
@@ -187,13 +188,13 @@ pub(super) fn directory_entries(dlines: &[&[u8]]) -> Result<Vec<DirEntry>> {
 }
 
 /// What reading the entities needs of the file: the directory, the parameter records, the
-/// delimiters and the unit conversion factor.
+/// delimiters and the unit conversion.
 pub(super) struct DataSections<'a> {
     pub(super) entries: &'a [DirEntry],
     pub(super) plines: &'a [&'a [u8]],
     pub(super) pd: u8,
     pub(super) rd: u8,
-    pub(super) factor: f64,
+    pub(super) conversion: Conversion,
 }
 
 impl DataSections<'_> {
@@ -245,7 +246,7 @@ impl DataSections<'_> {
         (objects, infos, first_error)
     }
 
-    /// One entity: its parameters parsed, its transformation chain and the unit factor applied,
+    /// One entity: its parameters parsed, its transformation chain and the unit conversion applied,
     /// its coordinates range-checked; several objects where a break (a knot above the degree's
     /// multiplicity) splits it ([`crate::knots::resolve_breaks`]).
     pub(super) fn read_entity(
@@ -255,7 +256,7 @@ impl DataSections<'_> {
         budget: &mut usize,
         notices: &mut Vec<String>,
     ) -> Result<Vec<Geometry>> {
-        let (pd, rd, factor) = (self.pd, self.rd, self.factor);
+        let (pd, rd) = (self.pd, self.rd);
         let toks = entity_params(self.plines, e, what, pd, rd, budget)?;
         let mut p = Params {
             toks: &toks,
@@ -271,11 +272,9 @@ impl DataSections<'_> {
         let mut out = Vec::with_capacity(pieces.len());
         for mut geom in pieces {
             if let Some(m) = xf {
-                geom = apply(geom, |q| m.apply(q))?;
+                geom = map_points(geom, |q| m.apply(q))?;
             }
-            if factor != 1.0 {
-                geom = apply(geom, |q| q * factor)?;
-            }
+            geom = self.conversion.apply(geom)?;
             crate::range::check_geometry(&geom).map_err(|e| perr(format!("{what}: {e}")))?;
             out.push(geom);
         }
@@ -429,25 +428,4 @@ pub(super) fn transform_chain(
         ptr = e.transform;
     }
     Ok(acc)
-}
-
-pub(super) fn apply(g: Geometry, f: impl Fn(DVec3) -> DVec3) -> Result<Geometry> {
-    Ok(match g {
-        Geometry::Curve(c) => {
-            let pts: Vec<DVec3> = c.points().iter().map(|&q| f(q)).collect();
-            let planar_z0 = pts.iter().all(|q| q.z == 0.0);
-            let dim = if c.dim() == 2 && planar_z0 { 2 } else { 3 };
-            Geometry::Curve(BSplineCurve::try_new(
-                c.degree(),
-                c.knots().values().to_vec(),
-                pts,
-                c.weights().map(|w| w.to_vec()),
-                dim,
-            )?)
-        }
-        Geometry::Surface(s) => {
-            let pts = s.points().iter().map(|&q| f(q)).collect();
-            Geometry::Surface(s.with_points(pts)?)
-        }
-    })
 }

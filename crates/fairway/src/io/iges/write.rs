@@ -44,31 +44,6 @@ pub(super) fn wrap(tokens: &[String], width: usize) -> Vec<String> {
     lines
 }
 
-fn now_stamp() -> String {
-    let [y, m, d, h, n, s] = now_utc();
-    format!("{y:04}{m:02}{d:02}.{h:02}{n:02}{s:02}")
-}
-
-/// The time now (UTC) as [year, month, day, hour, minute, second].
-pub(crate) fn now_utc() -> [i64; 6] {
-    let secs = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_secs()) as i64;
-    let days = secs.div_euclid(86_400);
-    let rem = secs.rem_euclid(86_400);
-    // civil from days (H. Hinnant)
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z - era * 146_097;
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let d = doy - (153 * mp + 2) / 5 + 1;
-    let m = if mp < 10 { mp + 3 } else { mp - 9 };
-    let y = yoe + era * 400 + if m <= 2 { 1 } else { 0 };
-    [y, m, d, rem / 3600, (rem / 60) % 60, rem % 60]
-}
-
 pub(super) fn curve_params(c: &BSplineCurve) -> Vec<String> {
     let p = c.degree();
     let n = c.n_points();
@@ -157,10 +132,10 @@ pub(super) fn label_fields(label: &str) -> (String, i64) {
     (name, sub)
 }
 
-/// [`write`] with a label per object (`labels[k]` for `objects[k]`; missing or empty: none), written to
-/// directory fields 18–19 ([`label_fields`]), so that [`read_all`] reports them again.
+/// [`write()`] with a label per object (`labels[k]` for `objects[k]`; missing or empty: none), written to
+/// directory fields 18–19 (`label_fields`), so that [`read_all`] reports them again.
 pub fn write_labeled(objects: &[Geometry], labels: &[String], opts: &WriteOptions) -> String {
-    let date = opts.date.clone().unwrap_or_else(now_stamp);
+    let date = opts.date_or_now().to_iges();
     let mut out = String::new();
     // S
     let s_lines = ["Fairway IGES export: rational B-spline curves (126) and surfaces (128)."];
@@ -180,7 +155,7 @@ pub fn write_labeled(objects: &[Geometry], labels: &[String], opts: &WriteOption
         hollerith(","),
         hollerith(";"),
         hollerith("Fairway"),
-        hollerith(&opts.file_name),
+        hollerith(opts.file_name_or("fairway.igs")),
         hollerith("Fairway"),
         hollerith(env!("CARGO_PKG_VERSION")),
         "32".into(),

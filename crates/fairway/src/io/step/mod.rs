@@ -21,8 +21,9 @@
 //! `GLOBAL_UNIT_ASSIGNED_CONTEXT`: `SI_UNIT` with a prefix or a
 //! `CONVERSION_BASED_UNIT` such as `'INCH'`), reported in
 //! [`InterchangeFile::unit`], unless [`ReadOptions::unit`] asks for a
-//! conversion. Trims (of `TRIMMED_CURVE`, face bounds) and placements of
-//! assemblies are not applied: the underlying B-spline is returned.
+//! conversion. Trims (of `TRIMMED_CURVE`, face bounds) are not applied: the
+//! underlying B-spline is returned, once per placement of its part in the
+//! assembly, in the assembly's coordinates (module `placement`).
 //!
 //! The Part 21 parser ([`parse`]) is written here rather than taken from a
 //! crate: `ruststep` 0.4 (Apache-2.0) parses complex instances but comes
@@ -45,6 +46,7 @@
 //! round-trip decimal, so Fairway → STEP → Fairway is exact.
 
 pub mod parse;
+mod placement;
 mod read;
 mod units;
 mod write;
@@ -53,7 +55,7 @@ pub use write::format_real;
 
 use crate::error::{Error, Result};
 use crate::geometry::Geometry;
-pub use crate::io::interchange::{EntityInfo, InterchangeFile, ReadOptions, Unit};
+pub use crate::io::interchange::{EntityInfo, InterchangeFile, ReadOptions, Timestamp, Unit, WriteOptions};
 
 /// The name that marks a 2D curve written with z = 0 (`'2D curve 3'`): read back as a 2D curve when
 /// all its z coordinates are 0.
@@ -63,27 +65,6 @@ fn perr(message: impl Into<String>) -> Error {
     Error::Parse {
         format: "STEP".into(),
         message: message.into(),
-    }
-}
-
-/// Options of [`write()`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct WriteOptions {
-    /// Length unit of the representation context (Fairway documents are unitless; default mm).
-    pub unit: Unit,
-    /// File name written to `FILE_NAME`; its stem names the product.
-    pub file_name: String,
-    /// Time stamp written to `FILE_NAME` (ISO 8601, `2026-01-31T12:00:00`); `None` = now (UTC).
-    pub date: Option<String>,
-}
-
-impl Default for WriteOptions {
-    fn default() -> Self {
-        Self {
-            unit: Unit::Millimeter,
-            file_name: "fairway.stp".into(),
-            date: None,
-        }
     }
 }
 
@@ -122,7 +103,7 @@ pub fn write(objects: &[Geometry], opts: &WriteOptions) -> String {
     write::write(objects, &[], opts)
 }
 
-/// [`write`] with a name per object (`names[k]` for `objects[k]`; missing or empty: `curve k`,
+/// [`write()`] with a name per object (`names[k]` for `objects[k]`; missing or empty: `curve k`,
 /// `surface k`), written as the entity's name so that [`read_all`] reports it again (a 2D curve's name
 /// keeps the prefix that marks it 2D, which the reader strips).
 pub fn write_labeled(objects: &[Geometry], names: &[String], opts: &WriteOptions) -> String {

@@ -12,7 +12,7 @@
 //! A malformed instance is skipped up to its `;` and reported in
 //! [`Exchange::errors`]; only a file that is not Part 21 at all is an
 //! error. Everything allocated grows with the tokens actually read (never
-//! from a count in the file), and nesting is limited to [`MAX_DEPTH`] so a
+//! from a count in the file), and nesting is limited to `MAX_DEPTH` so a
 //! hostile file cannot exhaust the stack.
 
 use std::collections::HashMap;

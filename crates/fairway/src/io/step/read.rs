@@ -4,14 +4,14 @@
 use crate::io::breaks::{curve_pieces, surface_pieces};
 use std::collections::{BTreeMap, HashSet};
 
-use glam::{DVec3, DVec4};
+use glam::{DAffine3, DVec3, DVec4};
 
 use super::parse::{Exchange, Instance, Param, Record};
 use super::perr;
 use crate::curve::BSplineCurve;
 use crate::error::{Error, Result};
 use crate::geometry::Geometry;
-use crate::io::interchange::{EntityInfo, InterchangeFile, ReadOptions};
+use crate::io::interchange::{Conversion, EntityInfo, InterchangeFile, ReadOptions, map_points};
 use crate::knots::MAX_DEGREE;
 use crate::surface::BSplineSurface;
 
@@ -36,15 +36,8 @@ const OTHER_GEOMETRY: &[&str] = &[
     "OFFSET_SURFACE",
 ];
 
-/// Entities that trim or place the B-splines: not applied (the B-splines are read whole, in their own
-/// coordinates), counted in one notice.
-const NOT_APPLIED: &[&str] = &[
-    "ADVANCED_FACE",
-    "FACE_SURFACE",
-    "EDGE_CURVE",
-    "TRIMMED_CURVE",
-    "ITEM_DEFINED_TRANSFORMATION",
-];
+/// Entities that trim the B-splines: not applied (the B-splines are read whole), counted in one notice.
+const NOT_APPLIED: &[&str] = &["ADVANCED_FACE", "FACE_SURFACE", "EDGE_CURVE", "TRIMMED_CURVE"];
 
 /// What a B-spline instance is, from its record names.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -548,28 +541,40 @@ fn parameter_space_items(ex: &Exchange) -> HashSet<u64> {
     set
 }
 
-/// One B-spline instance as geometry, the unit factor applied and the coordinates range-checked.
+/// One B-spline instance as geometry, once per placement (each the pieces of its breaks), placed,
+/// converted to the unit asked for and the coordinates range-checked.
 fn read_instance(
     ex: &Exchange,
     p: &Parts<'_>,
-    factor: f64,
+    (placements, conversion): (&[DAffine3], Conversion),
     what: &str,
     notices: &mut Vec<String>,
-) -> Result<(Vec<Geometry>, bool)> {
+) -> Result<(Vec<Vec<Geometry>>, bool)> {
     let (pieces, clamped) = match p.kind {
         Kind::Curve => read_curve(ex, p, what, notices)?,
         Kind::Surface => read_surface(ex, p, what, notices)?,
     };
-    let pieces = pieces
-        .into_iter()
-        .map(|g| instance_geometry(g, p, factor))
+    let occurrences = placements
+        .iter()
+        .map(|a| {
+            (pieces.iter().cloned())
+                .map(|g| {
+                    let g = if *a == DAffine3::IDENTITY {
+                        g
+                    } else {
+                        map_points(g, |q| a.transform_point3(q))?
+                    };
+                    instance_geometry(g, p, conversion)
+                })
+                .collect::<Result<Vec<_>>>()
+        })
         .collect::<Result<Vec<_>>>()?;
-    Ok((pieces, clamped))
+    Ok((occurrences, clamped))
 }
 
 /// A piece of an instance as Fairway holds it: a 2D curve as Fairway writes it (named so, z = 0) made
 /// 2D, converted to the requested unit, and checked against the range Fairway computes in.
-fn instance_geometry(g: Geometry, p: &Parts<'_>, factor: f64) -> Result<Geometry> {
+fn instance_geometry(g: Geometry, p: &Parts<'_>, conversion: Conversion) -> Result<Geometry> {
     // a 2D curve as Fairway writes it: named so, z = 0
     let g = match g {
         Geometry::Curve(c)
@@ -587,16 +592,9 @@ fn instance_geometry(g: Geometry, p: &Parts<'_>, factor: f64) -> Result<Geometry
         }
         g => g,
     };
-    let g = if factor == 1.0 { g } else { scale(g, factor)? };
+    let g = conversion.apply(g)?;
     crate::range::check_geometry(&g)?;
     Ok(g)
-}
-
-fn scale(g: Geometry, f: f64) -> Result<Geometry> {
-    Ok(match g {
-        Geometry::Curve(c) => c.with_points(c.points().iter().map(|q| *q * f).collect())?.into(),
-        Geometry::Surface(s) => s.with_points(s.points().iter().map(|q| *q * f).collect())?.into(),
-    })
 }
 
 fn reason(e: &Error) -> String {
@@ -606,13 +604,45 @@ fn reason(e: &Error) -> String {
     }
 }
 
+/// The objects of one occurrence of a B-spline instance `#id` named `name`: its pieces (more than one
+/// where a break split it), labelled.
+fn push_pieces(
+    pieces: Vec<Geometry>,
+    name: &str,
+    id: u64,
+    objects: &mut Vec<Geometry>,
+    entities: &mut Vec<EntityInfo>,
+) {
+    let count = pieces.len();
+    for (k, g) in pieces.into_iter().enumerate() {
+        // a named 2D curve as Fairway writes it: "2D curve: NAME" (`step::write_labeled`)
+        let base = match (
+            &g,
+            name.strip_prefix(super::PLANAR_NAME).and_then(|n| n.strip_prefix(": ")),
+        ) {
+            (Geometry::Curve(c), Some(n)) if c.dim() == 2 => n.to_string(),
+            _ => name.to_string(),
+        };
+        let label = match (count, base.is_empty()) {
+            (1, _) => base,
+            (_, true) => format!("piece {} of {count}", k + 1),
+            (_, false) => format!("{base}, piece {} of {count}", k + 1),
+        };
+        objects.push(g);
+        entities.push(EntityInfo {
+            entity: id as usize,
+            label,
+        });
+    }
+}
+
 /// Read every B-spline curve and surface of a parsed file (see [`super::read_all_with`]).
 pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile> {
     let mut notices: Vec<String> = ex.errors.iter().map(|e| format!("{e} (skipped)")).collect();
     let unit = super::units::file_unit(ex, &mut notices);
-    let factor = match (opts.unit, unit) {
-        (None, _) => 1.0,
-        (Some(to), Some(from)) => from.in_mm() / to.in_mm(),
+    let units = match (opts.unit, unit) {
+        (None, _) => None,
+        (Some(to), Some(from)) => Some((from, to)),
         (Some(to), None) => {
             return Err(perr(format!(
                 "the file's length unit is not recognised, cannot convert to {}",
@@ -620,7 +650,9 @@ pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile
             )));
         }
     };
+    let conversion = Conversion { units, scale: 1.0 };
     let pcurves = parameter_space_items(ex);
+    let placements = super::placement::placements(ex, |i| bspline_form(i).is_some());
     let (mut objects, mut entities) = (Vec::new(), Vec::new());
     let mut first_error = None;
     let mut others: BTreeMap<&str, usize> = BTreeMap::new();
@@ -644,34 +676,24 @@ pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile
             continue;
         }
         let mut piece_notes = vec![];
+        let placed = (placements.of(inst.id), conversion);
         let read = parts(inst, kind, form, entity)
-            .and_then(|p| Ok((read_instance(ex, &p, factor, &what, &mut piece_notes)?, p.name)));
+            .and_then(|p| Ok((read_instance(ex, &p, placed, &what, &mut piece_notes)?, p.name)));
         match read {
-            Ok(((pieces, clamped), name)) => {
+            Ok(((occurrences, clamped), name)) => {
                 if clamped {
                     notices.push(format!("{what}: {CLAMPED}"));
                 }
                 notices.append(&mut piece_notes);
-                let count = pieces.len();
-                for (k, g) in pieces.into_iter().enumerate() {
-                    // a named 2D curve as Fairway writes it: "2D curve: NAME" (`step::write_labeled`)
-                    let base = match (
-                        &g,
-                        name.strip_prefix(super::PLANAR_NAME).and_then(|n| n.strip_prefix(": ")),
-                    ) {
-                        (Geometry::Curve(c), Some(n)) if c.dim() == 2 => n.to_string(),
-                        _ => name.clone(),
+                let n = occurrences.len();
+                for (j, pieces) in occurrences.into_iter().enumerate() {
+                    // a part used more than once in an assembly: one object per placement
+                    let name = match (n, name.is_empty()) {
+                        (1, _) => name.clone(),
+                        (_, true) => format!("occurrence {} of {n}", j + 1),
+                        (_, false) => format!("{name} (occurrence {} of {n})", j + 1),
                     };
-                    let label = match (count, base.is_empty()) {
-                        (1, _) => base,
-                        (_, true) => format!("piece {} of {count}", k + 1),
-                        (_, false) => format!("{base}, piece {} of {count}", k + 1),
-                    };
-                    objects.push(g);
-                    entities.push(EntityInfo {
-                        entity: inst.id as usize,
-                        label,
-                    });
+                    push_pieces(pieces, &name, inst.id, &mut objects, &mut entities);
                 }
             }
             Err(e) => {
@@ -680,6 +702,7 @@ pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile
             }
         }
     }
+    notices.extend(placements.notice());
     if !others.is_empty() {
         let list: Vec<String> = others.iter().map(|(k, n)| format!("{n} {k}")).collect();
         notices.push(format!(
@@ -691,7 +714,7 @@ pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile
     if !not_applied.is_empty() && !objects.is_empty() {
         let list: Vec<String> = not_applied.iter().map(|(k, n)| format!("{n} {k}")).collect();
         notices.push(format!(
-            "trims and placements not applied ({}): the B-splines are read whole, in their own coordinates",
+            "trims not applied ({}): the B-splines are read whole",
             list.join(", ")
         ));
     }

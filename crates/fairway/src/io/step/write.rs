@@ -237,11 +237,9 @@ fn representation(d: &mut Data, opts: &WriteOptions, shape: u64, items: &[u64], 
 
 /// The whole file; see [`super::write`].
 pub fn write(objects: &[Geometry], names: &[String], opts: &WriteOptions) -> String {
-    let stamp = opts.date.clone().unwrap_or_else(|| {
-        let [y, m, d, h, n, s] = crate::io::iges::now_utc();
-        format!("{y:04}-{m:02}-{d:02}T{h:02}:{n:02}:{s:02}")
-    });
-    let stem = std::path::Path::new(&opts.file_name)
+    let stamp = opts.date_or_now().to_iso8601();
+    let file_name = opts.file_name_or("fairway.stp");
+    let stem = std::path::Path::new(file_name)
         .file_stem()
         .map_or("fairway".into(), |s| s.to_string_lossy().into_owned());
     let mut d = Data {
@@ -274,7 +272,7 @@ pub fn write(objects: &[Geometry], names: &[String], opts: &WriteOptions) -> Str
         "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('Fairway export: B-spline curves and surfaces'),'2;1');\n\
          FILE_NAME({},{},(''),(''),{},'Fairway','');\n\
          FILE_SCHEMA(('AUTOMOTIVE_DESIGN {{ 1 0 10303 214 1 1 1 1 }}'));\nENDSEC;\nDATA;\n{}ENDSEC;\nEND-ISO-10303-21;\n",
-        string(&opts.file_name),
+        string(file_name),
         string(&stamp),
         string(&format!("Fairway {}", env!("CARGO_PKG_VERSION"))),
         d.text

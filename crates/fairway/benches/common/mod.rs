@@ -1,0 +1,26 @@
+//! The bench cubic, shared by `benches/fairing.rs` and `examples/fair_timing.rs` (the example includes
+//! this file by path) so that both time the same curve.
+
+use fairway::fair::FairingOptions;
+use fairway::{BSplineCurve, DVec2, KnotVector};
+
+/// A cubic with `n` control points through a sine wave, with deterministic noise of ~1 % of the amplitude.
+pub fn noisy_curve(n: usize) -> BSplineCurve {
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let pts: Vec<DVec2> = (0..n)
+        .map(|i| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let noise = ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.01;
+            let t = i as f64 / (n - 1) as f64;
+            DVec2::new(4.0 * t, 0.5 * (3.0 * t).sin() + noise)
+        })
+        .collect();
+    BSplineCurve::new_2d(3, KnotVector::uniform(3, n).unwrap().values().to_vec(), &pts).unwrap()
+}
+
+/// The bench's options: m = 2e-3, `samples` fairing samples.
+pub fn opts(samples: usize) -> FairingOptions {
+    FairingOptions::default().tolerance(2e-3).samples(Some(samples))
+}
