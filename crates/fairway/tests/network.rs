@@ -10,6 +10,25 @@ use fairway::measure::measure;
 use fairway::network::{Continuity, find_joins, scene_diagonal};
 use fairway::{BSplineCurve, DVec3, Geometry};
 
+/// Every curve join in `joins` is G2 to 10⁻⁹: position gap (relative to the scene's diagonal), tangent
+/// angle (rad) and curvature jump; each is printed with `what`.
+fn assert_curve_joins_g2(joins: &fairway::network::Joins, objects: &[Geometry], what: &str) {
+    let diag = scene_diagonal(objects);
+    for j in &joins.curves {
+        let c = j.continuity;
+        eprintln!(
+            "{what} join after: gap {:.1e} × diag, angle {:.1e} rad, curvature jump {:.1e}",
+            c.gap / diag,
+            c.angle,
+            c.curvature_jump
+        );
+        assert!(
+            c.gap <= 1e-9 * diag && c.angle <= 1e-9 && c.curvature_jump <= 1e-9,
+            "{what}: join not G2 to 1e-9 after the fair: {c:?}"
+        );
+    }
+}
+
 /// A noisy cubic (an ellipse arc, 30 control points, 2e-3 noise) split at two interior knots.
 fn chain() -> (BSplineCurve, Vec<BSplineCurve>) {
     let c = noisy_curve(
@@ -60,20 +79,7 @@ fn a_g2_chain_of_three_is_faired_as_one_keeping_g2_and_beats_one_by_one() {
         ..Default::default()
     };
     let together = fair_network(&objects, &[], &o).unwrap();
-    let diag = scene_diagonal(&objects);
-    for j in &together.joins_after.curves {
-        let c = j.continuity;
-        eprintln!(
-            "join after: gap {:.1e} × diag, angle {:.1e} rad, curvature jump {:.1e}",
-            c.gap / diag,
-            c.angle,
-            c.curvature_jump
-        );
-        assert!(
-            c.gap <= 1e-9 * diag && c.angle <= 1e-9 && c.curvature_jump <= 1e-9,
-            "join not G2 to 1e-9 after the fair: {c:?}"
-        );
-    }
+    assert_curve_joins_g2(&together.joins_after, &objects, "chain");
     let one_by_one = fair_network(&objects, &[], &NetworkOptions { hold_all: true, ..o }).unwrap();
     let (n_orig, _) = extrema_and_deviation(&pieces, &objects);
     let (n_chain, d_chain) = extrema_and_deviation(&pieces, &together.objects);
@@ -422,20 +428,7 @@ fn a_closed_g2_loop_of_three_is_faired_as_one_closed_curve_across_every_join() {
         },
     )
     .unwrap();
-    let diag = scene_diagonal(&objects);
-    for j in &r.joins_after.curves {
-        let c = j.continuity;
-        eprintln!(
-            "loop join after: gap {:.1e} × diag, angle {:.1e} rad, curvature jump {:.1e}",
-            c.gap / diag,
-            c.angle,
-            c.curvature_jump
-        );
-        assert!(
-            c.gap <= 1e-9 * diag && c.angle <= 1e-9 && c.curvature_jump <= 1e-9,
-            "{c:?}"
-        );
-    }
+    assert_curve_joins_g2(&r.joins_after, &objects, "loop");
     let (n0, _) = extrema_and_deviation(&pieces, &objects);
     let (n1, d) = extrema_and_deviation(&pieces, &r.objects);
     eprintln!("closed loop of three: extrema {n0} → {n1}, dev {d}");
@@ -670,20 +663,7 @@ fn a_g2_join_only_c1_in_its_parameter_is_made_c2_and_faired_through() {
             "{k}: {x:?}"
         );
     }
-    let diag = scene_diagonal(&objects);
-    for j in &r.joins_after.curves {
-        let c = j.continuity;
-        eprintln!(
-            "G2-not-C2 chain, join after: gap {:.1e} × diag, angle {:.1e} rad, curvature jump {:.1e}",
-            c.gap / diag,
-            c.angle,
-            c.curvature_jump
-        );
-        assert!(
-            c.gap <= 1e-9 * diag && c.angle <= 1e-9 && c.curvature_jump <= 1e-9,
-            "{c:?}"
-        );
-    }
+    assert_curve_joins_g2(&r.joins_after, &objects, "G2-not-C2 chain");
     let held = fair_network(&objects, &[], &NetworkOptions { hold_all: true, ..o }).unwrap();
     let (n0, _) = extrema_and_deviation(&pieces, &objects);
     let (n1, d1) = extrema_and_deviation(&pieces, &r.objects);
