@@ -43,8 +43,11 @@ pub enum Command {
     AcceptSurface,
     /// Make object `k` of the document the active one (the one edited and faired).
     Select(usize),
-    /// Fair every curve of the document together, keeping their joins (the core's network fair).
+    /// Fair every object of the document together, keeping their joins (the core's network fair).
     FairAll,
+    /// Fair these objects of the document together (the others stay as they are; their joins with the
+    /// faired ones are held), keeping the joins.
+    FairSet(Vec<usize>),
     /// Draw 3D curves on this plane of the 2D canvas (saved with the document).
     SetViewPlane(ViewPlane),
     // ---- files
@@ -96,6 +99,7 @@ impl Command {
             | Command::AcceptSurface
             | Command::Select(_)
             | Command::FairAll
+            | Command::FairSet(_)
             | Command::SetViewPlane(_) => Gesture::Single,
             _ => return None,
         })
@@ -196,6 +200,7 @@ impl App {
         let changed = match c {
             Command::Select(k) => self.select_object(*k),
             Command::FairAll => self.fair_all(),
+            Command::FairSet(ks) => self.fair_objects(ks, "Fair checked"),
             Command::SetViewPlane(p) => self.set_view_plane(*p),
             _ => {
                 let ws: &mut dyn crate::Workspace = match self.surface.as_deref_mut() {

@@ -624,3 +624,62 @@ fn the_surface_view_draws_every_patch_a_click_selects_one_and_fair_all_keeps_the
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Two of the chain's curves checked in the objects panel and "Fair checked": those two change, faired
+/// together; the others stay bit for bit; every join keeps its continuity (the checked curves' joins with
+/// the others are held); one undo step.
+#[test]
+fn fair_checked_fairs_the_checked_objects_together_and_leaves_the_others() {
+    let dir = temp_dir("checked");
+    let path = write_network(&dir);
+    let mut h = harness(App::default());
+    h.state_mut().open_now(&path);
+    h.run();
+    let original = h.state().objects_now();
+    // each object's checkbox sits on its row of the list
+    for label in ["1. SECTA", "2. SECTB"] {
+        let row = h.get_by_label(label).rect().center().y;
+        let boxes: Vec<_> = h
+            .get_all_by_role(egui::accesskit::Role::CheckBox)
+            .filter(|b| (b.rect().center().y - row).abs() < 4.0)
+            .collect();
+        assert_eq!(boxes.len(), 1, "one checkbox on the row of {label}");
+        boxes[0].click();
+        h.run();
+    }
+    assert_eq!(h.state().fair_set.iter().copied().collect::<Vec<_>>(), [0, 1]);
+    h.get_by_label("Fair checked (2, keep joins)").click();
+    h.run();
+    let app = h.state();
+    assert!(app.error.is_none(), "{:?}", app.error);
+    assert!(
+        app.status.starts_with("Fair checked: 2 of 2 objects changed"),
+        "{}",
+        app.status
+    );
+    let after = app.objects_now();
+    for k in 0..after.len() {
+        if k < 2 {
+            assert_ne!(after[k].geometry, original[k].geometry, "{k} is checked: faired");
+        } else {
+            assert_eq!(
+                after[k].geometry, original[k].geometry,
+                "{k} is not checked: bit for bit"
+            );
+        }
+    }
+    let classes = |objects: &[fairway::io::SceneObject]| {
+        let g: Vec<Geometry> = objects.iter().map(|o| o.geometry.clone()).collect();
+        find_joins(&g)
+            .curves
+            .iter()
+            .map(|j| j.continuity.class)
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(classes(&after), classes(&original), "every join keeps its continuity");
+    h.state_mut().apply(fairway_editor::Command::Undo);
+    h.run();
+    assert_eq!(h.state().objects_now(), original);
+    assert!(!h.state().history.can_undo());
+    let _ = std::fs::remove_dir_all(&dir);
+}

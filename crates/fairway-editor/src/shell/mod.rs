@@ -36,6 +36,9 @@ pub struct App {
     pub objects: Vec<SceneObject>,
     /// The index of the active object in `objects`.
     pub active: usize,
+    /// The objects checked in the objects panel, which "Fair checked" fairs together (cleared when
+    /// another document opens).
+    pub fair_set: std::collections::BTreeSet<usize>,
     /// The plane 3D curves are drawn on in the 2D canvas (saved with the document; XY if it saves none).
     pub view_plane: ViewPlane,
     /// Where the document lives on disk.
@@ -110,6 +113,7 @@ impl App {
             saved: Some(saved.into()),
             objects: vec![objects::unnamed(doc.clone())],
             active: 0,
+            fair_set: Default::default(),
             view_plane: ViewPlane::Xy,
             doc,
             path: path.clone(),

@@ -97,6 +97,7 @@ impl App {
             self.view_plane,
         );
         (self.active, self.view_plane) = (active, scene.view_plane);
+        self.fair_set.clear();
         self.curve_ws.scene = self.scene_view_of(&self.objects.clone(), &doc);
         if let Err(e) = self.open_workspace(&doc, true) {
             (self.objects, self.active, self.view_plane) = old;
@@ -273,10 +274,17 @@ impl App {
     /// chains, patches sharing edges into strips or grids; true if an object changed. Faired objects lose
     /// their region and hand-edited target (they belong to the old geometry).
     pub(crate) fn fair_all(&mut self) -> bool {
+        let all: Vec<usize> = (0..self.objects.len()).collect();
+        self.fair_objects(&all, "Fair all")
+    }
+
+    /// Fair the objects `which` together, keeping every join (`what` names the command in the status
+    /// line); the others stay bit for bit. True if any object changed.
+    pub(crate) fn fair_objects(&mut self, which: &[usize], what: &str) -> bool {
         let mut objects = self.objects_now();
-        let all: Vec<usize> = (0..objects.len()).collect();
-        if all.is_empty() {
-            self.status = "Fair all: the document is empty".into();
+        let which: Vec<usize> = which.iter().copied().filter(|&k| k < objects.len()).collect();
+        if which.is_empty() {
+            self.status = format!("{what}: no object to fair (check objects in the Objects panel)");
             return false;
         }
         let tols: Vec<Option<f64>> = objects
@@ -284,18 +292,18 @@ impl App {
             .enumerate()
             .map(|(k, o)| Some(self.object_tolerance(k, o)))
             .collect();
-        let tol = tols.iter().flatten().fold(f64::INFINITY, |a, &b| a.min(b));
+        let tol = which.iter().filter_map(|&k| tols[k]).fold(f64::INFINITY, f64::min);
         let opts = NetworkOptions {
             curve: crate::fairing::curve_options(tol, &self.prefs.fair),
             surface: fairway::fair::surface::SurfaceFairingOptions::default().tolerance(tol),
             ..Default::default()
         };
         let geometries: Vec<Geometry> = objects.iter().map(|o| o.geometry.clone()).collect();
-        let res = crate::guard::catch_panic("network fairing", || fair_network_at(&geometries, &all, &opts, &tols));
+        let res = crate::guard::catch_panic("network fairing", || fair_network_at(&geometries, &which, &opts, &tols));
         let r = match res {
             Ok(r) => r,
             Err(e) => {
-                self.error = Some(format!("Fair all: {e}"));
+                self.error = Some(format!("{what}: {e}"));
                 return false;
             }
         };
@@ -314,7 +322,7 @@ impl App {
                 }
             }
         }
-        self.status = fair_all_summary(&r, changed, all.len(), tol);
+        self.status = fair_summary(what, &r, changed, which.len(), tol);
         if changed == 0 {
             return false;
         }
@@ -349,11 +357,26 @@ impl App {
             let o = &self.objects[k];
             let text = format!("{}. {}", k + 1, object_label(k, &o.name, &o.geometry));
             let tip = crate::interchange::describe_object(&o.geometry, None);
-            if ui
-                .selectable_label(k == self.active, text)
-                .on_hover_text(format!("{tip}; click to edit and fair it"))
-                .clicked()
-            {
+            let mut checked = self.fair_set.contains(&k);
+            let (check, select) = ui
+                .horizontal(|ui| {
+                    let check = ui
+                        .checkbox(&mut checked, "")
+                        .on_hover_text("In the set that \"Fair checked\" fairs together");
+                    let select = ui
+                        .selectable_label(k == self.active, text)
+                        .on_hover_text(format!("{tip}; click to edit and fair it"));
+                    (check.changed(), select.clicked())
+                })
+                .inner;
+            if check {
+                if checked {
+                    self.fair_set.insert(k);
+                } else {
+                    self.fair_set.remove(&k);
+                }
+            }
+            if select {
                 self.push(Command::Select(k));
             }
         }
@@ -368,6 +391,26 @@ impl App {
             .clicked()
         {
             self.push(Command::FairAll);
+        }
+        let set: Vec<usize> = self
+            .fair_set
+            .iter()
+            .copied()
+            .filter(|&k| k < self.objects.len())
+            .collect();
+        if ui
+            .add_enabled(
+                !set.is_empty(),
+                egui::Button::new(format!("Fair checked ({}, keep joins)", set.len())),
+            )
+            .on_hover_text(
+                "Fair the checked objects together, as Fair all does; the others stay as they are and their joins \
+                 with the checked ones are held (one undo step)",
+            )
+            .on_disabled_hover_text("Check objects in the list to fair them together")
+            .clicked()
+        {
+            self.push(Command::FairSet(set));
         }
     }
 
@@ -404,7 +447,13 @@ impl App {
 }
 
 /// The status line after "Fair all".
-fn fair_all_summary(r: &fairway::fair::network::NetworkFair, changed: usize, objects: usize, tol: f64) -> String {
+fn fair_summary(
+    what: &str,
+    r: &fairway::fair::network::NetworkFair,
+    changed: usize,
+    objects: usize,
+    tol: f64,
+) -> String {
     let (b, a) = (&r.joins_before, &r.joins_after);
     let kept = b
         .curves
@@ -419,7 +468,7 @@ fn fair_all_summary(r: &fairway::fair::network::NetworkFair, changed: usize, obj
             .count();
     let dev = r.outcome.iter().map(|o| o.max_deviation).fold(0.0, f64::max);
     format!(
-        "Fair all: {changed} of {objects} objects changed (each within its own tolerance, the smallest {tol:.3e}; max \
+        "{what}: {changed} of {objects} objects changed (each within its own tolerance, the smallest {tol:.3e}; max \
          deviation {dev:.3e}); {kept} of {} joins keep their continuity (Ctrl+Z to undo)",
         b.curves.len() + b.surfaces.len()
     )
