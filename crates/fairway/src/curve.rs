@@ -827,3 +827,15 @@ pub(crate) fn rational_derivs(a: &[DVec4; 4]) -> [DVec3; 4] {
     }
     c
 }
+
+/// Distance under which first and last control points count as one: `1e-10 ×` the diagonal of
+/// the control points' bounding box.
+pub fn closed_tolerance(c: &BSplineCurve) -> f64 {
+    let (lo, hi) = c.control_bounds();
+    1e-10 * (hi - lo).length()
+}
+
+/// First point = last point (within [`closed_tolerance`]).
+pub fn is_closed_curve(c: &BSplineCurve) -> bool {
+    c.is_closed(closed_tolerance(c))
+}

@@ -74,12 +74,14 @@
 
 use glam::DVec3;
 
+pub use super::curve::Seam;
 use super::curve::{
     EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, band_accept, project_near, snap_to_knot,
 };
 use super::target::quintic;
 use crate::arclength::ArcLengthTable;
 use crate::curve::BSplineCurve;
+pub use crate::curve::{closed_tolerance, is_closed_curve};
 use crate::error::{Error, Result};
 use crate::measure::DEV_SAMPLES;
 
@@ -91,34 +93,6 @@ const TAPER: usize = 3;
 const BLEND_INNER: f64 = 0.15;
 /// …and 0 from this one on (pass 2 held the rotated ends, half the length away).
 const BLEND_OUTER: f64 = 0.35;
-
-/// What happened at the seam of a closed curve.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub enum Seam {
-    /// The curve is not closed (first and last points differ by more than [`closed_tolerance`]).
-    #[default]
-    Open,
-    /// A closed curve whose moving stretch does not reach the seam.
-    Untouched,
-    /// A closed curve whose seam control points were held (the first and last three for G2): the seam
-    /// keeps the original's shape there. The text says why.
-    Held(String),
-    /// A closed curve faired across the seam by re-seaming (module docs): every control point
-    /// moved as needed, C^{p−1} across the seam like the original (C2 for a cubic, C1 for a quadratic).
-    Faired,
-}
-
-/// Distance under which first and last control points count as one: `1e-10 ×` the diagonal of
-/// the control points' bounding box.
-pub fn closed_tolerance(c: &BSplineCurve) -> f64 {
-    let (lo, hi) = c.control_bounds();
-    1e-10 * (hi - lo).length()
-}
-
-/// First point = last point (within [`closed_tolerance`]).
-pub fn is_closed_curve(c: &BSplineCurve) -> bool {
-    c.is_closed(closed_tolerance(c))
-}
 
 /// Knot removal tolerance of the re-seaming: `1e-9 ×` the control bounding-box diagonal.
 pub(crate) fn removal_tolerance(c: &BSplineCurve) -> f64 {

@@ -96,7 +96,6 @@
 
 use glam::DVec3;
 
-use super::closed::Seam;
 use super::integrate::{IntegrationScratch, Integrator, PullBack, Track, integrate_blended};
 use super::target::Target;
 use crate::curve::BSplineCurve;
@@ -120,6 +119,22 @@ pub use setup::MAX_SAMPLES;
 pub(crate) use setup::{CHECK_SAMPLES, CHECK_SAMPLES_PER_SPAN, MAX_PASS_WORK};
 pub(crate) use setup::{SLIVER_SNAP, snap_to_knot};
 use variation::VarRows;
+
+/// What happened at the seam of a closed curve.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum Seam {
+    /// The curve is not closed (first and last points differ by more than [`closed_tolerance`](crate::curve::closed_tolerance)).
+    #[default]
+    Open,
+    /// A closed curve whose moving stretch does not reach the seam.
+    Untouched,
+    /// A closed curve whose seam control points were held (the first and last three for G2): the seam
+    /// keeps the original's shape there. The text says why.
+    Held(String),
+    /// A closed curve faired across the seam by re-seaming (module docs): every control point
+    /// moved as needed, C^{p−1} across the seam like the original (C2 for a cubic, C1 for a quadratic).
+    Faired,
+}
 
 /// The outcome of [`FairingSetup::fair`].
 #[derive(Debug, Clone, PartialEq)]

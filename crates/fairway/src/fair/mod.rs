@@ -45,8 +45,10 @@ pub mod surface;
 pub mod target;
 pub mod verify;
 
-pub use closed::{Seam, fair_closed, fair_closed_iterative};
-pub use curve::{EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, PolishMethod, TORSION_WEIGHT};
+pub use closed::{fair_closed, fair_closed_iterative};
+pub use curve::{
+    EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, PolishMethod, Seam, TORSION_WEIGHT,
+};
 pub use curve_fairing::{CurveFair, CurveFairing, Pass, fair_curve};
 pub use integrate::Integrator;
 pub use iterative::{IterativeOptions, fair_iterative};

@@ -9,6 +9,8 @@ use super::variation;
 use crate::error::Result;
 use crate::linalg::BandedSpd;
 
+mod stepless;
+
 /// The interior point's objective: `paper · E + var · E_var`, with `paper` 1 or 0 (the Gauss–Newton
 /// system of E is added with weight 1, the barrier is scaled to the objective).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -774,70 +776,6 @@ impl FairingSetup {
             return Ok((0.0, self.original_energy()));
         }
         Ok((dev, e))
-    }
-
-    /// At knots below C2 the polish prices the curvature steps, which ∫(dκ/ds)² over the spans (what
-    /// `measure` and the reference smoother are judged by) does not see, so its result can trade a larger
-    /// E_var inside the spans for smaller steps. Where the result in `self.best` (deviation and paper's E
-    /// `at`) has more curvature extrema or a larger E_var over the spans than the `reference` (the rank, in
-    /// those terms, of what the reference smoother delivers), the polish runs on without the step prices,
-    /// from the result and from the smoother's result `smooth`; each run's iterates never have more
-    /// extrema or a larger E_var than its start. Of the runs at least as fair as the reference on both
-    /// counts, the fairer (fewer extrema, then the lower E_var) is the goal, and the update taken is the
-    /// least move from the step-priced result towards it that is at least as fair as the reference (a
-    /// bisection on the segment between the two; the band, convex in the update, holds along it): the
-    /// steps grow only as far as that needs. `Some((dev, e))` of it in `self.best`; `None` (and
-    /// `self.best` as it was) if the result already was as fair as the reference, or no run is.
-    fn polish_without_steps(
-        &mut self,
-        accept: f64,
-        at: (f64, f64),
-        (smooth, sdev): (&[DVec3], f64),
-        reference: (usize, f64),
-        solves: &mut usize,
-        obj: Objective,
-    ) -> Option<(f64, f64)> {
-        let rank = |s: &Self, d: &[DVec3]| (s.node_extrema(d), s.variation_in_spans(d));
-        let beats = |r: (usize, f64)| r.0 <= reference.0 && r.1 <= reference.1;
-        if beats(rank(self, &self.best)) {
-            return None;
-        }
-        let first = self.best.clone();
-        let jumps = std::mem::take(&mut self.var.jumps);
-        // the starts' ranks without the step prices (the interior point's iterates are ranked against them)
-        let start_rank = |s: &Self| (s.node_extrema(&s.best), s.variation_parts(&s.best).0);
-        let r = start_rank(self);
-        self.polish_variation_torsion(accept, at.0, at.1, solves, obj, r);
-        let from_result = std::mem::replace(&mut self.best, smooth.to_vec());
-        let e_smooth = self.energy_of_update(&self.best);
-        let r = start_rank(self);
-        self.polish_variation_torsion(accept, sdev, e_smooth, solves, obj, r);
-        let from_smoother = std::mem::replace(&mut self.best, first);
-        self.var.jumps = jumps;
-        let (r1, r2) = (rank(self, &from_result), rank(self, &from_smoother));
-        let goal = match (beats(r1), beats(r2)) {
-            (true, b2) if !b2 || r1 <= r2 => from_result,
-            (_, true) => from_smoother,
-            _ => return None,
-        };
-        let blend =
-            |t: f64, a: &[DVec3]| -> Vec<DVec3> { a.iter().zip(&goal).map(|(a, g)| *a + t * (*g - *a)).collect() };
-        // a blend must beat the reference with a margin: `measure` integrates E_var with its own nodes
-        let clear = |r: (usize, f64)| r.0 <= reference.0 && r.1 <= reference.1 * (1.0 - STEP_BLEND_MARGIN);
-        let (mut lo, mut hi) = (0.0, 1.0);
-        for _ in 0..STEP_BLEND_BISECTIONS {
-            let t = 0.5 * (lo + hi);
-            if clear(rank(self, &blend(t, &self.best))) {
-                hi = t;
-            } else {
-                lo = t;
-            }
-        }
-        self.best = blend(hi, &self.best);
-        let mut disp = vec![DVec3::ZERO; self.chk_u.len()];
-        self.chk_displacements(&self.best.clone(), &mut disp);
-        let dev = disp.iter().fold(0.0f64, |a, d| a.max(d.length_squared())).sqrt();
-        Some((dev, self.energy_of_update(&self.best)))
     }
 
     /// The interior point of the variation polish. On a non-planar 3D curve it carries the torsion term

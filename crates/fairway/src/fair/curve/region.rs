@@ -119,7 +119,7 @@ impl Region {
         // others') stays as it is: moving its joint a few band widths bends the curve inside it without
         // limit (measured on a public impeller model's edge: ∫(dκ/ds)² 1.1e4 → 1.5e14 with the band held).
         // The region then ends at the sliver's knot, with the curve end's condition.
-        if !crate::fair::closed::is_closed_curve(&input) {
+        if !crate::curve::is_closed_curve(&input) {
             let slivers = end_slivers(&input);
             if at_start && let Some(k) = slivers.0.filter(|&k| k < u2) {
                 (u1, at_start) = (k, false);
@@ -129,7 +129,7 @@ impl Region {
             }
         }
         // an end of an open curve has no neighbour in it: it takes its `curve_ends`, by default at most G1
-        let ends = if crate::fair::closed::is_closed_curve(&input) {
+        let ends = if crate::curve::is_closed_curve(&input) {
             ends
         } else {
             let reaches = [curve_start, curve_end];

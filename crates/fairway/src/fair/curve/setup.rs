@@ -3,6 +3,7 @@
 
 use glam::DVec3;
 
+use super::Seam;
 use super::region::{Region, Samples};
 use super::torsion;
 use super::variation::VarRows;
@@ -11,7 +12,6 @@ use crate::arclength::ArcLengthTable;
 use crate::basis::{MAX_ORDER, basis_funs, ders_basis_funs};
 use crate::curve::{BSplineCurve, CurveDerivs};
 use crate::error::{Error, Result};
-use crate::fair::closed::Seam;
 use crate::fair::integrate::IntegrationScratch;
 use crate::fair::target::{Target, TargetMethod};
 use crate::linalg::BandedSpd;
@@ -242,7 +242,7 @@ impl FairingSetup {
     /// What one pass does at the seam of a closed curve (`domain` the curve's, `ends` at `u1`, `u2`).
     fn seam_state(&self, (d0, d1): (f64, f64), eps: f64, ends: [EndCondition; 2]) -> Seam {
         let range = self.range;
-        if !crate::fair::closed::is_closed_curve(&self.input) {
+        if !crate::curve::is_closed_curve(&self.input) {
             Seam::Open
         } else if range.0 <= d0 + eps || range.1 >= d1 - eps {
             // the end condition of the region end(s) at the seam (the weaker if both)
