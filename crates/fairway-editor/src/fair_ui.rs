@@ -200,8 +200,9 @@ impl CurveCx<'_> {
                     }),
                 )
                 .on_hover_text(
-                    "The core's verified upper bound on the distance from the original (checked on 2000 \
-                     samples); the measured closest-point deviation (Measures) is at most this",
+                    "The core's verified upper bound on the distance from the original, everywhere along the \
+                     curve (from the control polygon of the difference, refined where it comes near the \
+                     tolerance); the measured closest-point deviation (Measures) is at most this",
                 );
                 if p.draft {
                     ui.weak(format!("draft while dragging (no E polish), {:.2} ms", p.fair_ms))

@@ -35,15 +35,20 @@ impl CurveCx<'_> {
             ui.strong("after");
             ui.strong("change");
             ui.end_row();
+            let deviation_tip = format!(
+                "Largest distance from the original, by closest-point projection of {} arc-length samples \
+                 (at least {} a knot span)",
+                fairway::measure::DEV_SAMPLES,
+                fairway::measure::DEV_SAMPLES_PER_SPAN
+            );
+            let raw_tip = format!(
+                "Every sign change of dκ/ds between {} samples of the whole curve (at least {} a knot span)",
+                fairway::measure::CURV_SAMPLES,
+                fairway::measure::CURV_SAMPLES_PER_SPAN
+            );
             // (name, tooltip, before, after, is a count)
             let rows = [
-                (
-                    "max deviation",
-                    "Largest distance from the original (2000 arc-length samples)",
-                    b.dev_max,
-                    a.dev_max,
-                    false,
-                ),
+                ("max deviation", deviation_tip.as_str(), b.dev_max, a.dev_max, false),
                 (
                     "κ extrema",
                     "Curvature extrema of the whole curve (zig-zag pivots beyond δ = 1% of max|g|)",
@@ -53,7 +58,7 @@ impl CurveCx<'_> {
                 ),
                 (
                     "κ extrema (raw)",
-                    "Every sign change of dκ/ds between 4000 samples of the whole curve",
+                    raw_tip.as_str(),
                     b.n_curv_extrema_raw as f64,
                     a.n_curv_extrema_raw as f64,
                     true,
