@@ -361,22 +361,7 @@ fn fair_strip(
             n.push(format!(
                 "faired as one surface with objects {order_:?} across their shared edges (each keeps its continuity)"
             ));
-            if q.inserted > 0 {
-                n.push(format!(
-                    "{} knots inserted along the edges to match the neighbours' (exact)",
-                    q.inserted
-                ));
-            }
-            let o = s(i);
-            if (piece.degree_u(), piece.degree_v()) != (o.degree_u(), o.degree_v()) {
-                n.push(format!(
-                    "degrees raised from {} × {} to {} × {} to join the neighbours (exact)",
-                    o.degree_u(),
-                    o.degree_v(),
-                    piece.degree_u(),
-                    piece.degree_v()
-                ));
-            }
+            exact_changes_notes(q.inserted, s(i), &piece, &mut n);
             (piece, bound, n)
         })
         .collect())
@@ -680,5 +665,29 @@ fn fair_alone(
             }
             Err(e) => outcome[i].notes.push(format!("left as it was: {e}")),
         }
+    }
+}
+
+/// The notes on what joining changed exactly in a patch faired with its neighbours: `inserted` knots along
+/// its edges, its degrees raised from `original`'s to `piece`'s.
+pub(super) fn exact_changes_notes(
+    inserted: usize,
+    original: &BSplineSurface,
+    piece: &BSplineSurface,
+    n: &mut Vec<String>,
+) {
+    if inserted > 0 {
+        n.push(format!(
+            "{inserted} knots inserted along the edges to match the neighbours' (exact)"
+        ));
+    }
+    if (piece.degree_u(), piece.degree_v()) != (original.degree_u(), original.degree_v()) {
+        n.push(format!(
+            "degrees raised from {} × {} to {} × {} to join the neighbours (exact)",
+            original.degree_u(),
+            original.degree_v(),
+            piece.degree_u(),
+            piece.degree_v()
+        ));
     }
 }

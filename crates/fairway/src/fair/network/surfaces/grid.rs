@@ -379,22 +379,7 @@ pub(super) fn fair_grid(
                 "faired as one surface with objects {all:?}, a {} grid of patches, across their shared edges (each keeps its continuity)",
                 g.size()
             ));
-            if q.inserted + row_q.inserted > 0 {
-                n.push(format!(
-                    "{} knots inserted along the edges to match the neighbours' (exact)",
-                    q.inserted + row_q.inserted
-                ));
-            }
-            let o = s(i);
-            if (piece.degree_u(), piece.degree_v()) != (o.degree_u(), o.degree_v()) {
-                n.push(format!(
-                    "degrees raised from {} × {} to {} × {} to join the neighbours (exact)",
-                    o.degree_u(),
-                    o.degree_v(),
-                    piece.degree_u(),
-                    piece.degree_v()
-                ));
-            }
+            super::exact_changes_notes(q.inserted + row_q.inserted, s(i), &piece, &mut n);
             out.push((i, (piece, bound, n)));
         }
     }
