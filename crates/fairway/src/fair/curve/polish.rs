@@ -767,6 +767,9 @@ impl FairingSetup {
                 if rank.0 <= orig.0 && rank.1 < orig.1 {
                     return Ok((dev, e));
                 }
+                // judged by the same measure, not fairer than the input: the input is kept
+                self.best = zero;
+                return Ok((0.0, self.original_energy()));
             }
         }
         // never less fair than the input: a result without fewer curvature extrema or a lower E_var than the
