@@ -337,19 +337,7 @@ fn fair_strip(
         (joined, err) = (c, err + e_err);
         at.push(y);
     }
-    let m = opts.tolerance - err;
-    if !(m > 0.0) {
-        return Err(Error::InvalidInput("the edges' gaps take the whole band".into()));
-    }
-    let r = fair_surface(
-        &joined,
-        SurfaceFairingOptions {
-            tolerance: m,
-            region: None,
-            ..*opts
-        },
-    )?;
-    let bound = r.band_bound.unwrap_or(r.max_deviation) + err;
+    let (r, bound) = fair_joined(&joined, err, opts)?;
     let pieces = split_strip(&r.surface, &at, &placed)?;
     Ok(pieces
         .into_iter()
@@ -690,4 +678,28 @@ pub(super) fn exact_changes_notes(
             piece.degree_v()
         ));
     }
+}
+
+/// Fair patches joined into one surface whose joining moved them by up to `err` (the edges' gaps closed):
+/// the whole surface, within the band that leaves; the fair's result and its bound on the deviation from
+/// the original patches (the fair's bound plus `err`).
+pub(super) fn fair_joined(
+    joined: &BSplineSurface,
+    err: f64,
+    opts: &SurfaceFairingOptions,
+) -> Result<(crate::fair::surface::SurfaceFairingResult, f64)> {
+    let m = opts.tolerance - err;
+    if !(m > 0.0) {
+        return Err(Error::InvalidInput("the edges' gaps take the whole band".into()));
+    }
+    let r = fair_surface(
+        joined,
+        SurfaceFairingOptions {
+            tolerance: m,
+            region: None,
+            ..*opts
+        },
+    )?;
+    let bound = r.band_bound.unwrap_or(r.max_deviation) + err;
+    Ok((r, bound))
 }

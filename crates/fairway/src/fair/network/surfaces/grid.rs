@@ -12,8 +12,8 @@ use super::{
     Pair, Patch, Placed, along_v, apply, concatenate_at, cross_len, elevate, on_knots_of, order, pair, split_strip,
     undo, with_u_domain,
 };
-use crate::error::{Error, Result};
-use crate::fair::surface::{SurfaceFairingOptions, fair_surface};
+use crate::error::Result;
+use crate::fair::surface::SurfaceFairingOptions;
 use crate::geometry::Geometry;
 use crate::network::{Continuity, Side, SurfaceContinuity, SurfaceJoin};
 use crate::surface::BSplineSurface;
@@ -354,19 +354,7 @@ pub(super) fn fair_grid(
     let stacked: Vec<BSplineSurface> = inner.iter().map(|j| j.surface.transposed()).collect();
     let outer = join_rows(&[stacked], &row_orders, tol)?.remove(0);
     let err = outer.err + inner.iter().map(|j| j.err).fold(0.0, f64::max);
-    let m = opts.tolerance - err;
-    if !(m > 0.0) {
-        return Err(Error::InvalidInput("the edges' gaps take the whole band".into()));
-    }
-    let r = fair_surface(
-        &outer.surface,
-        SurfaceFairingOptions {
-            tolerance: m,
-            region: None,
-            ..*opts
-        },
-    )?;
-    let bound = r.band_bound.unwrap_or(r.max_deviation) + err;
+    let (r, bound) = super::fair_joined(&outer.surface, err, opts)?;
     let mut out = vec![];
     let rows_back = split_strip(&r.surface, &outer.at, &outer.placed)?;
     for ((row_t, (joined, cells)), row_q) in rows_back.iter().zip(inner.iter().zip(&g.cells)).zip(&outer.placed) {
