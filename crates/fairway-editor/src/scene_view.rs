@@ -116,7 +116,7 @@ fn best_fit_frame(objects: &[Geometry]) -> Frame {
             }
         }
     }
-    let (values, vectors) = symmetric_eigen(a);
+    let (values, vectors) = fairway::linalg::symmetric_eigen3(a);
     let mut order = [0, 1, 2];
     order.sort_by(|&i, &j| values[j].total_cmp(&values[i]));
     let axis = |k: usize| DVec3::new(vectors[0][k], vectors[1][k], vectors[2][k]);
@@ -129,43 +129,6 @@ fn best_fit_frame(objects: &[Geometry]) -> Frame {
         e1 = -e1;
     }
     Frame::new(e1, n.cross(e1))
-}
-
-/// Eigenvalues and eigenvectors (the columns) of a symmetric 3×3 matrix, by cyclic Jacobi rotations.
-fn symmetric_eigen(mut a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
-    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    for _ in 0..50 {
-        let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
-        let scale = a[0][0].abs() + a[1][1].abs() + a[2][2].abs();
-        if off <= 1e-15 * scale.max(1e-300) {
-            break;
-        }
-        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
-            if a[p][q].abs() < 1e-300 {
-                continue;
-            }
-            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
-            let t = if theta == 0.0 { 1.0 } else { t };
-            let (c, s) = (1.0 / (t * t + 1.0).sqrt(), t / (t * t + 1.0).sqrt());
-            for k in 0..3 {
-                let (akp, akq) = (a[k][p], a[k][q]);
-                a[k][p] = c * akp - s * akq;
-                a[k][q] = s * akp + c * akq;
-            }
-            for k in 0..3 {
-                let (apk, aqk) = (a[p][k], a[q][k]);
-                a[p][k] = c * apk - s * aqk;
-                a[q][k] = s * apk + c * aqk;
-            }
-            for row in &mut v {
-                let (vp, vq) = (row[p], row[q]);
-                row[p] = c * vp - s * vq;
-                row[q] = s * vp + c * vq;
-            }
-        }
-    }
-    ([a[0][0], a[1][1], a[2][2]], v)
 }
 
 /// An object's name for lists and messages: its own, else "curve k" / "surface k" (1-based).
@@ -424,18 +387,5 @@ mod tests {
         let turned = f.curve_in(&yz_arc());
         assert!((turned.curvature(0.37) - 1.0).abs() < 1e-9);
         assert!(turned.points().iter().all(|p| (p.z - 0.3).abs() < 1e-12));
-    }
-
-    #[test]
-    fn eigen_of_a_diagonal_and_a_rotated_matrix() {
-        let (vals, _) = symmetric_eigen([[3.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 2.0]]);
-        assert_eq!(vals, [3.0, 1.0, 2.0]);
-        let (vals, v) = symmetric_eigen([[2.0, 1.0, 0.0], [1.0, 2.0, 0.0], [0.0, 0.0, 5.0]]);
-        let mut s = vals;
-        s.sort_by(f64::total_cmp);
-        assert!((s[0] - 1.0).abs() < 1e-12 && (s[1] - 3.0).abs() < 1e-12 && (s[2] - 5.0).abs() < 1e-12);
-        let k = vals.iter().position(|&x| (x - 1.0).abs() < 1e-9).unwrap();
-        let e = DVec3::new(v[0][k], v[1][k], v[2][k]);
-        assert!((e.x + e.y).abs() < 1e-12 && e.z.abs() < 1e-12, "{e}");
     }
 }

@@ -282,6 +282,43 @@ fn pivot_root(s: f64, scale: f64, i: usize) -> Result<f64> {
     Ok(s.sqrt())
 }
 
+/// Eigenvalues and eigenvectors (the columns) of a symmetric 3×3 matrix, by cyclic Jacobi rotations.
+pub fn symmetric_eigen3(mut a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
+    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for _ in 0..50 {
+        let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
+        let scale = a[0][0].abs() + a[1][1].abs() + a[2][2].abs();
+        if off <= 1e-15 * scale.max(1e-300) {
+            break;
+        }
+        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
+            if a[p][q].abs() < 1e-300 {
+                continue;
+            }
+            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+            let t = if theta == 0.0 { 1.0 } else { t };
+            let (c, s) = (1.0 / (t * t + 1.0).sqrt(), t / (t * t + 1.0).sqrt());
+            for k in 0..3 {
+                let (akp, akq) = (a[k][p], a[k][q]);
+                a[k][p] = c * akp - s * akq;
+                a[k][q] = s * akp + c * akq;
+            }
+            for k in 0..3 {
+                let (apk, aqk) = (a[p][k], a[q][k]);
+                a[p][k] = c * apk - s * aqk;
+                a[q][k] = s * apk + c * aqk;
+            }
+            for row in &mut v {
+                let (vp, vq) = (row[p], row[q]);
+                row[p] = c * vp - s * vq;
+                row[q] = s * vp + c * vq;
+            }
+        }
+    }
+    ([a[0][0], a[1][1], a[2][2]], v)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -455,5 +492,18 @@ mod tests {
         a.add(30, 30, -1e6);
         let err = a.factor().unwrap_err().to_string();
         assert!(err.contains("row 30"), "{err}");
+    }
+
+    #[test]
+    fn eigen_of_a_diagonal_and_a_rotated_matrix() {
+        let (vals, _) = symmetric_eigen3([[3.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 2.0]]);
+        assert_eq!(vals, [3.0, 1.0, 2.0]);
+        let (vals, v) = symmetric_eigen3([[2.0, 1.0, 0.0], [1.0, 2.0, 0.0], [0.0, 0.0, 5.0]]);
+        let mut s = vals;
+        s.sort_by(f64::total_cmp);
+        assert!((s[0] - 1.0).abs() < 1e-12 && (s[1] - 3.0).abs() < 1e-12 && (s[2] - 5.0).abs() < 1e-12);
+        let k = vals.iter().position(|&x| (x - 1.0).abs() < 1e-9).unwrap();
+        let e = glam::DVec3::new(v[0][k], v[1][k], v[2][k]);
+        assert!((e.x + e.y).abs() < 1e-12 && e.z.abs() < 1e-12, "{e}");
     }
 }

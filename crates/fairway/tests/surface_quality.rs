@@ -5,8 +5,7 @@
 //! on the original's samples, the largest strength whose result holds the band). On every surface of the suite
 //! (tests/common/surface_suite.rs) at 1, 3 and 10 × its noise: both hold the band; the reference is a real
 //! peer (it uses the band); the default has no more extrema and no larger ∫∫|∇H|² than the reference
-//! (where the reference has more extrema than the original, fewer than the reference instead: the default
-//! never has more than the original), is never less fair than the isocurve fairing alone on both measures
+//! (the default never has more than the original either), is never less fair than the isocurve fairing alone on both measures
 //! and has no more extrema than the original.
 //!
 //! The rows are those of `cargo run --release -p fairway --example surface_quality_table` (16 × 16 nets
@@ -85,12 +84,10 @@ fn the_default_surface_fair_is_at_least_as_fair_as_the_reference_smoother() {
                 "{} {f}σ: the reference moved {ref_dev} of {m}",
                 case.name
             );
-            // at least as fair as the reference on both measures — unless the reference has more extrema than
-            // the original, where the default keeps to the original's count first (then it has fewer extrema
-            // than the reference)
+            // at least as fair as the reference on both measures (on the apex dome too, where the reference
+            // has more extrema than the original: the default smooths the pole, step 0)
             let as_fair = rw.0 <= rr.0 && rw.1 <= rr.1;
-            let excused = rr.0 > orig.0 && rw.0 < rr.0;
-            if !as_fair && !excused {
+            if !as_fair {
                 failures.push(format!("{} {f}σ: fairway {rw:?} vs reference {rr:?}", case.name));
             }
             n_as_fair += usize::from(as_fair);
@@ -108,7 +105,7 @@ fn the_default_surface_fair_is_at_least_as_fair_as_the_reference_smoother() {
                 failures.push(format!("{} {f}σ: fairway {rw:?} vs the original {orig:?}", case.name));
             }
             // the report says what was returned
-            if w.pick == SurfacePick::Isocurves {
+            if w.pick == SurfacePick::Isocurves && w.smoothed_poles == 0 {
                 assert_eq!(w.surface, t.surface, "{} {f}σ", case.name);
             }
         }

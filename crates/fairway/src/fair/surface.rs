@@ -19,7 +19,13 @@
 //!    revolution, a triangular patch) — holds its row and the next two
 //!    (`POLE_ROWS`), so it stays one point with its tangent plane and
 //!    curvature; the isocurve through it is a point and is left as it is
-//!    (test `a_pole_stays_one_point_and_the_rest_is_faired`). A **seam** —
+//!    (test `a_pole_stays_one_point_and_the_rest_is_faired`). Before that,
+//!    the default method makes a noisy pole smooth (**step 0**, `poles.rs`:
+//!    its first ring into the tangent plane, the second onto a quadratic
+//!    height, within half the band; a tip rising more than 5° is kept) and
+//!    fairs the result with the rest of the band, keeping that route where it
+//!    is no less fair on both measures of step 8 (test
+//!    `a_noisy_pole_is_made_smooth_and_a_tip_is_kept`). A **seam** —
 //!    a closed direction, first and last rows equal — holds `POLE_ROWS`
 //!    rows at each side of it: the isocurves are faired one stretch each, not
 //!    across the seam, and fairing the two sides independently would open the
@@ -156,6 +162,7 @@ mod isocurves;
 mod options;
 mod own_weights;
 mod parallel;
+mod poles;
 mod reference;
 mod rounds;
 #[cfg(test)]
@@ -221,10 +228,10 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
         return fair_rational_surface(surface, opts);
     }
     let m = opts.tolerance;
-    let mut r = match c0_tiles(surface, &opts) {
-        Some(tiles) => fair_tiles(surface, opts, &tiles)?,
-        None => fair_surface_unbounded(surface, opts)?,
-    };
+    let mut r = fair_polynomial(surface, opts)?;
+    if opts.method == SurfaceMethod::Fairway {
+        r = with_smooth_poles(surface, opts, r)?;
+    }
     // a rational input with equal weights (the only kind the engine takes) is its polynomial form exactly
     let (faired, t, bound) = certified_step(&surface.to_polynomial()?, r.surface.to_polynomial()?, m)?;
     (r.surface, r.band_bound) = (faired, bound);
@@ -233,6 +240,50 @@ pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Re
         // the grid's figure was the old surface's; the bound is this one's (and sound)
         r.max_deviation = bound.unwrap_or(m);
     }
+    Ok(r)
+}
+
+/// Steps 1–8 on a polynomial surface: tile by tile across C0 knot lines, else in one piece.
+fn fair_polynomial(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Result<SurfaceFairingResult> {
+    match c0_tiles(surface, &opts) {
+        Some(tiles) => fair_tiles(surface, opts, &tiles),
+        None => fair_surface_unbounded(surface, opts),
+    }
+}
+
+/// Step 0 (`poles.rs`): where `surface` has a pole with a noisy ring inside the region, the pole is made
+/// smooth within part of the band and the result faired with the rest; that route replaces `plain` (the
+/// fair of the surface as it is) where it is no less fair on both measures — isocurve curvature extrema
+/// (with the hysteresis of the original's) and `∫∫|∇H|²` — and has no more extrema than the original.
+fn with_smooth_poles(
+    surface: &BSplineSurface,
+    opts: SurfaceFairingOptions,
+    mut plain: SurfaceFairingResult,
+) -> Result<SurfaceFairingResult> {
+    let m = opts.tolerance;
+    let mut tips = Vec::new();
+    let step = poles::smoothed_poles(surface, opts.region, m, &mut tips)?;
+    plain.notes.extend(tips);
+    let Some(step) = step else { return Ok(plain) };
+    let Ok(mut r) = fair_polynomial(&step.surface, opts.tolerance(m - step.bound)) else {
+        return Ok(plain);
+    };
+    let extrema = iso_extrema_counter(surface);
+    let energy = crate::measure_surface::mean_curvature_variation;
+    let (e0, ep, er) = (extrema(surface), extrema(&plain.surface), extrema(&r.surface));
+    if er > e0 || er > ep || energy(&r.surface) > energy(&plain.surface) {
+        return Ok(plain);
+    }
+    r.max_deviation += step.bound;
+    if step.moved_u {
+        r.free_u = r.free_u.start.min(1)..r.free_u.end.max(surface.nu() - 1);
+    }
+    if step.moved_v {
+        r.free_v = r.free_v.start.min(1)..r.free_v.end.max(surface.nv() - 1);
+    }
+    r.timings = r.timings + plain.timings;
+    r.smoothed_poles = step.notes.len();
+    r.notes.splice(0..0, step.notes);
     Ok(r)
 }
 
@@ -664,6 +715,7 @@ impl<'a> Grids<'a> {
             pick: SurfacePick::Isocurves,
             band_bound: None,
             notes: vec![],
+            smoothed_poles: 0,
         }
     }
 }
@@ -699,5 +751,6 @@ fn smoothing_only(g: &Grids<'_>, mut tm: SurfaceTimings) -> Result<SurfaceFairin
         pick: SurfacePick::Reference,
         band_bound: None,
         notes: vec![],
+        smoothed_poles: 0,
     })
 }

@@ -22,7 +22,7 @@ pub(super) fn net_size(s: &BSplineSurface) -> f64 {
 
 /// Whether the control points `pts` all coincide (within 1e-12 of `size`): a collapsed row or column (a
 /// pole, as on a surface of revolution or a triangular patch), whose isocurve is a single point.
-fn collapsed(pts: impl IntoIterator<Item = DVec3>, size: f64) -> bool {
+pub(super) fn collapsed(pts: impl IntoIterator<Item = DVec3>, size: f64) -> bool {
     let mut it = pts.into_iter();
     let Some(first) = it.next() else { return false };
     it.all(|q| q.distance(first) <= 1e-12 * size)

@@ -182,6 +182,10 @@ pub struct SurfaceFairingResult {
     /// What the fair did besides the plain method, in the user's terms: C0 knot lines faired tile by
     /// tile with the rows next to them held, tiles too short to move left as they were.
     pub notes: Vec<String>,
+    /// Poles made smooth before the fair (step 0, `poles.rs`; the notes say which and how far): 0 where
+    /// the surface has none, or the route through them was not the fairer. `pick` then names the
+    /// candidate of the pole-smoothed surface's fair.
+    pub smoothed_poles: usize,
 }
 
 /// Wall-clock time of the phases of one [`fair_surface`](super::fair_surface) call (summed over
