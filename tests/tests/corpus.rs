@@ -174,12 +174,16 @@ fn every_corpus_file_opens_and_every_object_fairs() {
 /// (knot-keeping penalized least squares held to the same band) by `measure`'s curvature extrema and
 /// ∫(dκ/ds)² ds, and has no more curvature extrema than it had. The impeller's C1 edges (a double knot at
 /// every breakpoint) are the hard cases: the engine prices curvature steps at such knots, which E_var
-/// does not see (`scripts/real_curves.sh` prints the table).
+/// does not see (`scripts/real_curves.sh` prints the table). Over all of them the default is markedly
+/// fairer than the reference: Σ curvature extrema at most 70 % of the reference's — a guard of the 3D
+/// torsion pass (`polish_torsion_within`), measured 65 % with it and 78 % without (on the 66 curves of
+/// `scripts/real_curves.sh`: 317 and 383 against 492).
 #[test]
 fn every_distinct_corpus_curve_is_at_least_as_fair_as_the_reference_smoother() {
     use fairway::fair::{FitMode, fair_curve};
     let mut seen: Vec<String> = vec![];
     let (mut compared, mut failures) = (0, vec![]);
+    let (mut sum_ref, mut sum_fw) = (0, 0);
     for file in corpus().iter().filter(|f| !is_step(f)) {
         let name = file.file_name().unwrap().to_string_lossy().to_string();
         let f = fairway::io::iges::read_all(&std::fs::read(file).unwrap()).unwrap();
@@ -209,6 +213,7 @@ fn every_distinct_corpus_curve_is_at_least_as_fair_as_the_reference_smoother() {
             };
             let (mr, mf) = (measure(&c, &r.curve), measure(&c, &fw.curve));
             compared += 1;
+            (sum_ref, sum_fw) = (sum_ref + mr.n_curv_extrema, sum_fw + mf.n_curv_extrema);
             if mf.n_curv_extrema > mr.n_curv_extrema.min(o.n_curv_extrema) || mf.E_var > mr.E_var {
                 failures.push(format!(
                     "{what}: extrema original {} reference {} fairway {}, E_var reference {:.4e} fairway {:.4e}",
@@ -223,5 +228,10 @@ fn every_distinct_corpus_curve_is_at_least_as_fair_as_the_reference_smoother() {
         "{} of {compared}:\n{}",
         failures.len(),
         failures.join("\n")
+    );
+    println!("Σ curvature extrema: reference {sum_ref}, fairway {sum_fw}");
+    assert!(
+        10 * sum_fw <= 7 * sum_ref,
+        "Σ curvature extrema: reference {sum_ref}, fairway {sum_fw}"
     );
 }

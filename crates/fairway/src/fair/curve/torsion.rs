@@ -127,6 +127,13 @@ impl TwistRows {
         }
     }
 
+    /// Multiplies the rows' weights by `f`.
+    pub(crate) fn scale(&mut self, f: f64) {
+        for pair in &mut self.pairs {
+            pair.2 *= f;
+        }
+    }
+
     /// Whether there is anything to fair.
     pub(crate) fn is_empty(&self) -> bool {
         self.pairs.is_empty()

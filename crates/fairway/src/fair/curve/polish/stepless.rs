@@ -38,11 +38,11 @@ impl FairingSetup {
         // the starts' ranks without the step prices (the interior point's iterates are ranked against them)
         let start_rank = |s: &Self| (s.node_extrema(&s.best), s.variation_parts(&s.best).0);
         let r = start_rank(self);
-        self.polish_variation_torsion(accept, at.0, at.1, solves, obj, r);
+        self.polish_variation_torsion(accept, at, solves, obj, r);
         let from_result = std::mem::replace(&mut self.best, smooth.to_vec());
         let e_smooth = self.energy_of_update(&self.best);
         let r = start_rank(self);
-        self.polish_variation_torsion(accept, sdev, e_smooth, solves, obj, r);
+        self.polish_variation_torsion(accept, (sdev, e_smooth), solves, obj, r);
         let from_smoother = std::mem::replace(&mut self.best, first);
         self.var.jumps = jumps;
         let (r1, r2) = (rank(self, &from_result), rank(self, &from_smoother));
