@@ -145,7 +145,8 @@ pub(super) fn smoothed_poles(
     let Some(b1) = crate::fair::verify::surface_band_bound(s, &full, m) else {
         return Ok(None);
     };
-    if !(b1 > 0.0) {
+    // a pole already smooth (a surface of revolution whose profile meets the axis square) is left alone
+    if !(b1 > 1e-6 * m) {
         return Ok(None);
     }
     let t = (POLE_BAND_SHARE * m / b1).min(1.0);
