@@ -105,6 +105,7 @@ use crate::linalg::BandedSpd;
 mod check;
 mod energy;
 mod fit;
+mod hull;
 mod options;
 pub(crate) use options::setters_for;
 mod polish;
@@ -242,10 +243,11 @@ pub struct FairingSetup {
     /// The check sample of the last band violation: the next scan starts there (a violated band is
     /// usually violated at the same place again, and a check stops at the first violation it finds).
     scan_from: usize,
-    /// Set by [`Self::fair`] for its second pass where the check samples are sparse and the first left the
-    /// band between them: the variation polish then keeps `SPARSE_BULGE / k²` of the band free instead of
-    /// `VAR_BAND_MARGIN` (`FairingSetup::var_band_margin`).
-    sparse_margin: bool,
+    /// The band as the hull rows of the difference curve ([`hull::HullRows`]): the variation polish's
+    /// constraints.
+    hull_rows: hull::HullRows,
+    /// Set while the interior point runs on the hull rows ([`Self::on_hull_rows`]).
+    hull_band: bool,
     /// Free points (local index) constrained at a join whose knot is too multiple for the requested
     /// continuity to come by itself: `Some(T)` moves only along the join's tangent T, `None` not at
     /// all ([`Self::constrain_update`]).
@@ -390,14 +392,11 @@ impl FairingSetup {
     /// narrowed by the excess (at most `BAND_RETRIES` (3) times); if that does not hold it either, the
     /// original is returned, with a note.
     pub fn fair(&mut self) -> Result<FairingResult> {
-        let r = self.fair_certified();
-        self.sparse_margin = false;
-        r
+        self.fair_certified()
     }
 
-    /// [`Self::fair`]: the pass, its band bound, and the passes again where the result left the band between
-    /// the check samples — first, where the samples are at their per-span floor, with the polish's band
-    /// narrowed by the bulge expected between them (`sparse_margin`), then with the band narrowed by the excess.
+    /// [`Self::fair`]: the pass, its band bound, and the passes again with the band narrowed by the excess
+    /// where the result left the band between the check samples.
     fn fair_certified(&mut self) -> Result<FairingResult> {
         let m = self.opts.tolerance;
         validate_tolerance(m)?;
@@ -410,14 +409,6 @@ impl FairingSetup {
         let Some(mut bb) = certify(&r.curve) else {
             return Ok(r);
         };
-        if bb.bound > m && self.sparse_check_samples() {
-            self.sparse_margin = true;
-            r = self.fair_pass()?;
-            match certify(&r.curve) {
-                Some(b) => bb = b,
-                None => return Ok(r),
-            }
-        }
         let mut narrowed = m;
         let mut retries = 0;
         while bb.bound > m && retries < BAND_RETRIES {

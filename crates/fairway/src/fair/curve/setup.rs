@@ -159,6 +159,7 @@ impl FairingSetup {
         s.normal_matrices();
         let all = s.check_sample_params(&table, check_samples, check_phase, (s_a, s_b), length, domain);
         s.check_rows(all);
+        s.hull_rows = super::hull::HullRows::new(&s.work, s.range, s.i0, s.nf);
         s.init_target(kappa, ends, [at_start, at_end], spans)?;
         Ok(s)
     }
@@ -230,7 +231,8 @@ impl FairingSetup {
             pad: Vec::new(),
             seam: Seam::Open,
             scan_from: 0,
-            sparse_margin: false,
+            hull_rows: Default::default(),
+            hull_band: false,
             join_fix: Vec::new(),
             plane: None,
             kappa0: Vec::new(),
