@@ -82,7 +82,8 @@
 //!    [`FairingOptions::polish_iterations`] steps). The default, [`PolishMethod::Variation`]
 //!    (`fair/curve/variation.rs`), minimizes the curvature variation ∫(dκ/ds)² ds plus a mild target term by an
 //!    interior point from the fairest of the fit, the reference smoother ([`FitMode::Smoothing`]) and
-//!    the original. The paper's E can be polished instead, by one of two optimizers
+//!    the original, inside the convex hull of the difference curve (`fair/curve/hull.rs`: the band held
+//!    everywhere, not only at the check samples). The paper's E can be polished instead, by one of two optimizers
 //!    ([`PolishMethod`]): Levenberg–Marquardt steps with a backtracking band
 //!    check (which stops well short of E's minimum), or a
 //!    primal–dual interior point on the parametric band at the check samples
