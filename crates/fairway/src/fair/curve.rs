@@ -245,7 +245,7 @@ pub struct FairingSetup {
     /// usually violated at the same place again, and a check stops at the first violation it finds).
     scan_from: usize,
     /// The band as the hull rows of the difference curve ([`hull::HullRows`]): the variation polish's
-    /// constraints.
+    /// constraints (built on its first run).
     hull_rows: hull::HullRows,
     /// Set while the interior point runs on the hull rows ([`Self::on_hull_rows`]).
     hull_band: bool,

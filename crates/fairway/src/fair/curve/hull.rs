@@ -94,12 +94,17 @@ fn blossom_row(kv: &[f64], s: usize, p: usize, lo: f64, hi: f64, k: usize) -> [f
 
 impl FairingSetup {
     /// `f` with the interior point's band constraints on the hull rows ([`HullRows`]) instead of the
-    /// check samples (`chk_first`, `chk_b`, `chk_u` swapped, and back after): every iterate then holds the
+    /// check samples (`chk_first`, `chk_b`, `chk_u` swapped, and back after; the rows are built on the first
+    /// call): every iterate then holds the
     /// band everywhere, so the polish needs no margin for a bulge between samples. Only the interior point
     /// may run inside (it reads nothing else of the check samples); nested calls run `f` as they are.
     pub(super) fn on_hull_rows<T>(&mut self, f: impl FnOnce(&mut Self) -> T) -> T {
         if self.hull_band {
             return f(self);
+        }
+        // built on first use (a setup whose fairs never run the variation polish does not need them)
+        if self.hull_rows.first.is_empty() {
+            self.hull_rows = HullRows::new(&self.work, self.range, self.i0, self.nf);
         }
         let rows = std::mem::take(&mut self.hull_rows);
         let saved = (

@@ -159,7 +159,6 @@ impl FairingSetup {
         s.normal_matrices();
         let all = s.check_sample_params(&table, check_samples, check_phase, (s_a, s_b), length, domain);
         s.check_rows(all);
-        s.hull_rows = super::hull::HullRows::new(&s.work, s.range, s.i0, s.nf);
         s.init_target(kappa, ends, [at_start, at_end], spans)?;
         Ok(s)
     }
