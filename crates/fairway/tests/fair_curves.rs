@@ -240,29 +240,42 @@ fn fast_energy_no_worse_than_iterative() {
 }
 
 /// The bench curve (crates/fairway/benches/fairing.rs: 100 control points through a noisy sine, 1000
-/// samples, m = 2e-3). There the default 8 polish iterations stop above the iterative baseline's E
-/// (measured 537 vs 264); more iterations lower E monotonically inside the band and reach it (24:
-/// 259). E never rises with more iterations, and the band holds for every count.
+/// samples, m = 2e-3). More polish iterations never raise E, and the band holds for every count. The
+/// interior point on E ([`PolishMethod::InteriorPoint`]) holds the band where the iterative baseline does,
+/// at the check samples, and with 24 iterations reaches a lower E than the baseline. The default
+/// (variation) polish holds it at the hull of the difference curve, i.e. everywhere, a slightly smaller
+/// set: its E stays within 3 % of the baseline's (measured 173.0 against 169.7).
 #[test]
 fn more_polish_iterations_reach_the_iterative_energy_on_the_bench_curve() {
     let c = bench_curve();
     let o = (opts(2e-3)).samples(Some(1000));
     let setup = FairingSetup::new(&c, o).unwrap();
     let it = fair_iterative(&setup, IterativeOptions::default()).unwrap();
-    let mut energies = vec![];
-    for n in [0, 8, 24] {
-        let mut s = setup.clone();
-        s.set_polish_iterations(n);
-        let r = s.fair().unwrap();
-        assert!(dev_max(&c, &r.curve) <= 2e-3, "{n} iterations: band broken");
-        energies.push(r.energy);
+    for method in [PolishMethod::Variation, PolishMethod::InteriorPoint] {
+        let mut energies = vec![];
+        for n in [0, 8, 24] {
+            let mut s = setup.clone();
+            s.set_polish_method(method);
+            s.set_polish_iterations(n);
+            let r = s.fair().unwrap();
+            assert!(dev_max(&c, &r.curve) <= 2e-3, "{method:?}, {n} iterations: band broken");
+            energies.push(r.energy);
+        }
+        println!(
+            "E iterative {:.4e}; {method:?} with 0 / 8 / 24 polish iterations {energies:?}",
+            it.energy
+        );
+        assert!(
+            energies[0] > energies[1] && energies[1] >= energies[2],
+            "{method:?} {energies:?}"
+        );
+        let allowed = if method == PolishMethod::Variation { 1.03 } else { 1.0 };
+        assert!(
+            energies[2] <= it.energy * allowed,
+            "{method:?} {energies:?} vs iterative {}",
+            it.energy
+        );
     }
-    println!(
-        "E iterative {:.4e}; fast with 0 / 8 / 24 polish iterations {energies:?}",
-        it.energy
-    );
-    assert!(energies[0] > energies[1] && energies[1] > energies[2], "{energies:?}");
-    assert!(energies[2] <= it.energy, "{energies:?} vs iterative {}", it.energy);
 }
 
 /// A straight line whose control polygon steps back once (the curve runs forward, back and forward

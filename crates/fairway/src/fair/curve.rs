@@ -82,7 +82,8 @@
 //!    [`FairingOptions::polish_iterations`] steps). The default, [`PolishMethod::Variation`]
 //!    (`fair/curve/variation.rs`), minimizes the curvature variation ∫(dκ/ds)² ds plus a mild target term by an
 //!    interior point from the fairest of the fit, the reference smoother ([`FitMode::Smoothing`]) and
-//!    the original. The paper's E can be polished instead, by one of two optimizers
+//!    the original, inside the convex hull of the difference curve (`fair/curve/hull.rs`: the band held
+//!    everywhere, not only at the check samples). The paper's E can be polished instead, by one of two optimizers
 //!    ([`PolishMethod`]): Levenberg–Marquardt steps with a backtracking band
 //!    check (which stops well short of E's minimum), or a
 //!    primal–dual interior point on the parametric band at the check samples
@@ -105,6 +106,7 @@ use crate::linalg::BandedSpd;
 mod check;
 mod energy;
 mod fit;
+mod hull;
 mod options;
 pub(crate) use options::setters_for;
 mod polish;
@@ -242,10 +244,11 @@ pub struct FairingSetup {
     /// The check sample of the last band violation: the next scan starts there (a violated band is
     /// usually violated at the same place again, and a check stops at the first violation it finds).
     scan_from: usize,
-    /// Set by [`Self::fair`] for its second pass where the check samples are sparse and the first left the
-    /// band between them: the variation polish then keeps `SPARSE_BULGE / k²` of the band free instead of
-    /// `VAR_BAND_MARGIN` (`FairingSetup::var_band_margin`).
-    sparse_margin: bool,
+    /// The band as the hull rows of the difference curve ([`hull::HullRows`]): the variation polish's
+    /// constraints (built on its first run).
+    hull_rows: hull::HullRows,
+    /// Set while the interior point runs on the hull rows ([`Self::on_hull_rows`]).
+    hull_band: bool,
     /// Free points (local index) constrained at a join whose knot is too multiple for the requested
     /// continuity to come by itself: `Some(T)` moves only along the join's tangent T, `None` not at
     /// all ([`Self::constrain_update`]).
@@ -390,14 +393,11 @@ impl FairingSetup {
     /// narrowed by the excess (at most `BAND_RETRIES` (3) times); if that does not hold it either, the
     /// original is returned, with a note.
     pub fn fair(&mut self) -> Result<FairingResult> {
-        let r = self.fair_certified();
-        self.sparse_margin = false;
-        r
+        self.fair_certified()
     }
 
-    /// [`Self::fair`]: the pass, its band bound, and the passes again where the result left the band between
-    /// the check samples — first, where the samples are at their per-span floor, with the polish's band
-    /// narrowed by the bulge expected between them (`sparse_margin`), then with the band narrowed by the excess.
+    /// [`Self::fair`]: the pass, its band bound, and the passes again with the band narrowed by the excess
+    /// where the result left the band between the check samples.
     fn fair_certified(&mut self) -> Result<FairingResult> {
         let m = self.opts.tolerance;
         validate_tolerance(m)?;
@@ -410,14 +410,6 @@ impl FairingSetup {
         let Some(mut bb) = certify(&r.curve) else {
             return Ok(r);
         };
-        if bb.bound > m && self.sparse_check_samples() {
-            self.sparse_margin = true;
-            r = self.fair_pass()?;
-            match certify(&r.curve) {
-                Some(b) => bb = b,
-                None => return Ok(r),
-            }
-        }
         let mut narrowed = m;
         let mut retries = 0;
         while bb.bound > m && retries < BAND_RETRIES {

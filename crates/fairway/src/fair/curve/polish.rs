@@ -4,7 +4,6 @@
 use glam::DVec3;
 
 use super::FairingSetup;
-use super::setup::CHECK_SAMPLES_PER_SPAN;
 use super::variation;
 use crate::error::Result;
 use crate::linalg::BandedSpd;
@@ -14,7 +13,7 @@ mod stepless;
 /// The interior point's objective: `paper · E + var · E_var`, with `paper` 1 or 0 (the Gauss–Newton
 /// system of E is added with weight 1, the barrier is scaled to the objective).
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Objective {
+pub(super) struct Objective {
     paper: f64,
     var: f64,
     /// The variation objective's torsion pass ([`FairingSetup::polish_torsion_within`]): iterates are
@@ -30,17 +29,6 @@ impl Objective {
         ceiling: None,
     };
 }
-
-/// The variation polish keeps this fraction of the band free (see `FairingSetup::interior_point`).
-pub(crate) const VAR_BAND_MARGIN: f64 = 1e-3;
-
-/// Where the check samples are at their floor of [`CHECK_SAMPLES_PER_SPAN`] a knot span, the variation
-/// polish's curve, which rides the band at the samples, can bulge past it between them by about this over
-/// k² of the band (k samples a span; measured on the 1,000-point bench cubic: 6 % at k = 4, 1.5 % at k = 8).
-/// Where the first pass did, [`FairingSetup::fair`] runs it again with the polish's band narrowed by that
-/// much ([`FairingSetup::var_band_margin`]): it then holds, where narrowing the whole band by the excess
-/// took a narrower band than needed (0.89 m on that curve). A curve that did not bulge keeps its first pass.
-pub(crate) const SPARSE_BULGE: f64 = 1.1;
 
 /// A polish step is accepted only if the roughness of the curvature at the samples (Σ (Δκ)² / h) stays
 /// within this factor of the larger of the polish's start and the target's (`FairingSetup::polish`).
@@ -148,12 +136,12 @@ impl IpState {
 /// them; a re-fair at another band searches the smoother again.
 #[derive(Debug, Clone, Default)]
 pub(super) struct PolishCache {
-    orig_rank: Option<Rank>,
+    pub(super) orig_rank: Option<Rank>,
     smooth: Option<SmoothStart>,
 }
 
 /// How fair an update is: (curvature extrema at the probes, E_var).
-type Rank = (usize, f64);
+pub(super) type Rank = (usize, f64);
 
 /// The torsion pass ([`FairingSetup::polish_torsion_within`]) keeps the curvature's E_var this fraction
 /// below the reference smoother's.
@@ -393,14 +381,8 @@ impl FairingSetup {
             return (dev, e, None);
         }
         let g = self.target.values().to_vec();
-        // the variation objective rides the band: between two check samples (spacing L / 2000) such a curve
-        // can bulge past it (measured: 1.1e-6 m on the suite's ellipse, projected at 8000 samples), so its
-        // band is VAR_BAND_MARGIN inside, more where the samples are sparse (`var_band_margin`)
-        let accept = if obj.var > 0.0 {
-            accept * (1.0 - self.var_band_margin())
-        } else {
-            accept
-        };
+        // (the variation objective rides the band: it runs on the hull rows, `polish_variation_torsion`, which
+        // bound the band between them too; on check samples such a curve bulged past the band between them)
         let m2 = accept * accept;
         let mut best = self.ip_ranking(obj, &g, e, dev, start_rank.map(|r| r.0));
         let mut st = self.ip_start(obj, accept, m2);
@@ -437,29 +419,6 @@ impl FairingSetup {
             (dev, self.energy_of_update(&self.best), Some((extrema, var)))
         } else {
             (dev, e, None)
-        }
-    }
-
-    /// Whether the check samples are at their floor of [`CHECK_SAMPLES_PER_SPAN`] a knot span (curves of more
-    /// than 500 spans), and how many there are a span over the moving stretch.
-    fn check_density(&self) -> (bool, f64) {
-        let spans = (self.var.w.len() / variation::VAR_GAUSS).max(1);
-        let k = self.chk_u.len() as f64 / spans as f64;
-        (k < (CHECK_SAMPLES_PER_SPAN + 1) as f64, k)
-    }
-
-    /// Whether the check samples are at their per-span floor (see [`Self::var_band_margin`]).
-    pub(super) fn sparse_check_samples(&self) -> bool {
-        self.check_density().0
-    }
-
-    /// The fraction of the band the variation polish keeps free: [`VAR_BAND_MARGIN`], or in [`Self::fair`]'s
-    /// second pass where the check samples are at their floor (`sparse_margin`) [`SPARSE_BULGE`] / k² for k
-    /// samples a span, the bulge of a displacement that rides the band at the samples between them.
-    fn var_band_margin(&self) -> f64 {
-        match self.check_density() {
-            (true, k) if self.sparse_margin => (SPARSE_BULGE / (k * k)).clamp(VAR_BAND_MARGIN, 0.5),
-            _ => VAR_BAND_MARGIN,
         }
     }
 
@@ -708,23 +667,7 @@ impl FairingSetup {
     /// (fewer curvature extrema at the quadrature nodes, then the lower E_var), the interior point on
     /// `E_var + β ∫ (κ − g)² ds / ℓ²`.
     pub(super) fn polish_variation(&mut self, accept: f64, dev: f64, e: f64, solves: &mut usize) -> Result<(f64, f64)> {
-        let beta = self.opts.target_weight.max(0.0);
-        let spans = self.var.w.len() / variation::VAR_GAUSS;
-        let ell = self.h * (self.params.len() - 1) as f64 / spans.max(1) as f64;
-        // objective / β·h/ℓ² = E + (ℓ² / (β h)) E_var
-        let obj = if beta > 0.0 {
-            Objective {
-                paper: 1.0,
-                var: ell * ell / (beta * self.h),
-                ceiling: None,
-            }
-        } else {
-            Objective {
-                paper: 0.0,
-                var: 1.0,
-                ceiling: None,
-            }
-        };
+        let obj = self.variation_objective();
         // how fair an update is: (curvature extrema, E_var), as the interior point ranks its iterates
         let rank_of = |s: &Self, d: &[DVec3]| (s.node_extrema(d), s.variation_parts(d).0);
         let fit = (self.best.clone(), dev, e);
@@ -820,13 +763,34 @@ impl FairingSetup {
         Ok((dev, e))
     }
 
+    /// The variation polish's objective `E_var + β ∫ (κ − g)² ds / ℓ²`, scaled by `β h / ℓ²` to
+    /// `E + (ℓ² / (β h)) E_var` (E_var alone where β = 0).
+    pub(super) fn variation_objective(&self) -> Objective {
+        let beta = self.opts.target_weight.max(0.0);
+        let spans = self.var.w.len() / variation::VAR_GAUSS;
+        let ell = self.h * (self.params.len() - 1) as f64 / spans.max(1) as f64;
+        if beta > 0.0 {
+            Objective {
+                paper: 1.0,
+                var: ell * ell / (beta * self.h),
+                ceiling: None,
+            }
+        } else {
+            Objective {
+                paper: 0.0,
+                var: 1.0,
+                ceiling: None,
+            }
+        }
+    }
+
     /// The interior point of the variation polish. On a non-planar 3D curve it carries the torsion term
     /// ([`FairingOptions::torsion_weight`](super::FairingOptions::torsion_weight)), which fairs τ as well
     /// as κ; where that result has more curvature extrema or no lower E_var than the polish started from,
     /// the polish runs again from the same start without the term and keeps whichever has fewer curvature
     /// extrema (then the lower E_var): the torsion is faired only where the curvature does not pay for it.
     /// [`Self::polish_torsion_within`] then spends what the curvature has to spare.
-    fn polish_variation_torsion(
+    pub(super) fn polish_variation_torsion(
         &mut self,
         accept: f64,
         (dev, e): (f64, f64),
@@ -834,6 +798,10 @@ impl FairingSetup {
         obj: Objective,
         start_rank: Rank,
     ) -> (f64, f64, Option<Rank>) {
+        // the band as the hull of the difference curve (`hull.rs`): held everywhere, not only at the samples
+        if !self.hull_band {
+            return self.on_hull_rows(|s| s.polish_variation_torsion(accept, (dev, e), solves, obj, start_rank));
+        }
         if self.var.twist.is_empty() {
             return self.interior_point(accept, dev, e, solves, obj, Some(start_rank));
         }
@@ -887,7 +855,8 @@ impl FairingSetup {
         let (ev, third) = self.variation_parts(&self.best);
         let f = if third > 0.0 { (ev / third).min(1.0) } else { 1.0 };
         self.var.twist.scale(f);
-        let (tdev, te, trank) = self.interior_point(accept, dev, e, solves, obj, Some(rank));
+        // on the hull band, as every run of the variation polish (`hull.rs`)
+        let (tdev, te, trank) = self.on_hull_rows(|s| s.interior_point(accept, dev, e, solves, obj, Some(rank)));
         self.var.twist.scale(1.0 / f);
         match trank {
             Some(r) => (tdev, te, r),
