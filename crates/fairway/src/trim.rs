@@ -199,7 +199,11 @@ pub fn edge_on_surface(s: &BSplineSurface, e: &BSplineCurve, tol: f64) -> Result
         s.point(q.x, q.y)
     };
     let p = e.degree();
-    let q = p.max(3).max(s.degree_u()).max(s.degree_v()).min(crate::knots::MAX_DEGREE);
+    let q = p
+        .max(3)
+        .max(s.degree_u())
+        .max(s.degree_v())
+        .min(crate::knots::MAX_DEGREE);
     let kv = e.knots();
     let bps = kv.breakpoints();
     let (a, b) = e.domain();
@@ -239,7 +243,9 @@ pub fn edge_on_surface(s: &BSplineSurface, e: &BSplineCurve, tol: f64) -> Result
             }
         }
         if !worst.is_finite() {
-            return Err(Error::InvalidInput("the edge's curve on the surface is not finite".into()));
+            return Err(Error::InvalidInput(
+                "the edge's curve on the surface is not finite".into(),
+            ));
         }
         if split.is_empty() || spans.len() + split.len() > MAX_EDGE_SAMPLES {
             return Ok((curve, worst));

@@ -23,6 +23,7 @@ use crate::{App, Command};
 pub(crate) fn unnamed(doc: Document) -> SceneObject {
     SceneObject {
         name: String::new(),
+        trim: None,
         geometry: doc.geometry,
         settings: doc.settings,
     }

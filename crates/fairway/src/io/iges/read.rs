@@ -45,6 +45,7 @@ pub fn read_all_with(bytes: &[u8], opts: ReadOptions) -> Result<IgesFile> {
         scale: conversion.scale,
         notices,
         entities: infos,
+        trims: vec![],
     })
 }
 

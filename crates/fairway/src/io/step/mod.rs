@@ -48,8 +48,10 @@
 pub mod parse;
 mod placement;
 mod read;
+mod trim;
 mod units;
 mod write;
+mod write_trim;
 
 pub use write::format_real;
 
@@ -100,14 +102,26 @@ pub fn read_first(bytes: &[u8]) -> Result<Geometry> {
 
 /// Write curves and surfaces as a STEP AP214 file.
 pub fn write(objects: &[Geometry], opts: &WriteOptions) -> String {
-    write::write(objects, &[], opts)
+    write::write(objects, &[], &[], opts)
 }
 
 /// [`write()`] with a name per object (`names[k]` for `objects[k]`; missing or empty: `curve k`,
 /// `surface k`), written as the entity's name so that [`read_all`] reports it again (a 2D curve's name
 /// keeps the prefix that marks it 2D, which the reader strips).
 pub fn write_labeled(objects: &[Geometry], names: &[String], opts: &WriteOptions) -> String {
-    write::write(objects, names, opts)
+    write::write(objects, names, &[], opts)
+}
+
+/// [`write_labeled`] with the bounds of trimmed faces: `trims[k]` (if any) bounds the surface
+/// `objects[k]`, written as an `ADVANCED_FACE` whose edges are recomputed on the surface as it is now
+/// (module `write_trim`); the others as [`write_labeled`] writes them.
+pub fn write_trimmed(
+    objects: &[Geometry],
+    names: &[String],
+    trims: &[Option<crate::trim::FaceTrim>],
+    opts: &WriteOptions,
+) -> String {
+    write::write(objects, names, trims, opts)
 }
 
 /// One geometry as STEP text with default options.
