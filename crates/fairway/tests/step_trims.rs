@@ -146,3 +146,111 @@ fn faired_trimmed_faces_write_back_with_their_loops_and_edges_on_the_faired_surf
     assert!(checked >= 100, "{checked} edges checked");
     eprintln!("{faired} faces faired, {checked} written edges on their faired surfaces");
 }
+
+/// The OpenCASCADE file with every edge's p-curves taken away (`SURFACE_CURVE(name, 3D curve, ())`).
+fn without_pcurves(text: &str) -> String {
+    let mut parts = text.split("SURFACE_CURVE('',#");
+    let mut out = parts.next().unwrap().to_string();
+    for p in parts {
+        out.push_str("SURFACE_CURVE('',#");
+        let open = p.find(",(").unwrap();
+        let close = open + p[open..].find(')').unwrap();
+        out.push_str(&p[..open + 2]);
+        out.push_str(&p[close..]);
+    }
+    out
+}
+
+/// Where an edge has only its 3D curve, the face's loop is that curve projected onto the surface: the
+/// same loops and edges in the same orientation (each edge's ends within 10⁻⁴ of the domain's size of the
+/// p-curves' ends), and on the surface every point of the projected loop within 2·10⁻³ × the surface's
+/// diagonal of the exact loop of the p-curves (densely sampled). The bound is the file's, not the
+/// projection's: OpenCASCADE's 3D edges and p-curves of these faces (healed from IGES) disagree — edges run
+/// up to 1.3·10⁻² mm past a surface's boundary (its points there project onto the boundary), and on two
+/// small faces (diagonal 2.4 mm) the p-curve runs along u = 0 where the 3D edge is at u ≈ 6·10⁻⁴.
+#[test]
+fn edges_without_p_curves_are_projected_onto_the_surface() {
+    let text = String::from_utf8(corpus("impeller-faces-occ.step")).unwrap();
+    let exact = step::read_all(text.as_bytes()).unwrap();
+    let projected = step::read_all(without_pcurves(&text).as_bytes()).unwrap();
+    let faces = (projected.notices.iter())
+        .filter(|n| n.contains("(ADVANCED_FACE) on line"))
+        .cloned()
+        .collect::<Vec<_>>();
+    assert!(faces.is_empty(), "{faces:?}");
+    assert!(exact.objects == projected.objects, "the same objects");
+    let (mut compared, mut worst) = (0, 0.0f64);
+    for ((g, a), b) in exact.objects.iter().zip(&exact.trims).zip(&projected.trims) {
+        let (Some(a), Some(b)) = (a, b) else {
+            assert_eq!(a.is_some(), b.is_some());
+            continue;
+        };
+        let s = surface(g);
+        let ((u0, u1), (v0, v1)) = s.domain();
+        let span = (u1 - u0).hypot(v1 - v0);
+        let (lo, hi) = s.control_bounds();
+        let diag = (hi - lo).length();
+        assert_eq!(a.loops.len(), b.loops.len());
+        for (la, lb) in a.loops.iter().zip(&b.loops) {
+            assert_eq!((la.outer, la.edges.len()), (lb.outer, lb.edges.len()));
+            let dense: Vec<_> = (la.edges.iter())
+                .flat_map(|e| {
+                    let (t0, t1) = e.domain();
+                    (0..=400).map(move |k| e.point(t0 + (t1 - t0) * k as f64 / 400.0))
+                })
+                .map(|q| s.point(q.x, q.y))
+                .collect();
+            for (ea, eb) in la.edges.iter().zip(&lb.edges) {
+                // same direction: the same start and end
+                let ends = |e: &fairway::BSplineCurve| (e.point(e.domain().0), e.point(e.domain().1));
+                let ((a0, a1), (b0, b1)) = (ends(ea), ends(eb));
+                assert!(a0.distance(b0) <= 1e-4 * span && a1.distance(b1) <= 1e-4 * span);
+                for q in eb.points() {
+                    let x = s.point(q.x, q.y);
+                    let d = dense.iter().map(|y| y.distance(x)).fold(f64::INFINITY, f64::min);
+                    assert!(
+                        d <= 2e-3 * diag,
+                        "a projected point {d:.3e} off the loop (diagonal {diag})"
+                    );
+                    worst = worst.max(d / diag);
+                }
+            }
+        }
+        compared += 1;
+    }
+    assert_eq!(compared, 10);
+    eprintln!("projected loops: at most {worst:.3e} × the diagonal off the p-curves' loops");
+}
+
+/// An edge whose curve is not one the reader takes: that face opens untrimmed, a notice names the face,
+/// the edge and the reason; the other faces keep their bounds, nothing else is lost.
+#[test]
+fn a_face_with_an_unreadable_edge_opens_untrimmed_with_the_reason() {
+    let text = String::from_utf8(corpus("impeller-faces-occ.step")).unwrap();
+    let broken = text.replace(
+        "#83 = EDGE_CURVE('',#84,#86,#88,.T.);",
+        "#83 = EDGE_CURVE('',#84,#86,#85,.T.);",
+    );
+    assert_ne!(broken, text);
+    let f = step::read_all(broken.as_bytes()).unwrap();
+    let note = (f.notices.iter())
+        .find(|n| n.starts_with("#79 (ADVANCED_FACE)"))
+        .unwrap_or_else(|| panic!("{:?}", f.notices));
+    assert!(
+        note.contains(
+            "its bounds are not read, the surface #93 opens untrimmed: edge #83: its curve #85 is a \
+                       CARTESIAN_POINT, which is not read"
+        ),
+        "{note}"
+    );
+    assert_eq!(f.trims.iter().flatten().count(), 9);
+    let exact = step::read_all(text.as_bytes()).unwrap();
+    let surfaces = |f: &fairway::io::InterchangeFile| {
+        f.objects
+            .iter()
+            .filter_map(Geometry::as_surface)
+            .cloned()
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(surfaces(&f), surfaces(&exact), "every surface still opens");
+}

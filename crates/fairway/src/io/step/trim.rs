@@ -1,7 +1,8 @@
 //! Face bounds read as trim loops ([`crate::trim`]): `ADVANCED_FACE` (or `FACE_SURFACE`) on a B-spline
 //! surface → `FACE_OUTER_BOUND` / `FACE_BOUND` → `EDGE_LOOP` → `ORIENTED_EDGE` → `EDGE_CURVE`, whose
 //! geometry is a `SURFACE_CURVE` / `SEAM_CURVE` (its `PCURVE` on this face's surface preferred: a 2D
-//! B-spline or `LINE`, taken exactly between the edge's vertices) or a 3D B-spline or `LINE` (sampled
+//! B-spline or `LINE` taken exactly between the edge's vertices, a `CIRCLE` as a fine polyline) or a 3D
+//! B-spline, `LINE` or `CIRCLE` (sampled
 //! between the vertices and projected onto the surface: a uv polyline within
 //! [`crate::trim::fit_tolerance`]). Orientations are applied (the face bound's, the oriented edge's, the
 //! edge curve's sense), so each stored loop runs as the face traverses it. A face whose bounds cannot be
@@ -25,7 +26,7 @@ use crate::trim::{FaceTrim, TrimLoop, fit_tolerance, project_path, sub_curve};
 const MAX_FACE_EDGES: usize = 10_000;
 
 /// How far (× the surface's control-box diagonal) an edge may pass from its face's surface.
-const OFF_SURFACE: f64 = 1e-3;
+const OFF_SURFACE: f64 = 1e-2;
 
 /// What the face pass found.
 #[derive(Debug, Default)]
@@ -228,10 +229,12 @@ enum EdgeGeometry {
     Space(Path),
 }
 
-/// A curve an edge runs along: a B-spline, or a line `p + t·d`.
+/// A curve an edge runs along: a B-spline, a line `p + t·d`, or a circle `c + r(cos t·x + sin t·y)`
+/// (t in radians; `x`, `y` unit and orthogonal).
 enum Path {
     BSpline(BSplineCurve),
     Line(DVec3, DVec3),
+    Circle { c: DVec3, x: DVec3, y: DVec3, r: f64 },
 }
 
 impl Path {
@@ -239,16 +242,98 @@ impl Path {
         match self {
             Path::BSpline(c) => c.point(t),
             Path::Line(p, d) => *p + *d * t,
+            Path::Circle { c, x, y, r } => *c + *r * (t.cos() * *x + t.sin() * *y),
         }
     }
 
-    /// The parameter of the point nearest `q`.
+    /// The parameter of the point nearest `q` (a circle's in [0, 2π)).
     fn param(&self, q: DVec3) -> f64 {
         match self {
             Path::BSpline(c) => CurveProjector::new(c, 8).project(q).param,
             Path::Line(p, d) => (q - *p).dot(*d) / d.length_squared(),
+            Path::Circle { c, x, y, .. } => {
+                let t = (q - *c).dot(*y).atan2((q - *c).dot(*x));
+                if t < 0.0 { t + std::f64::consts::TAU } else { t }
+            }
         }
     }
+
+    /// The parameters of an edge at its start and end vertices (`ends`; `None`: one vertex, the whole
+    /// closed curve, run in the curve's direction if `same_sense`, else against it); a circle's unwrapped
+    /// so that the way from one to the other runs the edge's way round.
+    fn range(&self, ends: Option<(f64, f64)>, same_sense: bool) -> Result<(f64, f64)> {
+        use std::f64::consts::TAU;
+        let (a, b) = match (self, ends) {
+            (Path::BSpline(c), None) => c.domain(),
+            (Path::Circle { .. }, None) => (0.0, TAU),
+            (Path::Line(..), None) => return Err(perr("a closed edge on a line")),
+            (_, Some(ab)) => ab,
+        };
+        let (a, b) = if same_sense || ends.is_some() { (a, b) } else { (b, a) };
+        Ok(match self {
+            Path::Circle { .. } if same_sense && b <= a => (a, b + TAU),
+            Path::Circle { .. } if !same_sense && a <= b => (a + TAU, b),
+            _ => (a, b),
+        })
+    }
+}
+
+/// A direction: `DIRECTION` with 2 or 3 ratios, unit length.
+fn direction(ex: &Exchange, p: Option<&Param>, what: &str) -> Result<DVec3> {
+    let did = reference(p, what)?;
+    let d = instance(ex, did)?
+        .record("DIRECTION")
+        .ok_or_else(|| perr(format!("#{did} is not a DIRECTION")))?;
+    let c = super::read::reals(d.params.get(1).unwrap_or(&Param::Null), "a direction")?;
+    let d = match c[..] {
+        [x, y] => DVec3::new(x, y, 0.0),
+        [x, y, z] => DVec3::new(x, y, z),
+        _ => return Err(perr(format!("direction #{did} has {} coordinates", c.len()))),
+    };
+    let n = d.normalize_or_zero();
+    if n == DVec3::ZERO || !n.is_finite() {
+        return Err(perr(format!("direction #{did} has no length")));
+    }
+    Ok(n)
+}
+
+/// An optional direction of a placement: `default` where it is unset.
+fn direction_or(ex: &Exchange, p: Option<&Param>, what: &str, default: DVec3) -> Result<DVec3> {
+    match p {
+        Some(Param::Ref(_)) => direction(ex, p, what),
+        _ => Ok(default),
+    }
+}
+
+/// A `CIRCLE`: its `AXIS2_PLACEMENT_3D` (or `_2D`, in a parameter space) and radius.
+fn circle(ex: &Exchange, gid: u64, r: &super::parse::Record) -> Result<Path> {
+    let aid = reference(r.params.get(1), "a circle's placement")?;
+    let a = instance(ex, aid)?;
+    let (c, z, x) = if let Some(p) = a.record("AXIS2_PLACEMENT_3D") {
+        let c = super::read::point(ex, p.params.get(1).unwrap_or(&Param::Null), 0)?.0;
+        let z = direction_or(ex, p.params.get(2), "a placement's axis", DVec3::Z)?;
+        let x = direction_or(ex, p.params.get(3), "a placement's reference direction", DVec3::X)?;
+        (c, z, x)
+    } else if let Some(p) = a.record("AXIS2_PLACEMENT_2D") {
+        let c = super::read::point(ex, p.params.get(1).unwrap_or(&Param::Null), 0)?.0;
+        let x = direction_or(ex, p.params.get(2), "a placement's reference direction", DVec3::X)?;
+        (c, DVec3::Z, x)
+    } else {
+        return Err(perr(format!(
+            "circle #{gid}'s placement #{aid} is not an AXIS2_PLACEMENT"
+        )));
+    };
+    let x = (x - z * x.dot(z)).normalize_or_zero();
+    let radius = r.params.get(2).and_then(Param::real).unwrap_or(f64::NAN);
+    if x == DVec3::ZERO || !(radius > 0.0 && radius.is_finite()) {
+        return Err(perr(format!("circle #{gid} has no radius or no plane")));
+    }
+    Ok(Path::Circle {
+        c,
+        x,
+        y: z.cross(x),
+        r: radius,
+    })
 }
 
 /// The curve `#gid` as a path: a B-spline (`raw` reads it) or a `LINE` (point and `VECTOR`).
@@ -264,26 +349,18 @@ fn path(ex: &Exchange, gid: u64, curve: RawCurve<'_>) -> Result<Path> {
             .record("VECTOR")
             .ok_or_else(|| perr(format!("#{vid} is not a VECTOR")))?;
         let mag = v.params.get(2).and_then(Param::real).unwrap_or(1.0);
-        let did = reference(v.params.get(1), "a vector's direction")?;
-        let d = instance(ex, did)?
-            .record("DIRECTION")
-            .ok_or_else(|| perr(format!("#{did} is not a DIRECTION")))?;
-        let c = super::read::reals(d.params.get(1).unwrap_or(&Param::Null), "a direction")?;
-        let d = match c[..] {
-            [x, y] => DVec3::new(x, y, 0.0),
-            [x, y, z] => DVec3::new(x, y, z),
-            _ => return Err(perr(format!("direction #{did} has {} coordinates", c.len()))),
-        };
-        let d = d.normalize_or_zero() * mag;
+        let d = direction(ex, v.params.get(1), "a vector's direction")? * mag;
         if d == DVec3::ZERO || !d.is_finite() {
             return Err(perr(format!("line #{gid} has no direction")));
         }
         return Ok(Path::Line(p, d));
     }
+    if let Some(r) = g.record("CIRCLE") {
+        return circle(ex, gid, r);
+    }
     let name = g.records.first().map_or("?", |r| r.name.as_str());
     Err(perr(format!(
-        "its curve #{gid} is a {name}, which is not read (B-spline and LINE edge curves and parameter-space \
-         curves are)"
+        "its curve #{gid} is a {name}, which is not read (B-spline, LINE and CIRCLE edge curves are)"
     )))
 }
 
@@ -343,15 +420,12 @@ fn edge_uv(
     let path = match &geometry {
         EdgeGeometry::Uv(p) | EdgeGeometry::Space(p) => p,
     };
-    let (ta, tb) = match (&geometry, path) {
-        (_, Path::BSpline(c)) if closed => {
-            let (a, b) = c.domain();
-            if same_sense { (a, b) } else { (b, a) }
-        }
-        (_, Path::Line(..)) if closed => return Err(perr("a closed edge on a line")),
-        (EdgeGeometry::Uv(p), _) => (p.param(uv(start)), p.param(uv(end))),
-        (EdgeGeometry::Space(p), _) => (p.param(start), p.param(end)),
+    let ends = match &geometry {
+        _ if closed => None,
+        EdgeGeometry::Uv(p) => Some((p.param(uv(start)), p.param(uv(end)))),
+        EdgeGeometry::Space(p) => Some((p.param(start), p.param(end))),
     };
+    let (ta, tb) = path.range(ends, same_sense)?;
     let (lo, hi) = (ta.min(tb), ta.max(tb));
     let e = match (&geometry, path) {
         (EdgeGeometry::Uv(_), Path::BSpline(c)) => {
@@ -370,6 +444,17 @@ fn edge_uv(
         (EdgeGeometry::Uv(_), Path::Line(..)) => {
             let (p, q) = (path.point(lo), path.point(hi));
             BSplineCurve::try_new(1, vec![lo, lo, hi, hi], vec![p, q], None, 2)?
+        }
+        (EdgeGeometry::Uv(_), Path::Circle { r, .. }) => {
+            // a polyline whose chords are within 10⁻¹⁰ of the domain's size of the arc: h²r/8
+            let ((u0, u1), (v0, v1)) = s.domain();
+            let h = (8.0 * 1e-10 * (u1 - u0).hypot(v1 - v0) / r).sqrt();
+            let n = (((hi - lo) / h).ceil() as usize).clamp(4, 8192);
+            let ts: Vec<f64> = (0..=n).map(|k| lo + (hi - lo) * k as f64 / n as f64).collect();
+            let mut knots = vec![lo];
+            knots.extend(ts.iter().copied());
+            knots.push(hi);
+            BSplineCurve::try_new(1, knots, ts.iter().map(|&t| path.point(t)).collect(), None, 2)?
         }
         (EdgeGeometry::Space(_), _) => {
             let (lo_s, hi_s) = s.control_bounds();
