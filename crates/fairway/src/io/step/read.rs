@@ -768,7 +768,7 @@ pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile
     if !not_applied.is_empty() && !objects.is_empty() {
         let list: Vec<String> = not_applied.iter().map(|(k, n)| format!("{n} {k}")).collect();
         notices.push(format!(
-            "trims not applied ({}): those B-splines are read whole",
+            "trims not applied ({}): the B-splines are read whole",
             list.join(", ")
         ));
     }

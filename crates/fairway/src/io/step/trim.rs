@@ -70,6 +70,9 @@ pub(super) fn face_trims(ex: &Exchange, surface: RawSurface<'_>, curve: RawCurve
             Ok(None) => continue, // a plane, a cylinder, ...: not read at all
             Err(_) => continue,   // the surface's own notice says why
         };
+        if r.params.get(1).and_then(Param::list).is_some_and(<[Param]>::is_empty) {
+            continue; // no bounds: the face is the whole surface
+        }
         let what = format!("#{} ({})", inst.id, r.name);
         if out.by_surface.contains_key(sid) {
             out.notices.push(format!(
@@ -85,7 +88,7 @@ pub(super) fn face_trims(ex: &Exchange, surface: RawSurface<'_>, curve: RawCurve
             proj: SurfaceProjector::new(&s, 4),
             curve,
         };
-        match read_face(&face, inst, &mut used) {
+        match read_face(&face, r, &mut used) {
             Ok(t) => {
                 out.by_surface.insert(*sid, t);
                 out.used.extend(used);
@@ -116,9 +119,8 @@ fn instance<'a>(ex: &'a Exchange, id: u64) -> Result<&'a Instance> {
 }
 
 /// The bounds of one face on the surface `s`.
-fn read_face(f: &Face<'_>, face: &Instance, used: &mut Vec<u64>) -> Result<FaceTrim> {
+fn read_face(f: &Face<'_>, r: &super::parse::Record, used: &mut Vec<u64>) -> Result<FaceTrim> {
     let (ex, s) = (f.ex, f.s);
-    let r = &face.records[0];
     let bounds = r
         .params
         .get(1)
@@ -145,6 +147,9 @@ fn read_face(f: &Face<'_>, face: &Instance, used: &mut Vec<u64>) -> Result<FaceT
             .get(1)
             .and_then(Param::list)
             .ok_or_else(|| perr(format!("loop #{lid} has no edges")))?;
+        if oes.is_empty() {
+            return Err(perr(format!("loop #{lid} has no edges")));
+        }
         edges_seen += oes.len();
         if edges_seen > MAX_FACE_EDGES {
             return Err(perr(format!("more than {MAX_FACE_EDGES} edges in its bounds")));
