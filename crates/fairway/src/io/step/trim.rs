@@ -114,7 +114,7 @@ fn logical(p: Option<&Param>) -> bool {
     !matches!(p, Some(Param::Enum(e)) if e == "F")
 }
 
-fn instance<'a>(ex: &'a Exchange, id: u64) -> Result<&'a Instance> {
+fn instance(ex: &Exchange, id: u64) -> Result<&Instance> {
     ex.get(id).ok_or_else(|| perr(format!("#{id} is not in the file")))
 }
 
