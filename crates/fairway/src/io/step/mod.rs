@@ -21,9 +21,12 @@
 //! `GLOBAL_UNIT_ASSIGNED_CONTEXT`: `SI_UNIT` with a prefix or a
 //! `CONVERSION_BASED_UNIT` such as `'INCH'`), reported in
 //! [`InterchangeFile::unit`], unless [`ReadOptions::unit`] asks for a
-//! conversion. Trims (of `TRIMMED_CURVE`, face bounds) are not applied: the
-//! underlying B-spline is returned, once per placement of its part in the
-//! assembly, in the assembly's coordinates (module `placement`).
+//! conversion. The bounds of a face on a B-spline surface (`ADVANCED_FACE`)
+//! are read as loops in the surface's (u, v) ([`InterchangeFile::trims`],
+//! module `trim`), its edges' curves then not objects of their own; other
+//! trims (`TRIMMED_CURVE`) are not applied. Each B-spline is returned once per
+//! placement of its part in the assembly, in the assembly's coordinates
+//! (module `placement`).
 //!
 //! The Part 21 parser ([`parse`]) is written here rather than taken from a
 //! crate: `ruststep` 0.4 (Apache-2.0) parses complex instances but comes
@@ -41,7 +44,9 @@
 //! a `GEOMETRICALLY_BOUNDED_SURFACE_SHAPE_REPRESENTATION` (a
 //! `GEOMETRIC_SET` of curves and surfaces), 2D curves (points with two
 //! coordinates) in a wireframe representation of their own with a 2D
-//! context. Knots are written as distinct values with multiplicities,
+//! context; a surface with bounds ([`write_trimmed`]) as an `ADVANCED_FACE`
+//! in an open shell of a `MANIFOLD_SURFACE_SHAPE_REPRESENTATION` (module
+//! `write_trim`). Knots are written as distinct values with multiplicities,
 //! rational B-splines as complex instances, and every real as its shortest
 //! round-trip decimal, so Fairway → STEP → Fairway is exact.
 
