@@ -294,3 +294,26 @@ fn damaged_face_bounds_never_panic() {
         }
     }
 }
+
+/// A scene with trimmed faces saved as a document (RON version 2) and read back keeps every face's loops
+/// exactly; a trim on a curve is refused with the object named.
+#[test]
+fn documents_keep_the_trims() {
+    let f = step::read_all(&corpus("impeller-faces-occ.step")).unwrap();
+    let scene = Scene::from_interchange(f);
+    let back = Scene::from_ron(&scene.to_ron().unwrap()).unwrap();
+    assert_eq!(back, scene);
+    assert_eq!(back.objects.iter().filter(|o| o.trim.is_some()).count(), 10);
+    let curve = scene
+        .objects
+        .iter()
+        .position(|o| o.trim.is_none() && o.geometry.as_curve().is_some())
+        .unwrap();
+    let mut bad = scene.clone();
+    bad.objects[curve].trim = scene.objects.iter().find_map(|o| o.trim.clone());
+    let err = Scene::from_ron(&bad.to_ron().unwrap()).unwrap_err().to_string();
+    assert!(
+        err.contains(&format!("objects[{curve}].trim: a curve has no trim")),
+        "{err}"
+    );
+}

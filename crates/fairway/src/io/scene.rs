@@ -150,9 +150,19 @@ impl Scene {
                         check_settings(&o.settings, &format!("objects[{k}]."))?;
                         let geometry: Geometry = o.geometry.try_into()?;
                         crate::range::check_geometry(&geometry)?;
+                        let trim = match (o.trim, &geometry) {
+                            (None, _) => None,
+                            (Some(t), Geometry::Surface(_)) => Some(
+                                super::record::trim_from_records(t)
+                                    .map_err(|e| ron_error(format!("objects[{k}].trim: {e}")))?,
+                            ),
+                            (Some(_), Geometry::Curve(_)) => {
+                                return Err(ron_error(format!("objects[{k}].trim: a curve has no trim")));
+                            }
+                        };
                         Ok(SceneObject {
                             name: o.name,
-                            trim: None,
+                            trim,
                             geometry,
                             settings: o.settings,
                         })
@@ -178,6 +188,7 @@ impl Scene {
                 .objects
                 .iter()
                 .map(|o| ObjectFile {
+                    trim: o.trim.as_ref().map(super::record::trim_records),
                     name: o.name.clone(),
                     geometry: (&o.geometry).into(),
                     settings: o.settings.clone(),
