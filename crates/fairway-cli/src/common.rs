@@ -57,6 +57,8 @@ pub struct Input {
     pub unit: Option<fairway::io::Unit>,
     /// IGES / STEP: which object was taken (0-based) of how many.
     pub object: Option<(usize, usize)>,
+    /// IGES / STEP: the bounds of a trimmed face (in its surface's (u, v)).
+    pub trim: Option<fairway::FaceTrim>,
 }
 
 /// Load an input file. IGES, STEP and RON documents with several objects: object `index` (default the
@@ -82,6 +84,7 @@ pub fn load_input(path: &Path, index: Option<usize>) -> Result<Input> {
             },
             unit: scene.unit,
             object: Some((k, count)),
+            trim: o.trim,
         });
     }
     let Some(f) = fairway::io::read_interchange(path).map_err(with_path)? else {
@@ -92,6 +95,7 @@ pub fn load_input(path: &Path, index: Option<usize>) -> Result<Input> {
             doc: load_document(path)?,
             unit: None,
             object: None,
+            trim: None,
         });
     };
     for n in &f.notices {
@@ -102,11 +106,13 @@ pub fn load_input(path: &Path, index: Option<usize>) -> Result<Input> {
         bail!("{name}: no B-spline curve or surface in the file");
     }
     let k = pick(path, index, count)?;
+    let trim = f.trims.get(k).cloned().flatten();
     let g = f.objects.into_iter().nth(k).expect("k < count");
     Ok(Input {
         doc: fairway::io::Document::new(g),
         unit: f.unit,
         object: Some((k, count)),
+        trim,
     })
 }
 

@@ -76,6 +76,7 @@ pub fn read_input(a: &Args) -> Result<crate::common::Input> {
                 doc: Document::new(c.into()),
                 unit: None,
                 object: None,
+                trim: None,
             })
         }
         _ => Ok(crate::common::load_input(path, a.index)?),
@@ -95,7 +96,7 @@ pub fn run(a: &Args) -> Result<()> {
     // the output must be another file than the input (links resolved), or the input would be lost
     crate::common::refuse_same_files(&a.input, &a.output, None)?;
     let input = read_input(a)?;
-    let doc = input.doc;
+    let (doc, trim) = (input.doc, input.trim);
     match ext(&a.output).as_str() {
         "svg" => {
             let Geometry::Curve(c) = &doc.geometry else {
@@ -112,6 +113,20 @@ pub fn run(a: &Args) -> Result<()> {
             io::write_atomic(&a.output, text.as_bytes()).map_err(|e| with_path(&a.output, e))
         }
         // an IGES or STEP output declares the input's unit (the coordinates are not scaled)
+        // a trimmed face keeps its bounds where the output can hold them (STEP, the document formats)
+        _ if trim.is_some() && matches!(ext(&a.output).as_str(), "stp" | "step") => {
+            let scene = io::Scene {
+                objects: vec![io::SceneObject {
+                    name: String::new(),
+                    trim,
+                    geometry: doc.geometry,
+                    settings: doc.settings,
+                }],
+                unit: input.unit,
+                ..Default::default()
+            };
+            io::save_scene(&a.output, &scene).map_err(|e| with_path(&a.output, e))
+        }
         _ => io::save_in(&a.output, &doc, input.unit).map_err(|e| with_path(&a.output, e)),
     }
 }

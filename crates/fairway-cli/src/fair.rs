@@ -368,7 +368,7 @@ pub fn run(a: &Args) -> Result<()> {
     }
     if a.index.is_none()
         && let Some((scene, notices)) = crate::common::load_scene_input(&a.input)?
-        && (scene.objects.len() > 1 || !a.objects.is_empty())
+        && (scene.objects.len() > 1 || !a.objects.is_empty() || scene.objects.iter().any(|o| o.trim.is_some()))
     {
         return crate::fair_scene::run(a, scene, &notices);
     }

@@ -120,6 +120,20 @@ pub struct SurfaceInfo {
     /// A file with several objects: all of them and their joins (absent otherwise).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub network: Option<crate::joins::NetworkInfo>,
+    /// A trimmed face (STEP, IGES): its bounds (absent for an untrimmed surface).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub trim: Option<TrimInfo>,
+}
+
+/// The bounds of a trimmed face.
+#[derive(Debug, Clone, Serialize)]
+pub struct TrimInfo {
+    /// Outer loops (1 for a face).
+    pub outer_loops: usize,
+    /// Holes.
+    pub inner_loops: usize,
+    /// Edges of all loops.
+    pub edges: usize,
 }
 
 /// Call `f` at `m` uniform parameters in each span, then at the domain end (without storing them: a curve of
@@ -220,6 +234,7 @@ pub fn surface_info(s: &BSplineSurface) -> SurfaceInfo {
         gauss_range: g.get(),
         file: None,
         network: None,
+        trim: None,
     }
 }
 
@@ -276,6 +291,11 @@ pub fn run(args: &Args) -> Result<()> {
             let mut i = surface_info(&s);
             i.file = file;
             i.network = network;
+            i.trim = input.trim.as_ref().map(|t| TrimInfo {
+                outer_loops: t.outer_loops(),
+                inner_loops: t.inner_loops(),
+                edges: t.loops.iter().map(|l| l.edges.len()).sum(),
+            });
             refuse_non_finite("the summary", &i)?;
             if args.json {
                 return print_json(&i);
@@ -299,6 +319,11 @@ pub fn run(args: &Args) -> Result<()> {
             println!("  k_min           {}", r(i.k_min_range));
             println!("  mean            {}", r(i.mean_range));
             println!("  gauss           {}", r(i.gauss_range));
+            match (&input.trim, i.file.is_some()) {
+                (Some(t), _) => println!("  trim            {}", t.summary()),
+                (None, true) => println!("  trim            none (the whole surface)"),
+                (None, false) => {}
+            }
             if let Some(n) = &i.network {
                 crate::joins::print_network(n);
             }

@@ -49,6 +49,7 @@ fn write_chain(path: &Path) -> Scene {
             .zip(names)
             .map(|(c, n)| SceneObject {
                 name: n.into(),
+                trim: None,
                 geometry: c.into(),
                 settings: DocumentSettings::default(),
             })
@@ -254,6 +255,7 @@ fn patches_sharing_an_edge_are_listed_and_faired_together() {
             .zip(["PORT", "STARBOARD"])
             .map(|(g, n)| SceneObject {
                 name: n.into(),
+                trim: None,
                 geometry: g,
                 settings: DocumentSettings::default(),
             })
@@ -323,6 +325,7 @@ fn a_two_by_two_grid_of_patches_is_faired_as_one_keeping_every_edge() {
             .zip(["A", "B", "C", "D"])
             .map(|(g, n)| SceneObject {
                 name: n.into(),
+                trim: None,
                 geometry: g.into(),
                 settings: DocumentSettings::default(),
             })
@@ -383,6 +386,7 @@ fn fair_uses_each_objects_saved_tolerance_unless_tolerance_is_given() {
     let (m_bow, m_stern) = (0.001, 0.006);
     let object = |name: &str, c: BSplineCurve, m: f64| SceneObject {
         name: name.into(),
+        trim: None,
         geometry: c.into(),
         settings: DocumentSettings {
             tolerance: Some(m),

@@ -63,6 +63,7 @@ pub fn network_scene() -> Scene {
             .zip(names)
             .map(|(c, n)| SceneObject {
                 name: n.into(),
+                trim: None,
                 geometry: c.into(),
                 settings: DocumentSettings::default(),
             })
@@ -364,6 +365,7 @@ fn two_patches() -> Scene {
             .into_iter()
             .map(|(n, geometry)| SceneObject {
                 name: n.into(),
+                trim: None,
                 geometry,
                 settings: DocumentSettings::default(),
             })
@@ -476,6 +478,7 @@ fn fairing_a_curve_joined_at_one_end_keeps_that_join_and_frees_the_other_end() {
             .into_iter()
             .map(|(n, c)| SceneObject {
                 name: n.into(),
+                trim: None,
                 geometry: c.into(),
                 settings: DocumentSettings::default(),
             })
@@ -557,6 +560,7 @@ fn four_patches() -> Scene {
             .zip(["AFT_PORT", "AFT_STBD", "FWD_PORT", "FWD_STBD"])
             .map(|(p, n)| SceneObject {
                 name: n.into(),
+                trim: None,
                 geometry: p.into(),
                 settings: DocumentSettings::default(),
             })

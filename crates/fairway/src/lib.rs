@@ -65,6 +65,7 @@ pub mod quadrature;
 pub mod range;
 pub mod suggest;
 pub mod surface;
+pub mod trim;
 
 pub use arclength::ArcLengthTable;
 pub use closest::{ClosestPoint, CurveProjector};
@@ -75,3 +76,4 @@ pub use glam::{DVec2, DVec3};
 pub use knots::KnotVector;
 pub use mesh::{SurfaceMesh, curve_comb_3d, extrude_curve, pick_uv};
 pub use surface::{BSplineSurface, SurfaceCurvature, SurfaceDerivs};
+pub use trim::{FaceTrim, TrimLoop};

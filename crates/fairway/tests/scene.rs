@@ -46,6 +46,7 @@ fn surface() -> BSplineSurface {
 fn scene() -> Scene {
     let obj = |name: &str, g: Geometry| SceneObject {
         name: name.into(),
+        trim: None,
         geometry: g,
         settings: DocumentSettings::default(),
     };

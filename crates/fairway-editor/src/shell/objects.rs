@@ -23,6 +23,7 @@ use crate::{App, Command};
 pub(crate) fn unnamed(doc: Document) -> SceneObject {
     SceneObject {
         name: String::new(),
+        trim: None,
         geometry: doc.geometry,
         settings: doc.settings,
     }
@@ -153,6 +154,7 @@ impl App {
                 let mut s =
                     SurfaceWorkspace::new(doc, self.curve_ws.curve3d.surface_shading).map_err(|e| e.to_string())?;
                 s.marks = self.curve_ws.scene.marks3d.clone();
+                s.trim = self.objects.get(self.active).and_then(|o| o.trim.clone());
                 s.set_others(self.other_patches());
                 self.surface = Some(Box::new(s));
             }

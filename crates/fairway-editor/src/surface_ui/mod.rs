@@ -117,6 +117,8 @@ pub struct SurfaceWorkspace {
     pub marks: Vec<crate::scene_view::Mark3d>,
     /// The document's other patches, drawn dimmed in the views (set by the shell, [`Self::set_others`]).
     pub others: Vec<OtherPatch>,
+    /// The active face's bounds (a trimmed face from STEP), drawn on it in the 3D views.
+    pub trim: Option<fairway::FaceTrim>,
     /// Counts changes of `others` (the scene caches' key).
     others_rev: u64,
 }
@@ -178,6 +180,7 @@ impl SurfaceWorkspace {
             edit_error: None,
             marks: vec![],
             others: vec![],
+            trim: None,
             others_rev: 0,
         })
     }

@@ -10,7 +10,7 @@ use fairway::{BSplineSurface, DVec3};
 
 use super::{SceneCache, SurfaceCx, SurfaceWorkspace, points_hash};
 use crate::Command;
-use crate::view3d::scene::{append_other, append_outline, effective_range, mode_values, surface_scene};
+use crate::view3d::scene::{append_other, append_outline, append_trim, effective_range, mode_values, surface_scene};
 use crate::view3d::{self, ShadeMode, Shading};
 
 impl SurfaceWorkspace {
@@ -71,6 +71,9 @@ impl SurfaceWorkspace {
                 append_other(&mut scene, &o.mesh, &self.shading, range, origin);
             }
             append_outline(&mut scene, s, origin);
+        }
+        if let Some(t) = &self.trim {
+            append_trim(&mut scene, s, t, origin);
         }
         let scene = Arc::new(scene);
         self.scenes[slot] = Some(SceneCache {

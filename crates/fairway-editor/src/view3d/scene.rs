@@ -151,6 +151,20 @@ pub fn append_outline(sc: &mut Scene, s: &BSplineSurface, origin: DVec3) {
     }
 }
 
+/// The colour of a trimmed face's loops.
+const TRIM_LOOP: [f32; 4] = [0.2, 0.9, 1.0, 1.0];
+
+/// A trimmed face's loops drawn on its surface `s` (as it is now: the loops are in its (u, v)), as
+/// polylines of 48 segments an edge.
+pub fn append_trim(sc: &mut Scene, s: &BSplineSurface, trim: &fairway::FaceTrim, origin: DVec3) {
+    for l in trim.polylines(48) {
+        for w in l.windows(2) {
+            let (a, b) = (s.point(w[0].x, w[0].y), s.point(w[1].x, w[1].y));
+            sc.line(f3(a - origin), f3(b - origin), TRIM_LOOP);
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

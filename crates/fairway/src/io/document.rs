@@ -98,6 +98,9 @@ pub(crate) struct ObjectFile {
     pub(crate) geometry: GeometryRecord,
     #[serde(default)]
     pub(crate) settings: DocumentSettings,
+    /// A trimmed face's loops in its surface's (u, v).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(crate) trim: Option<Vec<super::record::TrimLoopRecord>>,
 }
 
 /// The header every version has (the rest is read by the version's own struct).

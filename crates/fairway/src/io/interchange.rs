@@ -253,6 +253,9 @@ pub struct InterchangeFile {
     pub notices: Vec<String>,
     /// Where each of `objects` came from (same order and length).
     pub entities: Vec<EntityInfo>,
+    /// The bounds of each of `objects` that is a trimmed face's surface, in its (u, v) (same order and
+    /// length; `None` for the others). May be shorter (older callers): missing entries are `None`.
+    pub trims: Vec<Option<crate::trim::FaceTrim>>,
 }
 
 /// The entity an object of [`InterchangeFile::objects`] was read from.

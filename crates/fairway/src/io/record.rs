@@ -166,3 +166,45 @@ impl From<&Geometry> for GeometryRecord {
         }
     }
 }
+
+/// One loop of a trimmed face as written in documents: outer or a hole, its edges as 2D curves in the
+/// surface's (u, v).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrimLoopRecord {
+    /// The outer boundary (else a hole).
+    pub outer: bool,
+    /// The edges, in order, each `[u, v]` points.
+    pub edges: Vec<CurveRecord>,
+}
+
+/// A face's loops as records.
+pub(crate) fn trim_records(t: &crate::trim::FaceTrim) -> Vec<TrimLoopRecord> {
+    (t.loops.iter())
+        .map(|l| TrimLoopRecord {
+            outer: l.outer,
+            edges: l.edges.iter().map(CurveRecord::from).collect(),
+        })
+        .collect()
+}
+
+/// A face's loops from records, each edge validated as a 2D curve.
+pub(crate) fn trim_from_records(r: Vec<TrimLoopRecord>) -> Result<crate::trim::FaceTrim> {
+    let loops = (r.into_iter())
+        .map(|l| {
+            let edges = (l.edges.into_iter())
+                .map(|e| {
+                    let c = BSplineCurve::try_from(e)?;
+                    if c.dim() != 2 {
+                        return Err(Error::InvalidInput("a trim edge must be a 2D curve in (u, v)".into()));
+                    }
+                    Ok(c)
+                })
+                .collect::<Result<Vec<_>>>()?;
+            if edges.is_empty() {
+                return Err(Error::InvalidInput("a trim loop has no edges".into()));
+            }
+            Ok(crate::trim::TrimLoop { outer: l.outer, edges })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(crate::trim::FaceTrim { loops })
+}

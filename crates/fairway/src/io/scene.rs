@@ -21,6 +21,8 @@ pub struct SceneObject {
     pub geometry: Geometry,
     /// Its own fairing settings (tolerance, region, target edits).
     pub settings: DocumentSettings,
+    /// A trimmed face's bounds, in its surface's (u, v) (read from STEP or IGES, written back there).
+    pub trim: Option<crate::trim::FaceTrim>,
 }
 
 /// The plane the editor draws 3D curves on in its 2D canvas, saved with a document (version 2).
@@ -77,6 +79,7 @@ impl From<Document> for Scene {
         Scene {
             objects: vec![SceneObject {
                 name: String::new(),
+                trim: None,
                 geometry: d.geometry,
                 settings: d.settings,
             }],
@@ -88,6 +91,7 @@ impl From<Document> for Scene {
 impl Scene {
     /// The objects of an IGES or STEP file, named by their labels, with the file's unit.
     pub fn from_interchange(f: InterchangeFile) -> Self {
+        let mut trims = f.trims.into_iter();
         let objects = f
             .objects
             .into_iter()
@@ -99,6 +103,7 @@ impl Scene {
             )
             .map(|(geometry, name)| SceneObject {
                 name,
+                trim: trims.next().flatten(),
                 geometry,
                 settings: DocumentSettings::default(),
             })
@@ -145,8 +150,19 @@ impl Scene {
                         check_settings(&o.settings, &format!("objects[{k}]."))?;
                         let geometry: Geometry = o.geometry.try_into()?;
                         crate::range::check_geometry(&geometry)?;
+                        let trim = match (o.trim, &geometry) {
+                            (None, _) => None,
+                            (Some(t), Geometry::Surface(_)) => Some(
+                                super::record::trim_from_records(t)
+                                    .map_err(|e| ron_error(format!("objects[{k}].trim: {e}")))?,
+                            ),
+                            (Some(_), Geometry::Curve(_)) => {
+                                return Err(ron_error(format!("objects[{k}].trim: a curve has no trim")));
+                            }
+                        };
                         Ok(SceneObject {
                             name: o.name,
+                            trim,
                             geometry,
                             settings: o.settings,
                         })
@@ -172,6 +188,7 @@ impl Scene {
                 .objects
                 .iter()
                 .map(|o| ObjectFile {
+                    trim: o.trim.as_ref().map(super::record::trim_records),
                     name: o.name.clone(),
                     geometry: (&o.geometry).into(),
                     settings: o.settings.clone(),
@@ -215,6 +232,7 @@ pub fn save_scene(path: &Path, scene: &Scene) -> Result<()> {
     let unit = scene.unit.unwrap_or(Unit::Millimeter);
     let opts = super::WriteOptions::for_path(path, unit);
     let (objects, names) = (scene.geometries(), scene.names());
+    let trims: Vec<Option<crate::trim::FaceTrim>> = scene.objects.iter().map(|o| o.trim.clone()).collect();
     let text = match Format::from_path(path)? {
         Format::Ron => scene.to_ron()?,
         Format::Json => match scene.objects.as_slice() {
@@ -228,7 +246,7 @@ pub fn save_scene(path: &Path, scene: &Scene) -> Result<()> {
             }
         },
         Format::Iges => super::iges::write_labeled(&objects, &names, &opts),
-        Format::Step => super::step::write_labeled(&objects, &names, &opts),
+        Format::Step => super::step::write_trimmed(&objects, &names, &trims, &opts),
         Format::Points => {
             return Err(Error::InvalidInput(format!(
                 "{}: point files (.csv, .txt, .xyz) are import only; save as .ron, .igs or .stp",
@@ -248,6 +266,7 @@ mod tests {
         let c = crate::BSplineCurve::new_2d(1, vec![0.0, 0.0, 1.0, 1.0], &[glam::DVec2::ZERO, glam::DVec2::X]).unwrap();
         let obj = |n: &str| SceneObject {
             name: n.into(),
+            trim: None,
             geometry: c.clone().into(),
             settings: DocumentSettings::default(),
         };

@@ -65,6 +65,7 @@ mod lex;
 mod read;
 #[cfg(test)]
 mod tests;
+mod trim;
 mod write;
 
 use clamp::*;

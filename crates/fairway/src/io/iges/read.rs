@@ -33,6 +33,8 @@ pub fn read_all_with(bytes: &[u8], opts: ReadOptions) -> Result<IgesFile> {
         conversion,
     };
     let (objects, infos, first_error) = data.read_entities(&mut notices);
+    let face_trims = data.face_trims(&mut notices);
+    let trims = attach_trims(&objects, &infos, &face_trims, &mut notices);
     // nothing readable: the first entity's reason is the file's
     if objects.is_empty()
         && let Some(err) = first_error
@@ -45,7 +47,55 @@ pub fn read_all_with(bytes: &[u8], opts: ReadOptions) -> Result<IgesFile> {
         scale: conversion.scale,
         notices,
         entities: infos,
+        trims,
     })
+}
+
+/// The loops of each surface a 144 trims (one per object; `None` for the others, and for a surface that
+/// a break split into pieces or whose loops do not close, said in a notice).
+fn attach_trims(
+    objects: &[Geometry],
+    infos: &[EntityInfo],
+    face_trims: &std::collections::HashMap<usize, super::trim::Trim144>,
+    notices: &mut Vec<String>,
+) -> Vec<Option<crate::trim::FaceTrim>> {
+    let pieces = |seq: usize| infos.iter().filter(|i| i.entity == seq).count();
+    let mut read = 0;
+    let trims = (objects.iter().zip(infos))
+        .map(|(g, info)| {
+            let (Geometry::Surface(s), Some(t)) = (g, face_trims.get(&info.entity)) else {
+                return None;
+            };
+            let what = format!("entity {} (surface, 128)", info.entity);
+            if pieces(info.entity) != 1 {
+                notices.push(format!("{what}: split into pieces, its trim is not kept"));
+                return None;
+            }
+            let ((u0, u1), (v0, v1)) = s.domain();
+            match t.on(s) {
+                Ok(t) if t.largest_gap() <= 1e-4 * (u1 - u0).hypot(v1 - v0) => {
+                    read += 1;
+                    Some(t)
+                }
+                Ok(t) => {
+                    notices.push(format!(
+                        "{what}: a boundary of its 144 does not close (a gap of {:.3e} in its parameters), it opens \
+                         untrimmed",
+                        t.largest_gap()
+                    ));
+                    None
+                }
+                Err(e) => {
+                    notices.push(format!("{what}: its 144's boundaries are not kept: {e}"));
+                    None
+                }
+            }
+        })
+        .collect();
+    if read > 0 {
+        notices.push(format!("{read} trimmed surfaces (144) read with their boundaries"));
+    }
+    trims
 }
 
 /// Sections: the records sorted into the global text, the directory records and the parameter

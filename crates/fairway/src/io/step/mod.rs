@@ -21,9 +21,12 @@
 //! `GLOBAL_UNIT_ASSIGNED_CONTEXT`: `SI_UNIT` with a prefix or a
 //! `CONVERSION_BASED_UNIT` such as `'INCH'`), reported in
 //! [`InterchangeFile::unit`], unless [`ReadOptions::unit`] asks for a
-//! conversion. Trims (of `TRIMMED_CURVE`, face bounds) are not applied: the
-//! underlying B-spline is returned, once per placement of its part in the
-//! assembly, in the assembly's coordinates (module `placement`).
+//! conversion. The bounds of a face on a B-spline surface (`ADVANCED_FACE`)
+//! are read as loops in the surface's (u, v) ([`InterchangeFile::trims`],
+//! module `trim`), its edges' curves then not objects of their own; other
+//! trims (`TRIMMED_CURVE`) are not applied. Each B-spline is returned once per
+//! placement of its part in the assembly, in the assembly's coordinates
+//! (module `placement`).
 //!
 //! The Part 21 parser ([`parse`]) is written here rather than taken from a
 //! crate: `ruststep` 0.4 (Apache-2.0) parses complex instances but comes
@@ -41,15 +44,19 @@
 //! a `GEOMETRICALLY_BOUNDED_SURFACE_SHAPE_REPRESENTATION` (a
 //! `GEOMETRIC_SET` of curves and surfaces), 2D curves (points with two
 //! coordinates) in a wireframe representation of their own with a 2D
-//! context. Knots are written as distinct values with multiplicities,
+//! context; a surface with bounds ([`write_trimmed`]) as an `ADVANCED_FACE`
+//! in an open shell of a `MANIFOLD_SURFACE_SHAPE_REPRESENTATION` (module
+//! `write_trim`). Knots are written as distinct values with multiplicities,
 //! rational B-splines as complex instances, and every real as its shortest
 //! round-trip decimal, so Fairway → STEP → Fairway is exact.
 
 pub mod parse;
 mod placement;
 mod read;
+mod trim;
 mod units;
 mod write;
+mod write_trim;
 
 pub use write::format_real;
 
@@ -100,14 +107,26 @@ pub fn read_first(bytes: &[u8]) -> Result<Geometry> {
 
 /// Write curves and surfaces as a STEP AP214 file.
 pub fn write(objects: &[Geometry], opts: &WriteOptions) -> String {
-    write::write(objects, &[], opts)
+    write::write(objects, &[], &[], opts)
 }
 
 /// [`write()`] with a name per object (`names[k]` for `objects[k]`; missing or empty: `curve k`,
 /// `surface k`), written as the entity's name so that [`read_all`] reports it again (a 2D curve's name
 /// keeps the prefix that marks it 2D, which the reader strips).
 pub fn write_labeled(objects: &[Geometry], names: &[String], opts: &WriteOptions) -> String {
-    write::write(objects, names, opts)
+    write::write(objects, names, &[], opts)
+}
+
+/// [`write_labeled`] with the bounds of trimmed faces: `trims[k]` (if any) bounds the surface
+/// `objects[k]`, written as an `ADVANCED_FACE` whose edges are recomputed on the surface as it is now
+/// (module `write_trim`); the others as [`write_labeled`] writes them.
+pub fn write_trimmed(
+    objects: &[Geometry],
+    names: &[String],
+    trims: &[Option<crate::trim::FaceTrim>],
+    opts: &WriteOptions,
+) -> String {
+    write::write(objects, names, trims, opts)
 }
 
 /// One geometry as STEP text with default options.

@@ -173,7 +173,7 @@ fn list<'a>(p: &'a Param, what: &str) -> Result<&'a [Param]> {
     p.list().ok_or_else(|| perr(format!("{what} is not a list")))
 }
 
-fn reals(p: &Param, what: &str) -> Result<Vec<f64>> {
+pub(super) fn reals(p: &Param, what: &str) -> Result<Vec<f64>> {
     let l = list(p, what)?;
     let mut v = Vec::with_capacity(l.len());
     for (i, x) in l.iter().enumerate() {
@@ -186,7 +186,7 @@ fn reals(p: &Param, what: &str) -> Result<Vec<f64>> {
 }
 
 /// A control point: `#n` naming a `CARTESIAN_POINT` with 2 or 3 coordinates.
-fn point(ex: &Exchange, p: &Param, k: usize) -> Result<(DVec3, usize)> {
+pub(super) fn point(ex: &Exchange, p: &Param, k: usize) -> Result<(DVec3, usize)> {
     let Param::Ref(id) = p else {
         return Err(perr(format!("control point {} is not a reference to a point", k + 1)));
     };
@@ -524,6 +524,38 @@ fn read_surface(ex: &Exchange, p: &Parts<'_>, what: &str, notices: &mut Vec<Stri
     Ok((surface_pieces(what, notices, (du, dv), (ku2, kv2), nv2, pts, w)?, true))
 }
 
+/// The B-spline surface `#id` in the file's coordinates (for its faces' bounds): `None` if it is not a
+/// B-spline surface; an error if it cannot be read or breaks into pieces.
+fn raw_surface(ex: &Exchange, id: u64) -> Result<Option<BSplineSurface>> {
+    let Some(inst) = ex.get(id) else { return Ok(None) };
+    let Some((Kind::Surface, form, entity)) = bspline_form(inst) else {
+        return Ok(None);
+    };
+    let p = parts(inst, Kind::Surface, form, entity)?;
+    match read_surface(ex, &p, "", &mut vec![])?.0.as_slice() {
+        [Geometry::Surface(s)] => Ok(Some(s.clone())),
+        _ => Err(perr(format!(
+            "surface #{id} breaks into pieces (a knot above the degree)"
+        ))),
+    }
+}
+
+/// The B-spline curve `#id` in the file's coordinates (an edge's 3D curve or a p-curve's 2D one): `None`
+/// if it is not a B-spline curve; an error if it cannot be read or breaks into pieces.
+fn raw_curve(ex: &Exchange, id: u64) -> Result<Option<BSplineCurve>> {
+    let Some(inst) = ex.get(id) else { return Ok(None) };
+    let Some((Kind::Curve, form, entity)) = bspline_form(inst) else {
+        return Ok(None);
+    };
+    let p = parts(inst, Kind::Curve, form, entity)?;
+    match read_curve(ex, &p, "", &mut vec![])?.0.as_slice() {
+        [Geometry::Curve(c)] => Ok(Some(c.clone())),
+        _ => Err(perr(format!(
+            "curve #{id} breaks into pieces (a knot above the degree)"
+        ))),
+    }
+}
+
 /// The instances that are items of a `DEFINITIONAL_REPRESENTATION`: curves in a surface's parameter
 /// space (p-curves), not objects of their own.
 fn parameter_space_items(ex: &Exchange) -> HashSet<u64> {
@@ -597,7 +629,7 @@ fn instance_geometry(g: Geometry, p: &Parts<'_>, conversion: Conversion) -> Resu
     Ok(g)
 }
 
-fn reason(e: &Error) -> String {
+pub(super) fn reason(e: &Error) -> String {
     match e {
         Error::Parse { message, .. } => message.clone(),
         other => other.to_string(),
@@ -652,8 +684,9 @@ pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile
     };
     let conversion = Conversion { units, scale: 1.0 };
     let pcurves = parameter_space_items(ex);
+    let faces = super::trim::face_trims(ex, &|id| raw_surface(ex, id), &|id| raw_curve(ex, id));
     let placements = super::placement::placements(ex, |i| bspline_form(i).is_some());
-    let (mut objects, mut entities) = (Vec::new(), Vec::new());
+    let (mut objects, mut entities, mut trims) = (Vec::new(), Vec::new(), Vec::new());
     let mut first_error = None;
     let mut others: BTreeMap<&str, usize> = BTreeMap::new();
     let mut not_applied: BTreeMap<&str, usize> = BTreeMap::new();
@@ -665,12 +698,18 @@ pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile
             if let Some(r) = inst.records.iter().find(|r| OTHER_GEOMETRY.contains(&r.name.as_str())) {
                 *others.entry(r.name.as_str()).or_default() += 1;
             }
-            if let Some(r) = inst.records.iter().find(|r| NOT_APPLIED.contains(&r.name.as_str())) {
+            if let Some(r) = (inst.records.iter())
+                .find(|r| NOT_APPLIED.contains(&r.name.as_str()))
+                .filter(|_| !faces.used.contains(&inst.id))
+            {
                 *not_applied.entry(r.name.as_str()).or_default() += 1;
             }
             continue;
         };
         let what = format!("#{} ({entity})", inst.id);
+        if faces.used.contains(&inst.id) {
+            continue; // an edge (or p-curve) of a face whose bounds were read: part of its trim
+        }
         if pcurves.contains(&inst.id) {
             notices.push(format!("{what} skipped: a curve in a surface's parameter space"));
             continue;
@@ -693,6 +732,8 @@ pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile
                         (_, true) => format!("occurrence {} of {n}", j + 1),
                         (_, false) => format!("{name} (occurrence {} of {n})", j + 1),
                     };
+                    let trim = faces.by_surface.get(&inst.id).filter(|_| pieces.len() == 1);
+                    trims.extend(std::iter::repeat_n(trim.cloned(), pieces.len()));
                     push_pieces(pieces, &name, inst.id, &mut objects, &mut entities);
                 }
             }
@@ -701,6 +742,19 @@ pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile
                 first_error.get_or_insert(perr(format!("{what}: {}", reason(&e))));
             }
         }
+    }
+    notices.extend(faces.notices);
+    let consumed = faces
+        .used
+        .iter()
+        .filter(|id| ex.get(**id).is_some_and(|i| bspline_form(i).is_some()))
+        .count();
+    if !faces.by_surface.is_empty() {
+        notices.push(format!(
+            "{} trimmed faces read with their bounds ({consumed} B-spline edge curves kept as their trims, not as \
+             objects of their own)",
+            faces.by_surface.len()
+        ));
     }
     notices.extend(placements.notice());
     if !others.is_empty() {
@@ -729,5 +783,6 @@ pub fn read_exchange(ex: &Exchange, opts: ReadOptions) -> Result<InterchangeFile
         scale: 1.0,
         notices,
         entities,
+        trims,
     })
 }

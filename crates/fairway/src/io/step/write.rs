@@ -10,6 +10,7 @@ use super::{PLANAR_NAME, WriteOptions};
 use crate::curve::BSplineCurve;
 use crate::geometry::Geometry;
 use crate::surface::BSplineSurface;
+use crate::trim::FaceTrim;
 
 /// A float as a Part 21 real: the shortest decimal that parses back to the same f64, always with a
 /// decimal point, the exponent as `E` (`1.5`, `1.0E-7`, `-0.0`).
@@ -27,7 +28,7 @@ pub fn format_real(x: f64) -> String {
 }
 
 /// A Part 21 string literal: `'` doubled, `\` doubled, non-ASCII as `\X2\..\X0\` (UTF-16).
-pub fn string(s: &str) -> String {
+pub(super) fn string(s: &str) -> String {
     let mut out = String::from("'");
     for c in s.chars() {
         match c {
@@ -53,7 +54,7 @@ fn reals(v: impl IntoIterator<Item = f64>) -> String {
     format!("({})", v.join(","))
 }
 
-fn refs(v: &[u64]) -> String {
+pub(super) fn refs(v: &[u64]) -> String {
     let v: Vec<String> = v.iter().map(|r| format!("#{r}")).collect();
     format!("({})", v.join(","))
 }
@@ -79,13 +80,13 @@ fn logical(b: bool) -> &'static str {
 }
 
 /// The data section being written: numbered instances, lines wrapped at commas.
-struct Data {
+pub(super) struct Data {
     text: String,
     next: u64,
 }
 
 impl Data {
-    fn add(&mut self, body: &str) -> u64 {
+    pub(super) fn add(&mut self, body: &str) -> u64 {
         let id = self.next;
         self.next += 1;
         let line = format!("#{id}={body};");
@@ -94,12 +95,22 @@ impl Data {
         id
     }
 
-    fn point(&mut self, q: DVec3) -> u64 {
+    pub(super) fn point(&mut self, q: DVec3) -> u64 {
         self.add(&format!("CARTESIAN_POINT('',{})", reals([q.x, q.y, q.z])))
     }
 
     fn curve(&mut self, c: &BSplineCurve, name: &str) -> u64 {
-        let pts: Vec<u64> = c.points().iter().map(|&q| self.point(q)).collect();
+        self.curve_in(c, name, 3)
+    }
+
+    /// A curve whose points are written with `dim` coordinates (2: a curve in a surface's (u, v)).
+    pub(super) fn curve_in(&mut self, c: &BSplineCurve, name: &str, dim: usize) -> u64 {
+        let pts: Vec<u64> = (c.points().iter())
+            .map(|&q| match dim {
+                2 => self.add(&format!("CARTESIAN_POINT('',{})", reals([q.x, q.y]))),
+                _ => self.point(q),
+            })
+            .collect();
         let (mults, knots) = knot_lists(c.knots().values());
         let closed = logical(c.points().first() == c.points().last());
         let base = format!("{},{},.UNSPECIFIED.,{closed},.F.", c.degree(), refs(&pts));
@@ -118,7 +129,7 @@ impl Data {
         self.add(&body)
     }
 
-    fn surface(&mut self, s: &BSplineSurface, name: &str) -> u64 {
+    pub(super) fn surface(&mut self, s: &BSplineSurface, name: &str) -> u64 {
         let (nu, nv) = (s.nu(), s.nv());
         let mut rows = Vec::with_capacity(nu);
         for i in 0..nu {
@@ -154,7 +165,7 @@ impl Data {
     }
 
     /// The length unit and a 3D representation context using it.
-    fn context(&mut self, opts: &WriteOptions) -> u64 {
+    pub(super) fn context(&mut self, opts: &WriteOptions) -> u64 {
         let length = match si_prefix(opts.unit) {
             Some(prefix) => self.add(&format!("(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT({prefix},.METRE.))")),
             None => {
@@ -235,8 +246,9 @@ fn representation(d: &mut Data, opts: &WriteOptions, shape: u64, items: &[u64], 
     d.add(&format!("SHAPE_DEFINITION_REPRESENTATION(#{shape},#{rep})"));
 }
 
-/// The whole file; see [`super::write`].
-pub fn write(objects: &[Geometry], names: &[String], opts: &WriteOptions) -> String {
+/// The whole file; see [`super::write`] (`trims[k]`: the bounds of `objects[k]`, a surface written as a
+/// trimmed face, [`super::write_trim`]).
+pub fn write(objects: &[Geometry], names: &[String], trims: &[Option<FaceTrim>], opts: &WriteOptions) -> String {
     let stamp = opts.date_or_now().to_iso8601();
     let file_name = opts.file_name_or("fairway.stp");
     let stem = std::path::Path::new(file_name)
@@ -249,11 +261,16 @@ pub fn write(objects: &[Geometry], names: &[String], opts: &WriteOptions) -> Str
     let shape = product(&mut d, &stem);
     // 2D curves go in the 3D representation with z = 0, as every CAD system reads them (OpenCASCADE
     // ignores a 2D context), named "2D curve k" so Fairway reads them back as 2D curves
-    let items: Vec<u64> = objects
-        .iter()
-        .enumerate()
-        .map(|(k, g)| {
-            let name = names.get(k).filter(|n| !n.is_empty());
+    let mut faces = vec![];
+    let mut items = vec![];
+    for (k, g) in objects.iter().enumerate() {
+        let name = names.get(k).filter(|n| !n.is_empty());
+        if let (Geometry::Surface(s), Some(Some(t))) = (g, trims.get(k)) {
+            let name = name.cloned().unwrap_or_else(|| format!("surface {}", k + 1));
+            faces.push(super::write_trim::face(&mut d, s, t, &name));
+            continue;
+        }
+        items.push({
             match (g, name) {
                 (Geometry::Curve(c), None) if c.dim() == 2 => d.curve(c, &format!("{PLANAR_NAME} {}", k + 1)),
                 (Geometry::Curve(c), Some(n)) if c.dim() == 2 => d.curve(c, &format!("{PLANAR_NAME}: {n}")),
@@ -262,11 +279,14 @@ pub fn write(objects: &[Geometry], names: &[String], opts: &WriteOptions) -> Str
                 (Geometry::Curve(c), Some(n)) => d.curve(c, n),
                 (Geometry::Surface(s), Some(n)) => d.surface(s, n),
             }
-        })
-        .collect();
+        });
+    }
     let curves_only = objects.iter().all(|g| matches!(g, Geometry::Curve(_)));
     if !items.is_empty() {
         representation(&mut d, opts, shape, &items, curves_only);
+    }
+    if !faces.is_empty() {
+        super::write_trim::faces_representation(&mut d, opts, shape, &faces);
     }
     format!(
         "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('Fairway export: B-spline curves and surfaces'),'2;1');\n\
