@@ -77,6 +77,41 @@ pub struct ObjectFair {
     pub max_deviation: f64,
     /// Notes of the fair (the engine's, and what was done to the joins).
     pub notes: Vec<String>,
+    /// The route it took.
+    pub route: Route,
+}
+
+/// The route an object's fair took (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Route {
+    /// Not faired (not chosen, or refused: the notes say why).
+    #[default]
+    NotFaired,
+    /// On its own, any join it has held.
+    Alone,
+    /// Curves concatenated across their joins into one curve.
+    Chain,
+    /// A strip of patches joined into one surface.
+    Strip,
+    /// A full grid of R × C ≥ 2 × 2 patches joined into one surface.
+    Grid,
+    /// Patches sharing edges that are neither a strip nor a full grid (an L, a T, …), laid on the cells of
+    /// the rectangle around them and faired as one surface (the empty cells an extension of the patches).
+    Layout,
+}
+
+impl Route {
+    /// Its name in reports: "not faired", "alone", "chain", "strip", "grid", "layout".
+    pub fn name(self) -> &'static str {
+        match self {
+            Route::NotFaired => "not faired",
+            Route::Alone => "alone",
+            Route::Chain => "chain",
+            Route::Strip => "strip",
+            Route::Grid => "grid",
+            Route::Layout => "layout",
+        }
+    }
 }
 
 /// The outcome of [`fair_network`].
@@ -143,6 +178,7 @@ pub fn fair_network_at(
             group: vec![i],
             max_deviation: 0.0,
             notes: vec![],
+            route: Route::NotFaired,
         })
         .collect();
     let mut notes = vec![];

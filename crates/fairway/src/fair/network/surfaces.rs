@@ -4,7 +4,7 @@
 
 use glam::DVec3;
 
-use super::{Net, ObjectFair, rescaled};
+use super::{Net, ObjectFair, Route, rescaled};
 use crate::curve::BSplineCurve;
 use crate::error::{Error, Result};
 use crate::fair::closed::{join, split};
@@ -14,6 +14,7 @@ use crate::network::{Continuity, Joins, Side, SurfaceJoin};
 use crate::surface::BSplineSurface;
 
 mod grid;
+mod layout;
 
 /// The curves along v of `s`, one per control row i (points `P(i, ·)`, knots V).
 fn along_v(s: &BSplineSurface) -> Vec<BSplineCurve> {
@@ -337,7 +338,7 @@ fn fair_strip(
         (joined, err) = (c, err + e_err);
         at.push(y);
     }
-    let (r, bound) = fair_joined(&joined, err, opts)?;
+    let (r, bound) = fair_joined(&joined, err, opts, None)?;
     let pieces = split_strip(&r.surface, &at, &placed)?;
     Ok(pieces
         .into_iter()
@@ -520,6 +521,7 @@ fn fair_grids(
                         group: members.clone(),
                         max_deviation: bound,
                         notes: n,
+                        route: Route::Grid,
                     };
                     done[i] = true;
                 }
@@ -533,6 +535,56 @@ fn fair_grids(
         }
     }
     in_grid
+}
+
+/// Fair the layouts of patches among the concatenable edges `ok` that are neither strips nor grids
+/// (`layout.rs`), each as one surface; a layout that cannot be joined leaves its edges to the strips
+/// (a note says why). Which edges are a faired layout's.
+#[allow(clippy::too_many_arguments)]
+fn fair_layouts(
+    objects: &[Geometry],
+    joins: &Joins,
+    net: &Net<'_>,
+    ok: &[std::result::Result<(), String>],
+    out: &mut [Geometry],
+    outcome: &mut [ObjectFair],
+    done: &mut [bool],
+    notes: &mut Vec<String>,
+) -> Vec<bool> {
+    let mut in_layout = vec![false; ok.len()];
+    for lay in layout::layouts(&joins.surfaces, ok, objects.len()) {
+        if lay.members.iter().any(|&i| done[i]) {
+            continue;
+        }
+        let (tolerance, band_note) = net.band(&lay.members);
+        let opts = SurfaceFairingOptions {
+            tolerance,
+            ..net.opts.surface
+        };
+        match layout::fair_layout(objects, &lay, &joins.surfaces, &opts, joins.tolerance) {
+            Ok(patches) => {
+                lay.edges.iter().for_each(|&k| in_layout[k] = true);
+                for (i, (s, bound, mut n)) in patches {
+                    n.extend(band_note.clone());
+                    out[i] = s.into();
+                    outcome[i] = ObjectFair {
+                        faired: true,
+                        group: lay.members.clone(),
+                        max_deviation: bound,
+                        notes: n,
+                        route: Route::Layout,
+                    };
+                    done[i] = true;
+                }
+            }
+            Err(e) => notes.push(format!(
+                "objects {:?}, {}: not faired as one ({e}); their edges go to the strip route",
+                lay.members,
+                lay.describe()
+            )),
+        }
+    }
+    in_layout
 }
 
 /// Fair the chosen surfaces, keeping their shared edges (module docs of [`super`]).
@@ -550,8 +602,10 @@ pub(crate) fn fair_surfaces(
         .map(|j| edge_ok(objects, j, net, joins.tolerance))
         .collect();
     let mut done = vec![false; objects.len()];
-    // grids first; their edges are kept from the strips
-    let in_grid = fair_grids(objects, joins, net, &mut ok, out, outcome, &mut done);
+    // grids first, then the other layouts; their edges are kept from the strips
+    let mut in_grid = fair_grids(objects, joins, net, &mut ok, out, outcome, &mut done);
+    let in_layout = fair_layouts(objects, joins, net, &ok, out, outcome, &mut done, notes);
+    in_grid.iter_mut().zip(in_layout).for_each(|(g, l)| *g |= l);
     let mut free: Vec<std::result::Result<(), String>> = ok
         .iter()
         .zip(&in_grid)
@@ -580,6 +634,7 @@ pub(crate) fn fair_surfaces(
                         group: order_.clone(),
                         max_deviation: bound,
                         notes: n,
+                        route: Route::Strip,
                     };
                     done[i] = true;
                 }
@@ -648,6 +703,7 @@ fn fair_alone(
             Ok(r) => {
                 out[i] = r.surface.into();
                 outcome[i].faired = true;
+                outcome[i].route = Route::Alone;
                 outcome[i].max_deviation = r.band_bound.unwrap_or(r.max_deviation);
                 outcome[i].notes = r.notes;
             }
@@ -681,12 +737,13 @@ pub(super) fn exact_changes_notes(
 }
 
 /// Fair patches joined into one surface whose joining moved them by up to `err` (the edges' gaps closed):
-/// the whole surface, within the band that leaves; the fair's result and its bound on the deviation from
-/// the original patches (the fair's bound plus `err`).
+/// the whole surface (or `region` of it), within the band that leaves; the fair's result and its bound on
+/// the deviation from the original patches (the fair's bound plus `err`).
 pub(super) fn fair_joined(
     joined: &BSplineSurface,
     err: f64,
     opts: &SurfaceFairingOptions,
+    region: Option<((f64, f64), (f64, f64))>,
 ) -> Result<(crate::fair::surface::SurfaceFairingResult, f64)> {
     let m = opts.tolerance - err;
     if !(m > 0.0) {
@@ -696,7 +753,7 @@ pub(super) fn fair_joined(
         joined,
         SurfaceFairingOptions {
             tolerance: m,
-            region: None,
+            region,
             ..*opts
         },
     )?;
