@@ -618,6 +618,12 @@ pub(crate) fn fair_surfaces(
         }
     }
     for (order_, edges) in found {
+        if grid::has_held(&order_, &edges, &joins.surfaces) {
+            // the strip route fairs the whole strip: it cannot keep the span next to a held edge
+            let why = "a patch of this strip has a held edge (the strip could not be laid on a frame)";
+            edges.iter().for_each(|&k| ok[k] = Err(why.into()));
+            continue;
+        }
         let list: Vec<&SurfaceJoin> = edges.iter().map(|&k| &joins.surfaces[k]).collect();
         let (tolerance, band_note) = net.band(&order_);
         let opts = SurfaceFairingOptions {

@@ -130,12 +130,23 @@ pub(super) fn components(
 }
 
 /// The grids among the patches joined by the concatenable edges `ok` (components of R × C ≥ 2 × 2 whose
-/// edges are exactly a grid's; other components are left to the layouts and the strips).
+/// edges are exactly a grid's and none of whose patches has a held edge; other components are left to
+/// the layouts and the strips).
 pub(super) fn grids(joins: &[SurfaceJoin], ok: &[std::result::Result<(), String>], n: usize) -> Vec<Grid> {
     components(joins, ok, n)
         .into_iter()
+        .filter(|(m, edges)| !has_held(m, edges, joins))
         .filter_map(|(m, edges)| layout(&m, &edges, joins))
         .collect()
+}
+
+/// Whether a patch of `members` has a shared edge that is not among `edges` (held: the route that fairs
+/// them must keep the span next to it).
+pub(super) fn has_held(members: &[usize], edges: &[usize], joins: &[SurfaceJoin]) -> bool {
+    joins
+        .iter()
+        .enumerate()
+        .any(|(k, j)| !edges.contains(&k) && (members.contains(&j.a.0) || members.contains(&j.b.0)))
 }
 
 /// Where the patches of a component sit: each object's cell (row, column; the lowest 0, 0) and where

@@ -19,7 +19,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use glam::DVec3;
 
-use super::grid::{Dir, Embedding, components, embed, index, turn, with_v_domain};
+use super::grid::{Dir, Embedding, components, embed, has_held, index, turn, with_v_domain};
 use super::{Patch, apply, elevate, exact_changes_notes, missing, on_knots_of, order, refine_u, undo, with_u_domain};
 use crate::error::{Error, Result};
 use crate::fair::surface::SurfaceFairingOptions;
@@ -40,14 +40,23 @@ pub(super) struct Layout {
 }
 
 impl Layout {
-    /// "a layout of N patches in an R × C frame".
+    /// "a layout of N patches (neither a strip nor a full grid) in an R × C frame", or for a full one
+    /// "N patches filling an R × C frame, an edge held".
     pub(super) fn describe(&self) -> String {
-        format!(
-            "a layout of {} patches (neither a strip nor a full grid) in a {} × {} frame",
-            self.members.len(),
-            self.emb.size.0,
-            self.emb.size.1
-        )
+        let (r, c) = self.emb.size;
+        if self.empty() > 0 {
+            format!(
+                "a layout of {} patches (neither a strip nor a full grid) in a {r} × {c} frame",
+                self.members.len()
+            )
+        } else {
+            format!("{} patches filling a {r} × {c} frame, an edge held", self.members.len())
+        }
+    }
+
+    /// The number of empty cells of its frame.
+    fn empty(&self) -> usize {
+        self.emb.size.0 * self.emb.size.1 - self.members.len()
     }
 
     /// The object in cell (r, c), if any.
@@ -56,18 +65,16 @@ impl Layout {
     }
 }
 
-/// The layouts among the patches joined by the concatenable edges `ok`: components of three patches or
-/// more that lie on a grid of cells and leave some of its cells empty (full rectangles are the grids'
-/// and the strips').
+/// The layouts among the patches joined by the concatenable edges `ok`: components that lie on a grid
+/// of cells and leave some of its cells empty, or fill it but have a held edge (the grid and strip
+/// routes fair the whole joined surface, so they take only full rectangles with no edge held).
 pub(super) fn layouts(joins: &[SurfaceJoin], ok: &[std::result::Result<(), String>], n: usize) -> Vec<Layout> {
     components(joins, ok, n)
         .into_iter()
         .filter_map(|(members, edges)| {
-            if members.len() < 3 {
-                return None;
-            }
             let emb = embed(&members, &edges, joins)?;
-            (emb.size.0 * emb.size.1 > members.len()).then_some(Layout { members, edges, emb })
+            let full = emb.size.0 * emb.size.1 == members.len();
+            (!full || has_held(&members, &edges, joins)).then_some(Layout { members, edges, emb })
         })
         .collect()
 }
@@ -492,7 +499,6 @@ pub(super) fn fair_layout(
     }
     let (r, bound) = fair_rounds(&whole, &known, err, opts, region(&whole, &held)?)?;
     let nv = r.surface.nv();
-    let empty = lay.emb.size.0 * lay.emb.size.1 - lay.members.len();
     let mut out = vec![];
     for &i in &lay.members {
         let cell = &f.cells[&i];
@@ -506,10 +512,16 @@ pub(super) fn fair_layout(
         let piece = on_knots_of(&undo(&piece, cell.turn.0, cell.turn.1), original);
         let mut n = r.notes.clone();
         n.push(format!(
-            "faired as one surface with objects {:?}, {}, across their shared edges (each keeps its continuity); the frame's {empty} empty cells filled by the smoothest extension of the patches",
+            "faired as one surface with objects {:?}, {}, across their shared edges (each keeps its continuity)",
             lay.members,
             lay.describe()
         ));
+        if lay.empty() > 0 {
+            n.push(format!(
+                "the frame's {} empty cells filled by the smoothest extension of the patches, refilled from the fair ({FILL_ROUNDS} fairs)",
+                lay.empty()
+            ));
+        }
         if !held.is_empty() {
             n.push(format!(
                 "the frame's boundary span held on its {held:?} side(s) (held edges there)"
