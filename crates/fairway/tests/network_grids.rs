@@ -4,6 +4,7 @@
 //! with their edges held.
 
 use fairway::fair::network::{NetworkOptions, fair_network};
+use fairway::measure_surface::surface_measures;
 use fairway::network::{Continuity, find_joins};
 use fairway::{BSplineSurface, Geometry};
 
@@ -113,6 +114,61 @@ fn a_grid_with_a_patch_left_out_holds_its_edges_and_says_why() {
     );
     for (b, a) in find_joins(&objects).surfaces.iter().zip(&r.joins_after.surfaces) {
         eprintln!("held edge: {:?} → {:?}", b.continuity, a.continuity);
+        assert!(a.continuity.normal_angle.to_degrees() <= 0.01 && a.continuity.gap <= 1e-9);
+    }
+}
+
+#[test]
+fn a_grid_whose_knot_line_mixes_g2_and_g1_holds_that_line_and_fairs_each_side_together() {
+    // the u line G1 along one edge (the third patch's control row next to it lifted) and G2 along the
+    // other: a knot line of one surface has one continuity, so that line's edges are held and the two
+    // rows faired each as one strip with their spans along the line held; before, the whole grid was held
+    let s = bumpy();
+    let g = cut(&s, &[knot(s.knots_u().values(), 9)], &[knot(s.knots_v().values(), 7)]);
+    let patches = [g[0][0].clone(), g[0][1].clone(), lift(&g[1][0]), g[1][1].clone()];
+    let objects: Vec<Geometry> = patches.iter().cloned().map(Into::into).collect();
+    let joins = find_joins(&objects);
+    let classes: Vec<Continuity> = joins.surfaces.iter().map(|j| j.continuity.class).collect();
+    assert_eq!(
+        classes.iter().filter(|&&c| c == Continuity::G1).count(),
+        1,
+        "{classes:?}"
+    );
+    let mut o = NetworkOptions::default();
+    o.surface.tolerance = 4e-3;
+    let r = fair_network(&objects, &[], &o).unwrap();
+    assert!(
+        r.notes
+            .iter()
+            .any(|n| n.contains("G2 along one edge and only G1 along another")),
+        "{:?}",
+        r.notes
+    );
+    for (i, x) in r.outcome.iter().enumerate() {
+        assert_eq!(x.group.len(), 2, "patch {i}: faired with its row: {:?}", x.notes);
+    }
+    let held = fair_network(&objects, &[], &NetworkOptions { hold_all: true, ..o }).unwrap();
+    let (mut sum, mut sum_held) = (0, 0);
+    for (k, ((p, f), h)) in patches.iter().zip(&r.objects).zip(&held.objects).enumerate() {
+        let (m0, mt, mh) = (
+            surface_measures(p, p),
+            surface_measures(p, f.as_surface().unwrap()),
+            surface_measures(p, h.as_surface().unwrap()),
+        );
+        eprintln!(
+            "mixed: patch {k}: isocurve extrema {} → {} ({} one by one), deviation {:.2e}",
+            m0.n_curv_extrema, mt.n_curv_extrema, mh.n_curv_extrema, mt.hausdorff
+        );
+        assert!(
+            mt.hausdorff <= 4e-3 && mt.n_curv_extrema < m0.n_curv_extrema,
+            "patch {k}"
+        );
+        (sum, sum_held) = (sum + mt.n_curv_extrema, sum_held + mh.n_curv_extrema);
+    }
+    eprintln!("mixed: isocurve extrema in all: {sum} vs {sum_held} one by one");
+    assert!(sum < sum_held);
+    for (b, a) in joins.surfaces.iter().zip(&r.joins_after.surfaces) {
+        assert_eq!(a.continuity.class, b.continuity.class, "{a:?}");
         assert!(a.continuity.normal_angle.to_degrees() <= 0.01 && a.continuity.gap <= 1e-9);
     }
 }

@@ -1,6 +1,7 @@
 //! The patches of a network: patches sharing G1 edges that are parametrically C1 after a linear rescale
-//! are concatenated where they form a strip (here) or a grid (`grid.rs`), faired as one surface and split
-//! back; other shared edges are held (module docs of [`super`]).
+//! are concatenated where they form a strip (here), a grid (`grid.rs`) or another layout on a grid of
+//! cells (`layout.rs`), faired as one surface and split back; other shared edges are held (module docs
+//! of [`super`]).
 
 use glam::DVec3;
 
@@ -601,6 +602,7 @@ pub(crate) fn fair_surfaces(
         .iter()
         .map(|j| edge_ok(objects, j, net, joins.tolerance))
         .collect();
+    layout::hold_mixed_lines(&joins.surfaces, &mut ok, objects.len());
     let mut done = vec![false; objects.len()];
     // grids first, then the other layouts; their edges are kept from the strips
     let mut in_grid = fair_grids(objects, joins, net, &mut ok, out, outcome, &mut done);

@@ -15,7 +15,7 @@
 //! held (a neighbour not faired, a crease) on the frame's outer boundary holds the frame's span along
 //! that side; one facing a cell inside the frame stops the route.
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeMap;
 
 use glam::DVec3;
 
@@ -79,11 +79,11 @@ pub(super) fn layouts(joins: &[SurfaceJoin], ok: &[std::result::Result<(), Strin
         .collect()
 }
 
-/// The continuity orders of the frame's knot lines between columns (`vertical`) or rows: the edges
-/// along each must agree (a mixed line is refused).
-fn line_orders(lay: &Layout, joins: &[SurfaceJoin], vertical: bool) -> Result<Vec<usize>> {
+/// The edges along each of the frame's knot lines between columns (`vertical`) or rows, by their
+/// continuity order.
+fn line_edges(lay: &Layout, joins: &[SurfaceJoin], vertical: bool) -> Vec<BTreeMap<usize, Vec<usize>>> {
     let n = if vertical { lay.emb.size.1 } else { lay.emb.size.0 };
-    let mut seen: Vec<BTreeSet<usize>> = vec![BTreeSet::new(); n.saturating_sub(1)];
+    let mut seen: Vec<BTreeMap<usize, Vec<usize>>> = vec![BTreeMap::new(); n.saturating_sub(1)];
     for &k in &lay.edges {
         let (a, b) = (lay.emb.pos[&joins[k].a.0], lay.emb.pos[&joins[k].b.0]);
         let (same, x, y) = if vertical {
@@ -92,13 +92,20 @@ fn line_orders(lay: &Layout, joins: &[SurfaceJoin], vertical: bool) -> Result<Ve
             (a.1 == b.1, a.0, b.0)
         };
         if same {
-            seen[x.min(y)].insert(order(&joins[k]));
+            seen[x.min(y)].entry(order(&joins[k])).or_default().push(k);
         }
     }
-    seen.iter()
+    seen
+}
+
+/// The continuity orders of the frame's knot lines between columns (`vertical`) or rows: the edges
+/// along each must agree (a mixed line is refused).
+fn line_orders(lay: &Layout, joins: &[SurfaceJoin], vertical: bool) -> Result<Vec<usize>> {
+    line_edges(lay, joins, vertical)
+        .iter()
         .enumerate()
         .map(|(l, s)| match s.len() {
-            1 => Ok(*s.first().expect("one")),
+            1 => Ok(*s.keys().next().expect("one")),
             0 => Err(Error::InvalidInput(format!("no shared edge crosses knot line {l}"))),
             _ => Err(Error::InvalidInput(format!(
                 "the knot line between {} {l} and {} is G2 along one edge and only G1 along another (a mixed line is not joined)",
@@ -107,6 +114,33 @@ fn line_orders(lay: &Layout, joins: &[SurfaceJoin], vertical: bool) -> Result<Ve
             ))),
         })
         .collect()
+}
+
+/// Hold the edges along every knot line of a laid-out component that is G2 along one edge and only G1
+/// along another (a knot line of one surface has one continuity): the component falls apart at that
+/// line into parts that are faired each as one, their spans along the line held, so every edge keeps
+/// its class. The edges held say why in `ok`.
+pub(super) fn hold_mixed_lines(joins: &[SurfaceJoin], ok: &mut [std::result::Result<(), String>], n: usize) {
+    for (members, edges) in components(joins, ok, n) {
+        let Some(emb) = embed(&members, &edges, joins) else {
+            continue;
+        };
+        let lay = Layout { members, edges, emb };
+        for vertical in [true, false] {
+            for (l, by_order) in line_edges(&lay, joins, vertical).iter().enumerate() {
+                if by_order.len() < 2 {
+                    continue;
+                }
+                let why = format!(
+                    "on a knot line of objects {:?} that is G2 along one edge and only G1 along another (between {} {l} and {}): held, the patches on each side faired together",
+                    lay.members,
+                    if vertical { "columns" } else { "rows" },
+                    l + 1
+                );
+                by_order.values().flatten().for_each(|&k| ok[k] = Err(why.clone()));
+            }
+        }
+    }
 }
 
 /// The sides of the frame whose boundary span is held (a patch's edge not joined there), or why the
