@@ -193,3 +193,22 @@ fn a_grid_or_a_strip_next_to_patches_not_faired_keeps_its_held_edges() {
         }
     }
 }
+
+#[test]
+fn a_plus_of_five_and_a_row_of_three_with_one_on_its_end_are_faired_as_one() {
+    let s = bumpy();
+    let (ku, kv) = (s.knots_u().values(), s.knots_v().values());
+    let g = cut(&s, &[knot(ku, 6), knot(ku, 12)], &[knot(kv, 4), knot(kv, 9)]);
+    let pick =
+        |cells: &[(usize, usize)]| -> Vec<BSplineSurface> { cells.iter().map(|&(r, c)| g[r][c].clone()).collect() };
+    let plus = pick(&[(1, 1), (0, 1), (2, 1), (1, 0), (1, 2)]);
+    let r = check_with("+", &plus, 4, M, false);
+    assert_layout_route(
+        "+",
+        &r,
+        "a layout of 5 patches (neither a strip nor a full grid) in a 3 × 3 frame",
+    );
+    let hook = pick(&[(0, 0), (0, 1), (0, 2), (1, 2)]);
+    let r = check_with("row of three and one on its end", &hook, 3, M, false);
+    assert_layout_route("row and one", &r, "in a 2 × 3 frame");
+}

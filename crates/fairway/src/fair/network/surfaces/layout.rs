@@ -245,7 +245,7 @@ fn union(all: &[&[f64]], eps: f64) -> Vec<f64> {
 fn frame_knots(cells: &[Vec<f64>], p: usize, orders: &[usize]) -> Vec<f64> {
     let mut out: Vec<f64> = cells[0][..cells[0].len() - p - 1].to_vec();
     for (k, c) in cells.iter().enumerate().skip(1) {
-        out.extend(std::iter::repeat_n(c[0], p - orders[k - 1]));
+        out.extend(std::iter::repeat_n(c[0], p.saturating_sub(orders[k - 1])));
         out.extend(&c[p + 1..c.len() - p - 1]);
     }
     let last = cells.last().expect("a cell");
