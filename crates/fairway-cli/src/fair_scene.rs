@@ -49,6 +49,9 @@ pub struct ObjectReport {
     pub tolerance_from: Option<ToleranceFrom>,
     /// The objects faired together with it as one curve or surface.
     pub group: Vec<usize>,
+    /// The route its fair took: "not faired", "alone", "chain" (curves concatenated), "strip", "grid"
+    /// or "layout" (patches joined into one surface; `fairway::fair::network::Route`).
+    pub route: &'static str,
     /// A sound bound of its deviation from the input (0 if not faired).
     pub max_deviation_bound: f64,
     /// Its measures against the input (`null` for an object not faired: it is as it was).
@@ -251,6 +254,13 @@ pub fn run(a: &Args, scene: Scene, notices: &[String]) -> Result<()> {
         eprintln!("fairway: {name}: {n}");
     }
     for (i, o) in r.outcome.iter().enumerate() {
+        if o.faired {
+            eprintln!(
+                "fairway: {name}: object {i}: route {} (with objects {:?})",
+                o.route.name(),
+                o.group
+            );
+        }
         for n in &o.notes {
             eprintln!("fairway: {name}: object {i}: {n}");
         }
@@ -290,6 +300,7 @@ fn object_reports(
             tolerance: tols[index].map(|t| t.0),
             tolerance_from: tols[index].map(|t| t.1),
             group: f.group.clone(),
+            route: f.route.name(),
             max_deviation_bound: f.max_deviation,
             measures: f.faired.then(|| match (&o.geometry, g) {
                 (Geometry::Curve(c0), Geometry::Curve(c1)) => {

@@ -629,6 +629,45 @@ fn the_surface_view_draws_every_patch_a_click_selects_one_and_fair_all_keeps_the
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// An L of three patches (the grid less its last patch): "Fair all" takes the layout route (the status
+/// says so), every shared edge stays G2 (to 0.01°).
+#[test]
+fn fair_all_on_an_l_of_patches_takes_the_layout_route_and_keeps_its_edges() {
+    let dir = temp_dir("layout3d");
+    let ron = dir.join("l.ron");
+    let mut scene = four_patches();
+    scene.objects.pop();
+    fairway::io::save_scene(&ron, &scene).unwrap();
+    // FAIRWAY_WRITE_L=path: also write the patches there (for the screenshot)
+    if let Some(out) = std::env::var_os("FAIRWAY_WRITE_L") {
+        fairway::io::save_scene(std::path::Path::new(&out), &scene).unwrap();
+    }
+    let mut h = harness(App::default());
+    h.state_mut().open_now(&ron);
+    h.run();
+    assert!(h.state().error.is_none(), "{:?}", h.state().error);
+    h.get_by_label("Fair all (keep joins)").click();
+    h.run();
+    let app = h.state();
+    assert!(
+        app.status.starts_with("Fair all: 3 of 3 objects changed"),
+        "{}",
+        app.status
+    );
+    assert!(app.status.contains("routes: layout ×3"), "{}", app.status);
+    assert!(
+        app.status.contains("2 of 2 joins keep their continuity"),
+        "{}",
+        app.status
+    );
+    let after = find_joins(&app.objects.iter().map(|o| o.geometry.clone()).collect::<Vec<_>>());
+    for j in &after.surfaces {
+        assert!(j.continuity.normal_angle.to_degrees() <= 0.01, "{j:?}");
+        assert_eq!(j.continuity.class, Continuity::G2, "{j:?}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Two of the chain's curves checked in the objects panel and "Fair checked": those two change, faired
 /// together; the others stay bit for bit; every join keeps its continuity (the checked curves' joins with
 /// the others are held); one undo step.

@@ -469,9 +469,19 @@ fn fair_summary(
             .filter(|(x, y)| y.continuity.class >= x.continuity.class)
             .count();
     let dev = r.outcome.iter().map(|o| o.max_deviation).fold(0.0, f64::max);
+    // how many objects each route took ("layout ×3, alone ×1")
+    let mut routes: Vec<(&str, usize)> = vec![];
+    for o in r.outcome.iter().filter(|o| o.faired) {
+        match routes.iter_mut().find(|(n, _)| *n == o.route.name()) {
+            Some(x) => x.1 += 1,
+            None => routes.push((o.route.name(), 1)),
+        }
+    }
+    let routes: Vec<String> = routes.iter().map(|(n, c)| format!("{n} ×{c}")).collect();
     format!(
         "{what}: {changed} of {objects} objects changed (each within its own tolerance, the smallest {tol:.3e}; max \
-         deviation {dev:.3e}); {kept} of {} joins keep their continuity (Ctrl+Z to undo)",
+         deviation {dev:.3e}; routes: {}); {kept} of {} joins keep their continuity (Ctrl+Z to undo)",
+        routes.join(", "),
         b.curves.len() + b.surfaces.len()
     )
 }

@@ -33,11 +33,15 @@
 //! insertion, exact), and patches of different degrees raised to the higher ones (exact; they come back
 //! raised). Patches forming a regular grid of 2 × 2 or more, every shared edge concatenable, are joined
 //! likewise into one surface, rows first then the rows together, one rescale per column and per row
-//! (`surfaces/grid.rs`). Any other shared edge (of a layout that is neither a strip nor a full grid, a
+//! (`surfaces/grid.rs`). Other patch sets sharing concatenable edges that lie on a grid of cells (an L,
+//! a T, a plus, a grid or strip with an edge held) are faired as one surface over the rectangle around
+//! them, the empty cells an extension of the patches (`surfaces/layout.rs`). Any other shared edge (a
 //! crease, a neighbour not faired, a rational patch, an edge parametrized differently on its two sides,
-//! a grid's knot line that is G2 along one edge but only C1-able along another) is held: each patch is faired with a region
+//! a knot line that is G2 along one edge but only C1-able along another — the patches on each side of
+//! it are still faired together —, a held edge facing an empty cell of a layout's frame) is held: each
+//! patch is faired with a region
 //! stopping one knot span short of it (the span next to the edge stays as it is, so the edge and the
-//! cross derivatives there do).
+//! cross derivatives there do). [`ObjectFair::route`] says which route each object took.
 
 use glam::DVec3;
 
@@ -77,6 +81,41 @@ pub struct ObjectFair {
     pub max_deviation: f64,
     /// Notes of the fair (the engine's, and what was done to the joins).
     pub notes: Vec<String>,
+    /// The route it took.
+    pub route: Route,
+}
+
+/// The route an object's fair took (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Route {
+    /// Not faired (not chosen, or refused: the notes say why).
+    #[default]
+    NotFaired,
+    /// On its own, any join it has held.
+    Alone,
+    /// Curves concatenated across their joins into one curve.
+    Chain,
+    /// A strip of patches joined into one surface.
+    Strip,
+    /// A full grid of R × C ≥ 2 × 2 patches joined into one surface.
+    Grid,
+    /// Patches sharing edges that are neither a strip nor a full grid (an L, a T, …), laid on the cells of
+    /// the rectangle around them and faired as one surface (the empty cells an extension of the patches).
+    Layout,
+}
+
+impl Route {
+    /// Its name in reports: "not faired", "alone", "chain", "strip", "grid", "layout".
+    pub fn name(self) -> &'static str {
+        match self {
+            Route::NotFaired => "not faired",
+            Route::Alone => "alone",
+            Route::Chain => "chain",
+            Route::Strip => "strip",
+            Route::Grid => "grid",
+            Route::Layout => "layout",
+        }
+    }
 }
 
 /// The outcome of [`fair_network`].
@@ -143,6 +182,7 @@ pub fn fair_network_at(
             group: vec![i],
             max_deviation: 0.0,
             notes: vec![],
+            route: Route::NotFaired,
         })
         .collect();
     let mut notes = vec![];

@@ -7,6 +7,7 @@ use fairway::measure::deviations;
 use fairway::{BSplineCurve, DVec3, KnotVector};
 
 pub mod dense;
+pub mod patches;
 
 /// The largest distance between corresponding control points of `a` and `b` (same count): how far
 /// the fairing moved the curve's points.

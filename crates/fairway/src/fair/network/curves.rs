@@ -2,8 +2,8 @@
 //! result, and their fair ([`fair_chain`]).
 
 use super::{
-    Link, Net, ObjectFair, at, concatenate, concatenate_as, fair_one_curve, hold_condition, is_corner, on_knots_of,
-    oriented,
+    Link, Net, ObjectFair, Route, at, concatenate, concatenate_as, fair_one_curve, hold_condition, is_corner,
+    on_knots_of, oriented,
 };
 use crate::curve::BSplineCurve;
 use crate::error::{Error, Result};
@@ -315,6 +315,11 @@ pub(crate) fn fair_chain(
                     group: group.clone(),
                     max_deviation: bound,
                     notes,
+                    route: if group.len() > 1 || chain.closed {
+                        Route::Chain
+                    } else {
+                        Route::Alone
+                    },
                 };
             }
         }

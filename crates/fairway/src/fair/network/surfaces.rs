@@ -1,10 +1,11 @@
 //! The patches of a network: patches sharing G1 edges that are parametrically C1 after a linear rescale
-//! are concatenated where they form a strip (here) or a grid (`grid.rs`), faired as one surface and split
-//! back; other shared edges are held (module docs of [`super`]).
+//! are concatenated where they form a strip (here), a grid (`grid.rs`) or another layout on a grid of
+//! cells (`layout.rs`), faired as one surface and split back; other shared edges are held (module docs
+//! of [`super`]).
 
 use glam::DVec3;
 
-use super::{Net, ObjectFair, rescaled};
+use super::{Net, ObjectFair, Route, rescaled};
 use crate::curve::BSplineCurve;
 use crate::error::{Error, Result};
 use crate::fair::closed::{join, split};
@@ -14,6 +15,7 @@ use crate::network::{Continuity, Joins, Side, SurfaceJoin};
 use crate::surface::BSplineSurface;
 
 mod grid;
+mod layout;
 
 /// The curves along v of `s`, one per control row i (points `P(i, ·)`, knots V).
 fn along_v(s: &BSplineSurface) -> Vec<BSplineCurve> {
@@ -337,7 +339,7 @@ fn fair_strip(
         (joined, err) = (c, err + e_err);
         at.push(y);
     }
-    let (r, bound) = fair_joined(&joined, err, opts)?;
+    let (r, bound) = fair_joined(&joined, err, opts, None)?;
     let pieces = split_strip(&r.surface, &at, &placed)?;
     Ok(pieces
         .into_iter()
@@ -520,6 +522,7 @@ fn fair_grids(
                         group: members.clone(),
                         max_deviation: bound,
                         notes: n,
+                        route: Route::Grid,
                     };
                     done[i] = true;
                 }
@@ -533,6 +536,56 @@ fn fair_grids(
         }
     }
     in_grid
+}
+
+/// Fair the layouts of patches among the concatenable edges `ok` that are neither strips nor grids
+/// (`layout.rs`), each as one surface; a layout that cannot be joined leaves its edges to the strips
+/// (a note says why). Which edges are a faired layout's.
+#[allow(clippy::too_many_arguments)]
+fn fair_layouts(
+    objects: &[Geometry],
+    joins: &Joins,
+    net: &Net<'_>,
+    ok: &[std::result::Result<(), String>],
+    out: &mut [Geometry],
+    outcome: &mut [ObjectFair],
+    done: &mut [bool],
+    notes: &mut Vec<String>,
+) -> Vec<bool> {
+    let mut in_layout = vec![false; ok.len()];
+    for lay in layout::layouts(&joins.surfaces, ok, objects.len()) {
+        if lay.members.iter().any(|&i| done[i]) {
+            continue;
+        }
+        let (tolerance, band_note) = net.band(&lay.members);
+        let opts = SurfaceFairingOptions {
+            tolerance,
+            ..net.opts.surface
+        };
+        match layout::fair_layout(objects, &lay, &joins.surfaces, &opts, joins.tolerance) {
+            Ok(patches) => {
+                lay.edges.iter().for_each(|&k| in_layout[k] = true);
+                for (i, (s, bound, mut n)) in patches {
+                    n.extend(band_note.clone());
+                    out[i] = s.into();
+                    outcome[i] = ObjectFair {
+                        faired: true,
+                        group: lay.members.clone(),
+                        max_deviation: bound,
+                        notes: n,
+                        route: Route::Layout,
+                    };
+                    done[i] = true;
+                }
+            }
+            Err(e) => notes.push(format!(
+                "objects {:?}, {}: not faired as one ({e}); their edges go to the strip route",
+                lay.members,
+                lay.describe()
+            )),
+        }
+    }
+    in_layout
 }
 
 /// Fair the chosen surfaces, keeping their shared edges (module docs of [`super`]).
@@ -549,9 +602,12 @@ pub(crate) fn fair_surfaces(
         .iter()
         .map(|j| edge_ok(objects, j, net, joins.tolerance))
         .collect();
+    layout::hold_mixed_lines(&joins.surfaces, &mut ok, objects.len());
     let mut done = vec![false; objects.len()];
-    // grids first; their edges are kept from the strips
-    let in_grid = fair_grids(objects, joins, net, &mut ok, out, outcome, &mut done);
+    // grids first, then the other layouts; their edges are kept from the strips
+    let mut in_grid = fair_grids(objects, joins, net, &mut ok, out, outcome, &mut done);
+    let in_layout = fair_layouts(objects, joins, net, &ok, out, outcome, &mut done, notes);
+    in_grid.iter_mut().zip(in_layout).for_each(|(g, l)| *g |= l);
     let mut free: Vec<std::result::Result<(), String>> = ok
         .iter()
         .zip(&in_grid)
@@ -564,6 +620,12 @@ pub(crate) fn fair_surfaces(
         }
     }
     for (order_, edges) in found {
+        if grid::has_held(&order_, &edges, &joins.surfaces) {
+            // the strip route fairs the whole strip: it cannot keep the span next to a held edge
+            let why = "a patch of this strip has a held edge (the strip could not be laid on a frame)";
+            edges.iter().for_each(|&k| ok[k] = Err(why.into()));
+            continue;
+        }
         let list: Vec<&SurfaceJoin> = edges.iter().map(|&k| &joins.surfaces[k]).collect();
         let (tolerance, band_note) = net.band(&order_);
         let opts = SurfaceFairingOptions {
@@ -580,6 +642,7 @@ pub(crate) fn fair_surfaces(
                         group: order_.clone(),
                         max_deviation: bound,
                         notes: n,
+                        route: Route::Strip,
                     };
                     done[i] = true;
                 }
@@ -648,6 +711,7 @@ fn fair_alone(
             Ok(r) => {
                 out[i] = r.surface.into();
                 outcome[i].faired = true;
+                outcome[i].route = Route::Alone;
                 outcome[i].max_deviation = r.band_bound.unwrap_or(r.max_deviation);
                 outcome[i].notes = r.notes;
             }
@@ -681,12 +745,13 @@ pub(super) fn exact_changes_notes(
 }
 
 /// Fair patches joined into one surface whose joining moved them by up to `err` (the edges' gaps closed):
-/// the whole surface, within the band that leaves; the fair's result and its bound on the deviation from
-/// the original patches (the fair's bound plus `err`).
+/// the whole surface (or `region` of it), within the band that leaves; the fair's result and its bound on
+/// the deviation from the original patches (the fair's bound plus `err`).
 pub(super) fn fair_joined(
     joined: &BSplineSurface,
     err: f64,
     opts: &SurfaceFairingOptions,
+    region: Option<((f64, f64), (f64, f64))>,
 ) -> Result<(crate::fair::surface::SurfaceFairingResult, f64)> {
     let m = opts.tolerance - err;
     if !(m > 0.0) {
@@ -696,7 +761,7 @@ pub(super) fn fair_joined(
         joined,
         SurfaceFairingOptions {
             tolerance: m,
-            region: None,
+            region,
             ..*opts
         },
     )?;

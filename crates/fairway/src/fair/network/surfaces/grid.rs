@@ -6,7 +6,7 @@
 //! into its patches), each patch turned back onto its own knots. A knot line across the whole grid
 //! carries one continuity: the highest of the edges along it (C2 where one of them is G2).
 
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 
 use super::{
     Pair, Patch, Placed, along_v, apply, concatenate_at, cross_len, elevate, on_knots_of, order, pair, split_strip,
@@ -20,7 +20,7 @@ use crate::surface::BSplineSurface;
 
 /// A direction in the grid: east (the next column), west, north (the next row), south.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Dir {
+pub(super) enum Dir {
     E,
     W,
     N,
@@ -28,7 +28,7 @@ enum Dir {
 }
 
 impl Dir {
-    fn opposite(self) -> Dir {
+    pub(super) fn opposite(self) -> Dir {
         match self {
             Dir::E => Dir::W,
             Dir::W => Dir::E,
@@ -38,7 +38,7 @@ impl Dir {
     }
 
     /// The step to the neighbour that way: (row, column).
-    fn step(self) -> (i64, i64) {
+    pub(super) fn step(self) -> (i64, i64) {
         match self {
             Dir::E => (0, 1),
             Dir::W => (0, -1),
@@ -49,7 +49,7 @@ impl Dir {
 }
 
 /// The index of a side in a patch's `[Dir; 4]` (U0, U1, V0, V1).
-fn index(s: Side) -> usize {
+pub(super) fn index(s: Side) -> usize {
     match s {
         Side::U0 => 0,
         Side::U1 => 1,
@@ -86,10 +86,13 @@ pub(super) struct Grid {
     pub(super) edges: Vec<usize>,
 }
 
-/// The grids among the patches joined by the concatenable edges `ok` (components of R × C ≥ 2 × 2 whose
-/// edges are exactly a grid's; other components are left to the strips).
-pub(super) fn grids(joins: &[SurfaceJoin], ok: &[std::result::Result<(), String>], n: usize) -> Vec<Grid> {
-    // components by union–find over the concatenable edges
+/// The components of the patches joined by the concatenable edges `ok` (union–find): each one's objects
+/// (sorted) and its edges (indices into the joins).
+pub(super) fn components(
+    joins: &[SurfaceJoin],
+    ok: &[std::result::Result<(), String>],
+    n: usize,
+) -> Vec<(Vec<usize>, Vec<usize>)> {
     let mut root: Vec<usize> = (0..n).collect();
     fn find(root: &mut [usize], mut i: usize) -> usize {
         while root[i] != i {
@@ -121,19 +124,49 @@ pub(super) fn grids(joins: &[SurfaceJoin], ok: &[std::result::Result<(), String>
             let mut m = members.remove(&r)?;
             m.sort_unstable();
             let edges: Vec<usize> = usable.iter().copied().filter(|&k| m.contains(&joins[k].a.0)).collect();
-            layout(&m, &edges, joins)
+            Some((m, edges))
         })
         .collect()
 }
 
-/// The grid that the patches `members` joined by `edges` form, if they form one of at least 2 × 2.
-fn layout(members: &[usize], edges: &[usize], joins: &[SurfaceJoin]) -> Option<Grid> {
-    if members.len() < 4 {
-        return None;
-    }
-    let mut dirs: HashMap<usize, [Dir; 4]> = HashMap::from([(members[0], [Dir::S, Dir::N, Dir::W, Dir::E])]);
-    let mut pos: HashMap<usize, (i64, i64)> = HashMap::from([(members[0], (0, 0))]);
-    let mut queue = vec![members[0]];
+/// The grids among the patches joined by the concatenable edges `ok` (components of R × C ≥ 2 × 2 whose
+/// edges are exactly a grid's and none of whose patches has a held edge; other components are left to
+/// the layouts and the strips).
+pub(super) fn grids(joins: &[SurfaceJoin], ok: &[std::result::Result<(), String>], n: usize) -> Vec<Grid> {
+    components(joins, ok, n)
+        .into_iter()
+        .filter(|(m, edges)| !has_held(m, edges, joins))
+        .filter_map(|(m, edges)| layout(&m, &edges, joins))
+        .collect()
+}
+
+/// Whether a patch of `members` has a shared edge that is not among `edges` (held: the route that fairs
+/// them must keep the span next to it).
+pub(super) fn has_held(members: &[usize], edges: &[usize], joins: &[SurfaceJoin]) -> bool {
+    joins
+        .iter()
+        .enumerate()
+        .any(|(k, j)| !edges.contains(&k) && (members.contains(&j.a.0) || members.contains(&j.b.0)))
+}
+
+/// Where the patches of a component sit: each object's cell (row, column; the lowest 0, 0) and where
+/// each of its sides faces.
+pub(super) struct Embedding {
+    /// Each object's cell.
+    pub(super) pos: BTreeMap<usize, (usize, usize)>,
+    /// Where each side of each object faces (indexed by [`index`]).
+    pub(super) dirs: HashMap<usize, [Dir; 4]>,
+    /// Rows and columns of the frame around them.
+    pub(super) size: (usize, usize),
+}
+
+/// The patches `members` joined by `edges` laid out on a grid of cells (module docs), if they fit one:
+/// each edge between two neighbouring cells, the patches turned consistently, no cell taken twice.
+pub(super) fn embed(members: &[usize], edges: &[usize], joins: &[SurfaceJoin]) -> Option<Embedding> {
+    let first = *members.first()?;
+    let mut dirs: HashMap<usize, [Dir; 4]> = HashMap::from([(first, [Dir::S, Dir::N, Dir::W, Dir::E])]);
+    let mut pos: HashMap<usize, (i64, i64)> = HashMap::from([(first, (0, 0))]);
+    let mut queue = vec![first];
     while let Some(i) = queue.pop() {
         for &k in edges {
             let j = &joins[k];
@@ -175,29 +208,45 @@ fn layout(members: &[usize], edges: &[usize], joins: &[SurfaceJoin]) -> Option<G
     let (r1, c1) = pos
         .values()
         .fold((i64::MIN, i64::MIN), |(a, b), &(r, c)| (a.max(r), b.max(c)));
-    let (rows, cols) = ((r1 - r0 + 1) as usize, (c1 - c0 + 1) as usize);
+    let pos: BTreeMap<usize, (usize, usize)> = pos
+        .into_iter()
+        .map(|(i, (r, c))| (i, ((r - r0) as usize, (c - c0) as usize)))
+        .collect();
+    let mut cells: Vec<(usize, usize)> = pos.values().copied().collect();
+    cells.sort_unstable();
+    cells.dedup();
+    (cells.len() == pos.len() && pos.len() == members.len()).then_some(Embedding {
+        pos,
+        dirs,
+        size: ((r1 - r0 + 1) as usize, (c1 - c0 + 1) as usize),
+    })
+}
+
+/// The grid that the patches `members` joined by `edges` form, if they form one of at least 2 × 2.
+fn layout(members: &[usize], edges: &[usize], joins: &[SurfaceJoin]) -> Option<Grid> {
+    if members.len() < 4 {
+        return None;
+    }
+    let e = embed(members, edges, joins)?;
+    let (rows, cols) = e.size;
     let inner_edges = rows * (cols - 1) + cols * (rows - 1);
     if rows < 2 || cols < 2 || rows * cols != members.len() || edges.len() != inner_edges {
         return None;
     }
     let mut cells = vec![vec![usize::MAX; cols]; rows];
-    for (&i, &(r, c)) in &pos {
-        let cell = &mut cells[(r - r0) as usize][(c - c0) as usize];
-        if *cell != usize::MAX {
-            return None;
-        }
-        *cell = i;
+    for (&i, &(r, c)) in &e.pos {
+        cells[r][c] = i;
     }
     Some(Grid {
         cells,
-        dirs,
+        dirs: e.dirs,
         edges: edges.to_vec(),
     })
 }
 
 /// How to turn a patch whose sides face `d` so that its v₁ side faces east and its u₁ side north
 /// (transpose, reverse v; reverse u), as [`apply`] takes it.
-fn turn(d: [Dir; 4]) -> ((bool, bool), bool) {
+pub(super) fn turn(d: [Dir; 4]) -> ((bool, bool), bool) {
     let (u1, v1) = (d[index(Side::U1)], d[index(Side::V1)]);
     if matches!(v1, Dir::E | Dir::W) {
         ((false, v1 == Dir::W), u1 == Dir::S)
@@ -208,7 +257,7 @@ fn turn(d: [Dir; 4]) -> ((bool, bool), bool) {
 }
 
 /// `s` on the v domain `[a, b]` (a linear map).
-fn with_v_domain(s: &BSplineSurface, (a, b): (f64, f64)) -> Result<BSplineSurface> {
+pub(super) fn with_v_domain(s: &BSplineSurface, (a, b): (f64, f64)) -> Result<BSplineSurface> {
     Ok(with_u_domain(&s.transposed(), a, b)?.transposed())
 }
 
@@ -354,7 +403,7 @@ pub(super) fn fair_grid(
     let stacked: Vec<BSplineSurface> = inner.iter().map(|j| j.surface.transposed()).collect();
     let outer = join_rows(&[stacked], &row_orders, tol)?.remove(0);
     let err = outer.err + inner.iter().map(|j| j.err).fold(0.0, f64::max);
-    let (r, bound) = super::fair_joined(&outer.surface, err, opts)?;
+    let (r, bound) = super::fair_joined(&outer.surface, err, opts, None)?;
     let mut out = vec![];
     let rows_back = split_strip(&r.surface, &outer.at, &outer.placed)?;
     for ((row_t, (joined, cells)), row_q) in rows_back.iter().zip(inner.iter().zip(&g.cells)).zip(&outer.placed) {
