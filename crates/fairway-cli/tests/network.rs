@@ -510,6 +510,7 @@ fn an_l_of_patches_in_an_iges_file_takes_the_layout_route_and_keeps_its_edges() 
                 name: n.into(),
                 geometry: g.clone().into(),
                 settings: DocumentSettings::default(),
+                trim: None,
             })
             .collect(),
         unit: Some(Unit::Millimeter),
