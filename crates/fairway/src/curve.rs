@@ -189,6 +189,19 @@ impl BSplineCurve {
         Self::try_new(degree, knots, points, None, 3)
     }
 
+    /// Its projection on the XY plane as a 2D curve (z dropped; same degree, knots and weights): a
+    /// parameter-space curve or a 2D curve a file stores in 3D with z = 0.
+    pub fn to_2d(&self) -> Result<Self> {
+        let pts = self.points().iter().map(|q| DVec3::new(q.x, q.y, 0.0)).collect();
+        Self::try_new(
+            self.degree(),
+            self.knots().values().to_vec(),
+            pts,
+            self.weights().map(<[f64]>::to_vec),
+            2,
+        )
+    }
+
     /// A Bézier curve (one span on `[0, 1]`) through its control points.
     pub fn bezier(points: Vec<DVec3>, dim: usize) -> Result<Self> {
         let p = points.len().saturating_sub(1);

@@ -149,16 +149,7 @@ impl DataSections<'_> {
             pos: 1,
             what: what.clone(),
         };
-        let uv = |c: &BSplineCurve| {
-            let pts = c.points().iter().map(|q| DVec3::new(q.x, q.y, 0.0)).collect();
-            BSplineCurve::try_new(
-                c.degree(),
-                c.knots().values().to_vec(),
-                pts,
-                c.weights().map(<[f64]>::to_vec),
-                2,
-            )
-        };
+        let uv = BSplineCurve::to_2d;
         match e.etype {
             126 => read_126(&mut p, &mut vec![])?
                 .iter()

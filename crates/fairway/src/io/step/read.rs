@@ -612,15 +612,7 @@ fn instance_geometry(g: Geometry, p: &Parts<'_>, conversion: Conversion) -> Resu
         Geometry::Curve(c)
             if c.dim() == 3 && p.name.starts_with(super::PLANAR_NAME) && c.points().iter().all(|q| q.z == 0.0) =>
         {
-            let pts = c.points().iter().map(|q| DVec3::new(q.x, q.y, 0.0)).collect();
-            BSplineCurve::try_new(
-                c.degree(),
-                c.knots().values().to_vec(),
-                pts,
-                c.weights().map(<[f64]>::to_vec),
-                2,
-            )?
-            .into()
+            c.to_2d()?.into()
         }
         g => g,
     };
