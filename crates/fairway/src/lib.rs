@@ -44,6 +44,10 @@
 //! ```
 #![deny(missing_docs)]
 
+// the crate by its own name, for code shared with the benches (`fair/curve/polish_tests.rs`)
+#[cfg(test)]
+extern crate self as fairway;
+
 pub mod arclength;
 pub mod basis;
 pub mod closest;

@@ -2,25 +2,15 @@
 //! check samples.
 
 use super::*;
+use crate::BSplineCurve;
 use crate::closest::CurveProjector;
 use crate::fair::FairingOptions;
-use crate::{BSplineCurve, DVec2, KnotVector};
 
-/// The bench's cubic (`benches/fairing.rs`): a sine wave with deterministic noise of ~1 % of its amplitude.
-fn noisy_curve(n: usize) -> BSplineCurve {
-    let mut state = 0x9E37_79B9_7F4A_7C15u64;
-    let pts: Vec<DVec2> = (0..n)
-        .map(|i| {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let noise = ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.01;
-            let t = i as f64 / (n - 1) as f64;
-            DVec2::new(4.0 * t, 0.5 * (3.0 * t).sin() + noise)
-        })
-        .collect();
-    BSplineCurve::new_2d(3, KnotVector::uniform(3, n).unwrap().values().to_vec(), &pts).unwrap()
-}
+/// The bench's cubic, the same file `benches/fairing.rs` and `examples/fair_timing.rs` include.
+#[allow(dead_code)]
+#[path = "../../../benches/common/mod.rs"]
+mod bench;
+use bench::noisy_curve;
 
 fn setup(n: usize, m: f64) -> FairingSetup {
     let opts = FairingOptions::default().tolerance(m).samples(Some(10 * n));
