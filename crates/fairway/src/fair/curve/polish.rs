@@ -853,11 +853,15 @@ impl FairingSetup {
         };
         // the torsion term balanced against E_var at the start (never raised above its own weight)
         let (ev, third) = self.variation_parts(&self.best);
-        let f = if third > 0.0 { (ev / third).min(1.0) } else { 1.0 };
-        self.var.twist.scale(f);
+        if !(ev > 0.0 && third > 0.0) {
+            // nothing twists, or no curvature variation to spend
+            return (dev, e, rank);
+        }
+        let own = self.var.twist.clone();
+        self.var.twist.scale((ev / third).min(1.0));
         // on the hull band, as every run of the variation polish (`hull.rs`)
         let (tdev, te, trank) = self.on_hull_rows(|s| s.interior_point(accept, dev, e, solves, obj, Some(rank)));
-        self.var.twist.scale(1.0 / f);
+        self.var.twist = own;
         match trank {
             Some(r) => (tdev, te, r),
             None => (dev, e, rank),
