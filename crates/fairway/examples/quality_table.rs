@@ -6,7 +6,7 @@
 //! `cargo run --release -p fairway --example quality_table [-- --markdown] [--dump DIR]`
 //!
 //! `--dump DIR` writes κ(s) of each row for `scripts/plot_kappa.py`. Environment knobs for comparisons:
-//! `QT_CASE` (rows whose name contains it), `QT_NOISE` (noise scale; 0 = the noise-free best fits),
+//! `QT_CASE` (rows whose name contains it), `QT_NOISE` (noise scale; 0 = the noise-free best fits), `QT_SEED` (another noise draw: curves no test has seen),
 //! `QT_POLISH` (variation | line-search | interior-point), `QT_CURVE_ENDS` (g0 | g1 | g2), `QT_BETA`
 //! (target weight), `QT_ITERS` (polish iterations), `QT_TORSION` (torsion weight).
 
@@ -94,7 +94,8 @@ fn main() {
     let (mut wins, mut total, mut worse_than_original) = (0, 0, 0);
     let only = std::env::var("QT_CASE").ok();
     let noise = std::env::var("QT_NOISE").map_or(1.0, |v| v.parse().expect("noise scale"));
-    for case in suite::cases_with_noise(noise) {
+    let draw = std::env::var("QT_SEED").map_or(0, |v| v.parse().expect("noise draw"));
+    for case in suite::cases_seeded(noise, draw) {
         if only.as_deref().is_some_and(|o| !case.name.contains(o)) {
             continue;
         }

@@ -76,7 +76,8 @@ use glam::DVec3;
 
 pub use super::curve::Seam;
 use super::curve::{
-    EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, band_accept, project_near, snap_to_knot,
+    EndCondition, FairingOptions, FairingResult, FairingSetup, FitMode, PolishMethod, band_accept, project_near,
+    snap_to_knot,
 };
 use super::target::quintic;
 use crate::arclength::ArcLengthTable;
@@ -552,6 +553,103 @@ fn fair_closed_with(
         notes: vec![],
     })
 }
+
+/// The default fair of a whole closed curve (`r`, from [`fair_closed`]) judged as the reference smoother's
+/// fair of the same loop is judged — `measure`'s curvature extrema and ∫(dκ/ds)² — and
+/// moved towards it where it is not at least as fair on both counts. Each pass's polish ranks its own
+/// stretch against its own smoother, but the loop is two passes blended: the blend can end one extremum
+/// above the smoother's blend (a noisy closed trefoil, 90 control points at 1σ: 12 against 11). The
+/// reference as it is delivered is the smoother's loop, or the input where that has more extrema; the
+/// result is the least move from `r` towards it (a bisection on the segment between the two, same
+/// knots) that is at least as fair on both counts and holds the band, its end the reference itself (a
+/// tie). Only the default (the Fairway fit with the variation polish) is judged.
+pub(crate) fn judged_against_reference(
+    input: &BSplineCurve,
+    opts: FairingOptions,
+    r: FairingResult,
+) -> Result<FairingResult> {
+    if !(opts.mode == FitMode::Fairway && opts.polish && opts.polish_method == PolishMethod::Variation) {
+        return Ok(r);
+    }
+    let input = input.to_polynomial()?;
+    let delta = crate::measure::extrema_threshold(&input);
+    // as `measure` counts them (from the seam, as the reference's tables do)
+    let judge = |c: &BSplineCurve| {
+        (
+            crate::measure::curvature_extrema_at(c, delta),
+            crate::measure::energies(c).0,
+        )
+    };
+    let ours = judge(&r.curve);
+    let orig = judge(&input);
+    let Ok(reference) = fair_closed(
+        &input,
+        FairingOptions {
+            mode: FitMode::Smoothing,
+            ..opts
+        },
+    ) else {
+        return Ok(r);
+    };
+    let smoothed = judge(&reference.curve);
+    let (goal, theirs) = if smoothed.0 > orig.0 {
+        (input.clone(), orig)
+    } else {
+        (reference.curve, smoothed)
+    };
+    let fair_enough = |x: (usize, f64)| x.0 <= theirs.0 && x.1 <= theirs.1;
+    if fair_enough(ours) || goal.knots() != r.curve.knots() || goal.n_points() != r.curve.n_points() {
+        return Ok(r);
+    }
+    let table = ArcLengthTable::new(&input, 1e-12);
+    let check = SeamCheck::new(&input, &table);
+    let accept = band_accept(opts.tolerance, &input);
+    // the blend at t, with its deviation bound where it holds the band
+    let blend = |t: f64| -> Option<(BSplineCurve, f64)> {
+        let pts = r
+            .curve
+            .points()
+            .iter()
+            .zip(goal.points())
+            .map(|(a, g)| *a + t * (*g - *a))
+            .collect();
+        let c = r.curve.with_points(pts).ok()?;
+        let dmax = check.deviations(&c).into_iter().fold(0.0f64, f64::max);
+        if !(dmax <= accept) {
+            return None;
+        }
+        match super::verify::certify(&input, &c, opts.tolerance) {
+            Some(b) if b.bound > opts.tolerance => None,
+            b => Some((c, b.map_or(dmax, |b| b.bound))),
+        }
+    };
+    let (mut lo, mut hi) = (0.0, 1.0);
+    let mut taken = None;
+    for _ in 0..JUDGED_BISECTIONS {
+        let t = 0.5 * (lo + hi);
+        match blend(t).filter(|(c, _)| fair_enough(judge(c))) {
+            Some(x) => {
+                hi = t;
+                taken = Some(x);
+            }
+            None => lo = t,
+        }
+    }
+    let (curve, max_deviation) = match taken {
+        Some(x) => x,
+        None if smoothed.0 > orig.0 => (goal, 0.0),
+        None => (goal, reference.max_deviation),
+    };
+    Ok(FairingResult {
+        curve,
+        max_deviation,
+        notes: r.notes,
+        ..reference
+    })
+}
+
+/// Bisections of [`judged_against_reference`]: the move is found to 2⁻⁸ of the segment.
+const JUDGED_BISECTIONS: usize = 8;
 
 /// Where a whole closed curve is re-seamed for the second pass: the interior knot nearest the
 /// arc-length midpoint, or the midpoint itself if no knot lies within 5 % of the length of it.

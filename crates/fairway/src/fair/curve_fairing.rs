@@ -524,7 +524,7 @@ impl CurveFairing {
                         let before = extrema(input);
                         let after = extrema(&r.curve);
                         if after <= before {
-                            r
+                            closed::judged_against_reference(input, opts, r)?
                         } else {
                             let mut held = run(setup)?;
                             let held_after = extrema(&held.curve);

@@ -8,6 +8,7 @@ use super::variation;
 use crate::error::Result;
 use crate::linalg::BandedSpd;
 
+mod judged;
 mod stepless;
 
 /// The interior point's objective: `paper · E + var · E_var`, with `paper` 1 or 0 (the Gauss–Newton
@@ -138,6 +139,8 @@ impl IpState {
 pub(super) struct PolishCache {
     pub(super) orig_rank: Option<Rank>,
     smooth: Option<SmoothStart>,
+    /// `measure`'s dead band of the curvature extrema of the working curve (`judged_against_reference`).
+    judged_delta: std::cell::Cell<Option<f64>>,
 }
 
 /// How fair an update is: (curvature extrema at the probes, E_var).
@@ -753,6 +756,10 @@ impl FairingSetup {
         if !self.var.twist.is_empty() && rank.0 <= bar.0 && rank.1 < bar.1 * (1.0 - TWIST_BAR_MARGIN) {
             let ceiling = (rank.0, bar.1 * (1.0 - TWIST_BAR_MARGIN));
             (dev, e, rank) = self.polish_torsion_within(accept, (dev, e, rank), solves, obj, ceiling);
+        }
+        // judged as the reference is judged where the two come close: at least as fair as it by `measure`
+        if let Some(moved) = self.judged_against_reference(rank, (bar, smooth_rank), &smooth) {
+            return Ok(moved);
         }
         // never less fair than the input: a result without fewer curvature extrema or a lower E_var than the
         // original's (a straight line, which the smoother would only re-parametrize) leaves it as it is

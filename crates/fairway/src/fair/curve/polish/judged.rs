@@ -1,0 +1,86 @@
+//! The variation polish's last look (`judged_against_reference`): its result measured as the reference
+//! smoother's is judged — `measure`'s curvature extrema and ∫(dκ/ds)² on the whole curve — and moved
+//! towards the smoother's result where it is not at least as fair.
+
+use glam::DVec3;
+
+use super::super::FairingSetup;
+use super::{Rank, STEP_BLEND_BISECTIONS};
+
+/// The polish's own rank (extrema at its probes, E_var at its nodes) is within this many extrema or this
+/// fraction of E_var of the reference's: a close call, measured again as `measure` measures.
+const CLOSE_EXTREMA: usize = 2;
+const CLOSE_VAR: f64 = 0.9;
+
+impl FairingSetup {
+    /// (curvature extrema, E_var) of `c₀ + Σ N_i d_i` as `measure` counts them on the whole working curve
+    /// (around the loop on a closed one), with the polish's dead band.
+    fn judged(&self, d: &[DVec3]) -> Option<Rank> {
+        let c = self.updated_curve(d).ok()?;
+        // `measure`'s dead band, from the whole curve's reference target (the polish's own, `var.delta`,
+        // is from the stretch's denser samples: on a noisy 300-point wave it is half of this)
+        let delta = match self.polish_cache.judged_delta.get() {
+            Some(d) => d,
+            None => {
+                let d = crate::measure::extrema_threshold(&self.work);
+                self.polish_cache.judged_delta.set(Some(d));
+                d
+            }
+        };
+        let extrema = if crate::curve::is_closed_curve(&c) {
+            crate::measure::curvature_extrema_around(&c, delta)
+        } else {
+            crate::measure::curvature_extrema_at(&c, delta)
+        };
+        Some((extrema, crate::measure::energies(&c).0))
+    }
+
+    /// The polish ranks its iterates at its own probes and nodes; the reference smoother is judged by
+    /// `measure` (4000 arc-length samples, 40 Gauss nodes a span). Where the two ranks of the result in
+    /// `self.best` and of the reference as it is delivered (the smoother's update `smooth`, or the original
+    /// where that has more extrema) are close (`rank` against `bar`, within [`CLOSE_EXTREMA`] or
+    /// [`CLOSE_VAR`]), both are measured as `measure` does; if the result then has more extrema or a larger
+    /// E_var, the update taken is the least move from it towards the reference's that is at least as fair
+    /// on both counts (a bisection on the segment; its end is the reference's result itself, a tie).
+    /// `Some((dev, e))` of the moved update in `self.best`; `None` where nothing moved.
+    pub(super) fn judged_against_reference(
+        &mut self,
+        rank: Rank,
+        (bar, smooth_rank): (Rank, Rank),
+        smooth: &[DVec3],
+    ) -> Option<(f64, f64)> {
+        let near = |r: Rank| rank.0 + CLOSE_EXTREMA >= r.0 || rank.1 >= CLOSE_VAR * r.1;
+        let close = near(bar) || near(smooth_rank);
+        if !close {
+            return None;
+        }
+        let zero = vec![DVec3::ZERO; self.nf];
+        let orig = self.judged(&zero)?;
+        let smoothed = self.judged(smooth)?;
+        let (goal, theirs) = if smoothed.0 > orig.0 {
+            (zero, orig)
+        } else {
+            (smooth.to_vec(), smoothed)
+        };
+        let fair_enough = |r: Rank| r.0 <= theirs.0 && r.1 <= theirs.1;
+        if fair_enough(self.judged(&self.best)?) {
+            return None;
+        }
+        let blend =
+            |t: f64, a: &[DVec3]| -> Vec<DVec3> { a.iter().zip(&goal).map(|(a, g)| *a + t * (*g - *a)).collect() };
+        let (mut lo, mut hi) = (0.0, 1.0);
+        for _ in 0..STEP_BLEND_BISECTIONS {
+            let t = 0.5 * (lo + hi);
+            if self.judged(&blend(t, &self.best)).is_some_and(fair_enough) {
+                hi = t;
+            } else {
+                lo = t;
+            }
+        }
+        self.best = if hi < 1.0 { blend(hi, &self.best) } else { goal };
+        let mut disp = vec![DVec3::ZERO; self.chk_u.len()];
+        self.chk_displacements(&self.best.clone(), &mut disp);
+        let dev = disp.iter().fold(0.0f64, |a, d| a.max(d.length_squared())).sqrt();
+        Some((dev, self.energy_of_update(&self.best)))
+    }
+}
