@@ -353,13 +353,19 @@ pub fn interior_low_runs(k: &[f64], delta: f64) -> usize {
 
 /// `(∫(dκ/ds)² ds, ∫κ² ds)` by 10-point Gauss–Legendre on 4 equal pieces of every knot span.
 pub fn energies(c: &BSplineCurve) -> (f64, f64) {
+    energies_with(c, 4)
+}
+
+/// [`energies`] with `pieces` Gauss–Legendre rules of 10 nodes a knot span (`energies` has 4).
+pub(crate) fn energies_with(c: &BSplineCurve, pieces: usize) -> (f64, f64) {
     let gl = gl10();
     let dim = c.dim();
     let (mut ev, mut eb) = (0.0, 0.0);
+    let pieces = pieces.max(1);
     for w in c.knots().breakpoints().windows(2) {
-        for q in 0..4 {
-            let a = w[0] + (w[1] - w[0]) * q as f64 / 4.0;
-            let b = w[0] + (w[1] - w[0]) * (q + 1) as f64 / 4.0;
+        for q in 0..pieces {
+            let a = w[0] + (w[1] - w[0]) * q as f64 / pieces as f64;
+            let b = w[0] + (w[1] - w[0]) * (q + 1) as f64 / pieces as f64;
             let h = 0.5 * (b - a);
             for (x, wt) in gl.nodes.iter().zip(&gl.weights) {
                 let u = 0.5 * (a + b) + h * x;

@@ -42,7 +42,7 @@ impl Rng {
 }
 
 /// Points of a planar curve given by its curvature κ(s) over [0, length], by midpoint steps.
-fn from_curvature(length: f64, kappa: impl Fn(f64) -> f64) -> impl Fn(f64) -> DVec3 {
+pub fn from_curvature(length: f64, kappa: impl Fn(f64) -> f64) -> impl Fn(f64) -> DVec3 {
     let m = 20_000;
     let ds = length / m as f64;
     let (mut x, mut ang) = (DVec3::ZERO, 0.0);
@@ -63,7 +63,7 @@ fn from_curvature(length: f64, kappa: impl Fn(f64) -> f64) -> impl Fn(f64) -> DV
 
 /// Noisy samples (12 per control point, the ends exact) of `shape` on t ∈ [0, 1], fitted by least squares
 /// with the given knots; sample k at t = warp(k / (n − 1)), taken as its parameter too.
-fn fitted(shape: &dyn Fn(f64) -> DVec3, dim: usize, knots: KnotVector, sigma: f64, seed: u64) -> BSplineCurve {
+pub fn fitted(shape: &dyn Fn(f64) -> DVec3, dim: usize, knots: KnotVector, sigma: f64, seed: u64) -> BSplineCurve {
     fitted_warped(shape, dim, knots, sigma, seed, &|t| t)
 }
 
@@ -100,7 +100,7 @@ fn fitted_warped(
 
 /// A closed uniform periodic cubic (written clamped) whose n control points are samples of the closed
 /// `shape` (t ∈ [0, 1)) plus noise.
-fn periodic(shape: &dyn Fn(f64) -> DVec3, dim: usize, n: usize, sigma: f64, seed: u64) -> BSplineCurve {
+pub fn periodic(shape: &dyn Fn(f64) -> DVec3, dim: usize, n: usize, sigma: f64, seed: u64) -> BSplineCurve {
     let mut rng = Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1);
     let q: Vec<DVec3> = (0..n)
         .map(|j| shape(j as f64 / n as f64) + rng.vec(dim) * sigma)
@@ -108,7 +108,7 @@ fn periodic(shape: &dyn Fn(f64) -> DVec3, dim: usize, n: usize, sigma: f64, seed
     fairway::fair::closed::periodic_cubic(&q, dim).expect("suite closed curve")
 }
 
-fn uniform(p: usize, n: usize) -> KnotVector {
+pub fn uniform(p: usize, n: usize) -> KnotVector {
     KnotVector::uniform(p, n).expect("uniform knots")
 }
 
@@ -273,4 +273,59 @@ pub fn cases_seeded(scale: f64, draw: u64) -> Vec<Case> {
             sigma,
         },
     ]
+}
+
+/// A splitmix64 generator for [`unseen_shape`].
+struct Mix(u64);
+
+impl Mix {
+    fn uniform(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * self.uniform()
+    }
+}
+
+/// Shape `k` of a family no test was tuned on: a planar curve from a random curvature profile (a base
+/// plus 1–4 Gaussian bumps of either sign) or a 3D curve of a few random Fourier terms, degree 2–5, 20–149
+/// control points, noisy as the suite's curves are (σ between 2·10⁻⁴ and 3·10⁻³); with its σ.
+pub fn unseen_shape(k: u64) -> Case {
+    let mut rng = Mix(k * 7919 + 17);
+    let p = 2 + (rng.uniform() * 4.0) as usize;
+    let n = 20 + (rng.uniform() * 130.0) as usize;
+    let dim = if rng.uniform() < 0.35 { 3 } else { 2 };
+    let sigma = 10f64.powf(rng.range(-3.7, -2.5));
+    let curve = if dim == 2 {
+        let len = rng.range(1.5, 5.0);
+        let base = rng.range(-0.5, 0.8);
+        let bumps: Vec<(f64, f64, f64)> = (0..1 + (rng.uniform() * 4.0) as usize)
+            .map(|_| (rng.range(0.0, len), rng.range(0.08, 0.6), rng.range(-2.5, 2.5)))
+            .collect();
+        let shape = from_curvature(len, move |s| {
+            base + bumps
+                .iter()
+                .map(|(c, w, a)| a * (-((s - c) / w).powi(2)).exp())
+                .sum::<f64>()
+        });
+        fitted(&shape, 2, uniform(p, n), sigma, k + 1)
+    } else {
+        let c: Vec<[f64; 6]> = (0..3).map(|_| std::array::from_fn(|_| rng.range(-0.5, 0.5))).collect();
+        let f = rng.range(0.5, 2.0);
+        let shape = move |t: f64| {
+            let w = std::f64::consts::TAU * f * t;
+            let comp = |a: &[f64; 6]| a[0] * w.sin() + a[1] * w.cos() + a[2] * (2.0 * w).sin() + a[3] * (3.0 * w).cos();
+            DVec3::new(2.0 * t + comp(&c[0]), comp(&c[1]), comp(&c[2]))
+        };
+        fitted(&shape, 3, uniform(p, n), sigma, k + 1)
+    };
+    Case {
+        name: "unseen",
+        curve,
+        sigma,
+    }
 }

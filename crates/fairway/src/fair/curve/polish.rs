@@ -158,6 +158,8 @@ struct SmoothStart {
     upd: Vec<DVec3>,
     dev: f64,
     rank: Rank,
+    /// Its E_var on 10 Gauss nodes a span, once asked for (`judged_against_reference`).
+    measured_var: Option<f64>,
 }
 
 /// The fairest iterate of the interior point so far and what ranks it ([`FairingSetup::ip_consider`]).
@@ -689,6 +691,7 @@ impl FairingSetup {
                     upd: smooth.clone(),
                     dev: sdev,
                     rank,
+                    measured_var: None,
                 });
                 (smooth, sdev, rank)
             }

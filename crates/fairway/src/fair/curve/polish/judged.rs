@@ -39,7 +39,8 @@ impl FairingSetup {
     /// `measure` (4000 arc-length samples, 40 Gauss nodes a span). Where the two ranks of the result in
     /// `self.best` and of the reference as it is delivered (the smoother's update `smooth`, or the original
     /// where that has more extrema) are close (`rank` against `bar`, within [`CLOSE_EXTREMA`] or
-    /// [`CLOSE_VAR`]), both are measured as `measure` does; if the result then has more extrema or a larger
+    /// [`CLOSE_VAR`]), or the result's E_var on 10 Gauss nodes a span is not [`CLOSE_VAR`] of the
+    /// smoother's (checked on every result), both are measured as `measure` does; if the result then has more extrema or a larger
     /// E_var, the update taken is the least move from it towards the reference's that is at least as fair
     /// on both counts (a bisection on the segment; its end is the reference's result itself, a tie).
     /// `Some((dev, e))` of the moved update in `self.best`; `None` where nothing moved.
@@ -50,7 +51,24 @@ impl FairingSetup {
         smooth: &[DVec3],
     ) -> Option<(f64, f64)> {
         let near = |r: Rank| rank.0 + CLOSE_EXTREMA >= r.0 || rank.1 >= CLOSE_VAR * r.1;
-        let close = near(bar) || near(smooth_rank);
+        // E_var on 10 Gauss nodes a span (the polish's 6 can miss a spike between them; `measure` has 40,
+        // which costs 4 × more), ours against the smoother's: a result the polish ranks far ahead can still
+        // lose there
+        let measured_var = |s: &Self, d: &[DVec3]| {
+            s.updated_curve(d)
+                .map_or(f64::NAN, |c| crate::measure::energies_with(&c, 1).0)
+        };
+        let smooth_var = match self.polish_cache.smooth.as_ref().and_then(|s| s.measured_var) {
+            Some(v) => v,
+            None => {
+                let v = measured_var(self, smooth);
+                if let Some(s) = self.polish_cache.smooth.as_mut() {
+                    s.measured_var = Some(v);
+                }
+                v
+            }
+        };
+        let close = near(bar) || near(smooth_rank) || !(measured_var(self, &self.best) < CLOSE_VAR * smooth_var);
         if !close {
             return None;
         }
