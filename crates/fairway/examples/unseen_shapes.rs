@@ -2,7 +2,8 @@
 //! (a few Fourier terms), degrees 2–5, 20–150 control points, made noisy as the suite's are, each at 1, 3
 //! and 10 × its noise — the default against the reference smoother, judged by `measure`.
 //!
-//! `cargo run --release -p fairway --example unseen_shapes [-- FIRST COUNT]` (shapes FIRST..FIRST+COUNT)
+//! `cargo run --release -p fairway --example unseen_shapes [-- FIRST COUNT [closed]]` (shapes
+//! FIRST..FIRST+COUNT; `closed`: the closed family, `suite::unseen_closed_shape`)
 
 #[path = "../tests/common/suite.rs"]
 mod suite;
@@ -14,9 +15,14 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let first: u64 = args.get(1).map_or(0, |s| s.parse().expect("first shape"));
     let count: u64 = args.get(2).map_or(20, |s| s.parse().expect("count"));
+    let closed = args.get(3).is_some_and(|a| a == "closed");
     let (mut rows, mut wins, mut worse) = (0, 0, 0);
     for k in first..first + count {
-        let suite::Case { curve, sigma, .. } = suite::unseen_shape(k);
+        let suite::Case { curve, sigma, .. } = if closed {
+            suite::unseen_closed_shape(k)
+        } else {
+            suite::unseen_shape(k)
+        };
         let (dim, p, n) = (curve.dim(), curve.degree(), curve.n_points());
         let orig = measure(&curve, &curve);
         for f in [1.0, 3.0, 10.0] {

@@ -329,3 +329,32 @@ pub fn unseen_shape(k: u64) -> Case {
         sigma,
     }
 }
+
+/// Closed shape `k` of a family no test was tuned on: a periodic cubic through noisy points of a random
+/// star-shaped outline (radius 1 plus harmonics 2–5), planar or lifted into 3D by random harmonics, 30–119
+/// control points, σ between 2·10⁻⁴ and 3·10⁻³; with its σ.
+pub fn unseen_closed_shape(k: u64) -> Case {
+    let mut rng = Mix(k * 104_729 + 3);
+    let n = 30 + (rng.uniform() * 90.0) as usize;
+    let dim = if rng.uniform() < 0.35 { 3 } else { 2 };
+    let sigma = 10f64.powf(rng.range(-3.7, -2.5));
+    let harm: Vec<(f64, f64, f64)> = (2..6)
+        .map(|j| (j as f64, rng.range(0.0, 0.25) / j as f64, rng.range(0.0, std::f64::consts::TAU)))
+        .collect();
+    let lift: Vec<f64> = (0..3).map(|_| rng.range(-0.3, 0.3)).collect();
+    let shape = move |t: f64| {
+        let th = std::f64::consts::TAU * t;
+        let r = 1.0 + harm.iter().map(|(j, a, ph)| a * (j * th + ph).cos()).sum::<f64>();
+        let z = if dim == 3 {
+            lift[0] * th.sin() + lift[1] * (2.0 * th).cos() + lift[2] * (3.0 * th).sin()
+        } else {
+            0.0
+        };
+        DVec3::new(r * th.cos(), r * th.sin(), z)
+    };
+    Case {
+        name: "unseen_closed",
+        curve: periodic(&shape, dim, n, sigma, k + 1),
+        sigma,
+    }
+}

@@ -7,8 +7,9 @@ use glam::DVec3;
 use super::super::FairingSetup;
 use super::{Rank, STEP_BLEND_BISECTIONS};
 
-/// The polish's own rank (extrema at its probes, E_var at its nodes) is within this many extrema or this
-/// fraction of E_var of the reference's: a close call, measured again as `measure` measures.
+/// The polish's own rank (extrema at its probes, E_var at its nodes) is within this many extrema (or a
+/// fifth of the reference's, if more) or this fraction of E_var of the reference's: a close call, measured
+/// again as `measure` measures.
 const CLOSE_EXTREMA: usize = 2;
 const CLOSE_VAR: f64 = 0.9;
 
@@ -50,7 +51,8 @@ impl FairingSetup {
         (bar, smooth_rank): (Rank, Rank),
         smooth: &[DVec3],
     ) -> Option<(f64, f64)> {
-        let near = |r: Rank| rank.0 + CLOSE_EXTREMA >= r.0 || rank.1 >= CLOSE_VAR * r.1;
+        // (the counts differ more where there are many extrema: a fifth of them is a close call too)
+        let near = |r: Rank| rank.0 + CLOSE_EXTREMA.max(r.0 / 5) >= r.0 || rank.1 >= CLOSE_VAR * r.1;
         // E_var on 10 Gauss nodes a span (the polish's 6 can miss a spike between them; `measure` has 40,
         // which costs 4 × more), ours against the smoother's: a result the polish ranks far ahead can still
         // lose there

@@ -64,7 +64,8 @@ impl FairingSetup {
                 lo = t;
             }
         }
-        self.best = blend(hi, &self.best);
+        // the end of the segment is the goal itself (not a + 1·(g − a), a rounding away from it)
+        self.best = if hi < 1.0 { blend(hi, &self.best) } else { goal };
         let mut disp = vec![DVec3::ZERO; self.chk_u.len()];
         self.chk_displacements(&self.best.clone(), &mut disp);
         let dev = disp.iter().fold(0.0f64, |a, d| a.max(d.length_squared())).sqrt();
