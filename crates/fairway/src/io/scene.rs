@@ -245,7 +245,7 @@ pub fn save_scene(path: &Path, scene: &Scene) -> Result<()> {
                 )));
             }
         },
-        Format::Iges => super::iges::write_labeled(&objects, &names, &opts),
+        Format::Iges => super::iges::write_trimmed(&objects, &names, &trims, &opts),
         Format::Step => super::step::write_trimmed(&objects, &names, &trims, &opts),
         Format::Points => {
             return Err(Error::InvalidInput(format!(
