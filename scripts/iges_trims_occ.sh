@@ -85,10 +85,10 @@ def on_surface(shape):
     """The largest distance from an edge's 3D curve to its face's surface (200 points an edge)."""
     worst = 0.0
     for f in explore(shape, TopAbs_ShapeEnum.TopAbs_FACE):
-        f = TopoDS.Face_s(f)
+        f = TopoDS.Face(f)
         s = BRep_Tool.Surface_s(f)
         for e in explore(f, TopAbs_ShapeEnum.TopAbs_EDGE):
-            c = BRepAdaptor_Curve(TopoDS.Edge_s(e))
+            c = BRepAdaptor_Curve(TopoDS.Edge(e))
             t0, t1 = c.FirstParameter(), c.LastParameter()
             for k in range(201):
                 p = c.Value(t0 + (t1 - t0) * k / 200)
@@ -106,7 +106,7 @@ for name, ref, bound, what in [("converted", step_area, perimeter * tol, "STEP r
     faces = explore(shape, TopAbs_ShapeEnum.TopAbs_FACE)
     wires = explore(shape, TopAbs_ShapeEnum.TopAbs_WIRE)
     valid = BRepCheck_Analyzer(shape).IsValid()
-    kind = BRep_Tool.Surface_s(TopoDS.Face_s(faces[0])).DynamicType().Name() if faces else "-"
+    kind = BRep_Tool.Surface_s(TopoDS.Face(faces[0])).DynamicType().Name() if faces else "-"
     a1 = area(shape)
     off = on_surface(shape)
     print(f"OCC reads Fairway's {name}.igs: {len(faces)} face(s) on {kind}, {len(wires)} wire(s), valid {valid}; "

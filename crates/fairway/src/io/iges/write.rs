@@ -193,7 +193,7 @@ pub(super) fn write_with(
     // S
     let trimmed = trims.iter().flatten().next().is_some();
     let s_lines = [if trimmed {
-        "Fairway IGES export: rational B-spline curves (126), surfaces (128), trimmed surfaces (144)."
+        "Fairway IGES export: B-spline curves (126), surfaces (128), trims (144)."
     } else {
         "Fairway IGES export: rational B-spline curves (126) and surfaces (128)."
     }];
