@@ -15,6 +15,14 @@ fn corpus(name: &str) -> Vec<u8> {
     std::fs::read(path).unwrap()
 }
 
+/// A file of `tests/data/trims` (trimmed faces from other systems, not faired by the corpus test).
+fn trims_data(name: &str) -> Vec<u8> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data/trims")
+        .join(name);
+    std::fs::read(path).unwrap()
+}
+
 fn surface(g: &Geometry) -> &BSplineSurface {
     g.as_surface().expect("a surface")
 }
@@ -379,14 +387,14 @@ fn iges_trimmed_surfaces_keep_their_loops_and_export_to_step() {
     }
 }
 
-/// OpenCASCADE's p-curves that are not B-splines (`tests/data/corpus/occ-conic-trims.step`, written by
+/// OpenCASCADE's p-curves that are not B-splines (`tests/data/trims/occ-conic-trims.step`, written by
 /// `make_conic_trims_step.py`): a face bounded by a uv rectangle (4 `LINE`s) with a circular hole (a
 /// `CIRCLE`), and one bounded by a pentagon (5 `LINE`s) with an elliptical hole (an `ELLIPSE`). Lines are
 /// read as degree-1 edges through the corners, the circle and the ellipse exactly as rational
 /// quadratics: every point of them on the conic to rounding, not to a fit tolerance.
 #[test]
 fn occ_line_circle_and_ellipse_p_curves_are_read_exactly() {
-    let f = step::read_all(&corpus("occ-conic-trims.step")).unwrap();
+    let f = step::read_all(&trims_data("occ-conic-trims.step")).unwrap();
     assert_eq!(f.objects.len(), 2, "{:?}", f.notices);
     assert!(
         !f.notices.iter().any(|n| n.contains("untrimmed") || n.contains("not read")),
@@ -449,7 +457,7 @@ fn occ_line_circle_and_ellipse_p_curves_are_read_exactly() {
 /// of their own), the other face and the file read as before.
 #[test]
 fn trimmed_curve_and_polyline_p_curves_bound_the_face_as_their_line_did() {
-    let text = String::from_utf8(corpus("occ-conic-trims.step")).unwrap();
+    let text = String::from_utf8(trims_data("occ-conic-trims.step")).unwrap();
     let original = step::read_all(text.as_bytes()).unwrap();
     // the first rectangle side: u = 0.1 (a vertical line through (0.1, 0) in (u, v))
     assert!(text.contains("#124 = DEFINITIONAL_REPRESENTATION('',(#125),#129);"));
