@@ -64,7 +64,12 @@ pub struct Input {
 /// Write `doc` to `path` (the format from its extension; an IGES or STEP file declaring `unit`), a
 /// trimmed face with its bounds `trim` where the format holds them (IGES, STEP, a `.ron` document of
 /// version 2); a JSON output holds the surface only, said on stderr.
-pub fn save_document(path: &Path, doc: fairway::io::Document, trim: Option<fairway::FaceTrim>, unit: Option<fairway::io::Unit>) -> fairway::Result<()> {
+pub fn save_document(
+    path: &Path,
+    doc: fairway::io::Document,
+    trim: Option<fairway::FaceTrim>,
+    unit: Option<fairway::io::Unit>,
+) -> fairway::Result<()> {
     use fairway::io::Format;
     let Some(trim) = trim else {
         return fairway::io::save_in(path, &doc, unit);

@@ -748,7 +748,15 @@ fn a_trimmed_face_keeps_its_trim_when_opened_picked_and_saved() {
     let at = |a: f64, b: f64| DVec3::new(u0 + a * (u1 - u0), v0 + b * (v1 - v0), 0.0);
     let corners = [at(0.1, 0.1), at(0.9, 0.2), at(0.8, 0.9), at(0.15, 0.8)];
     let edges = (0..4)
-        .map(|k| BSplineCurve::try_new(1, vec![0.0, 0.0, 1.0, 1.0], vec![corners[k], corners[(k + 1) % 4]], None, 2))
+        .map(|k| {
+            BSplineCurve::try_new(
+                1,
+                vec![0.0, 0.0, 1.0, 1.0],
+                vec![corners[k], corners[(k + 1) % 4]],
+                None,
+                2,
+            )
+        })
         .collect::<Result<Vec<_>, _>>()
         .unwrap();
     let trim = FaceTrim {
@@ -756,7 +764,12 @@ fn a_trimmed_face_keeps_its_trim_when_opened_picked_and_saved() {
     };
     let face: Geometry = s.into();
     let one = dir.join("face.stp");
-    let text = step::write_trimmed(&[face.clone()], &[String::new()], &[Some(trim.clone())], &Default::default());
+    let text = step::write_trimmed(
+        &[face.clone()],
+        &[String::new()],
+        &[Some(trim.clone())],
+        &Default::default(),
+    );
     std::fs::write(&one, text).unwrap();
     let saved_trim = |p: &Path| {
         let (scene, notices) = load_scene(p).unwrap();
@@ -771,7 +784,10 @@ fn a_trimmed_face_keeps_its_trim_when_opened_picked_and_saved() {
     assert_eq!(h.state().objects.len(), 1);
     let got = h.state().objects[0].trim.clone().expect("opened with its trim");
     assert_eq!(got.summary(), "trimmed: 1 outer loop, 0 inner loops, 4 edges");
-    assert!(h.state_mut().surface.as_ref().unwrap().trim.is_some(), "the 3D view draws the loop");
+    assert!(
+        h.state_mut().surface.as_ref().unwrap().trim.is_some(),
+        "the 3D view draws the loop"
+    );
     for (ext, exact) in [("igs", true), ("stp", false), ("ron", true)] {
         let out = dir.join(format!("saved.{ext}"));
         path_action(&mut h, &out, "Save to path");
@@ -794,7 +810,11 @@ fn a_trimmed_face_keeps_its_trim_when_opened_picked_and_saved() {
     h.get_by_role_and_label(Role::Button, "Open object 2").click();
     h.run();
     assert_eq!(h.state().doc.geometry, face);
-    assert_eq!(h.state().objects[0].trim.as_ref(), Some(&trim), "picked with its trim, exactly");
+    assert_eq!(
+        h.state().objects[0].trim.as_ref(),
+        Some(&trim),
+        "picked with its trim, exactly"
+    );
     let out = dir.join("picked.igs");
     path_action(&mut h, &out, "Save to path");
     assert_eq!(saved_trim(&out), Some(trim));

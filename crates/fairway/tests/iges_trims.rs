@@ -29,7 +29,11 @@ fn patch() -> BSplineSurface {
     let pts = (0..n * n)
         .map(|i| {
             let (x, y) = ((i / n) as f64 * 10.0 / 6.0, (i % n) as f64 * 10.0 / 6.0);
-            DVec3::new(x, y, 0.8 * (0.4 * x).sin() * (0.3 * y).cos() + 0.01 * ((i * 7919) % 13) as f64)
+            DVec3::new(
+                x,
+                y,
+                0.8 * (0.4 * x).sin() * (0.3 * y).cos() + 0.01 * ((i * 7919) % 13) as f64,
+            )
         })
         .collect();
     BSplineSurface::try_new(3, 3, k.clone(), k, n, n, pts, None).unwrap()
@@ -87,7 +91,10 @@ fn curves_on(f: &fairway::io::InterchangeFile, s: &BSplineSurface, tol: f64) -> 
         let (a, b) = c.domain();
         for k in 0..=200 {
             let d = proj.project(c.point(a + (b - a) * k as f64 / 200.0)).distance;
-            assert!(d <= tol, "a model-space edge {d:.3e} from the surface (tolerance {tol:.3e})");
+            assert!(
+                d <= tol,
+                "a model-space edge {d:.3e} from the surface (tolerance {tol:.3e})"
+            );
         }
         n += 1;
     }
@@ -105,7 +112,10 @@ fn iges_round_trip_keeps_the_loops_and_the_surfaces_exactly() {
     let names: Vec<String> = (1..=10).map(|k| format!("FACE({k})")).collect();
     let text = iges::write_trimmed(&objects, &names, &trims, &Default::default());
     let back = iges::read_all(text.as_bytes()).unwrap();
-    assert_eq!(back.objects, objects, "surfaces bit for bit, no edge curve as an object");
+    assert_eq!(
+        back.objects, objects,
+        "surfaces bit for bit, no edge curve as an object"
+    );
     assert_eq!(back.trims, trims, "loops equal");
     let labels: Vec<&str> = back.entities.iter().map(|e| e.label.as_str()).collect();
     assert_eq!(labels, names);
@@ -238,7 +248,11 @@ fn iges_untrimmed_objects_are_unchanged_beside_a_trimmed_face() {
         ..Default::default()
     };
     let plain = iges::write_trimmed(&objects, &[], &[None, None, None], &opts);
-    assert!(!plain.lines().any(|l| l.starts_with("     144") || l.starts_with("     142")));
+    assert!(
+        !plain
+            .lines()
+            .any(|l| l.starts_with("     144") || l.starts_with("     142"))
+    );
     let trim = FaceTrim {
         loops: vec![polygon(&[(0.1, 0.1), (0.9, 0.1), (0.5, 0.9)], true)],
     };

@@ -397,7 +397,9 @@ fn occ_line_circle_and_ellipse_p_curves_are_read_exactly() {
     let f = step::read_all(&trims_data("occ-conic-trims.step")).unwrap();
     assert_eq!(f.objects.len(), 2, "{:?}", f.notices);
     assert!(
-        !f.notices.iter().any(|n| n.contains("untrimmed") || n.contains("not read")),
+        !f.notices
+            .iter()
+            .any(|n| n.contains("untrimmed") || n.contains("not read")),
         "{:?}",
         f.notices
     );
@@ -419,10 +421,15 @@ fn occ_line_circle_and_ellipse_p_curves_are_read_exactly() {
     let near = |got: Vec<(f64, f64)>, want: &[(f64, f64)]| {
         assert_eq!(got.len(), want.len());
         // the loop may start at any corner and run either way round
-        let found = want.iter().all(|w| got.iter().any(|g| (g.0 - w.0).hypot(g.1 - w.1) <= 1e-6));
+        let found = want
+            .iter()
+            .all(|w| got.iter().any(|g| (g.0 - w.0).hypot(g.1 - w.1) <= 1e-6));
         assert!(found, "{got:?} vs {want:?}");
     };
-    near(corners(&trims[0].loops[0]), &[(0.1, 0.1), (0.9, 0.1), (0.9, 0.9), (0.1, 0.9)]);
+    near(
+        corners(&trims[0].loops[0]),
+        &[(0.1, 0.1), (0.9, 0.1), (0.9, 0.9), (0.1, 0.9)],
+    );
     let pentagon: Vec<(f64, f64)> = (0..5)
         .map(|k| {
             let a = std::f64::consts::FRAC_PI_2 + std::f64::consts::TAU * k as f64 / 5.0;
@@ -445,7 +452,9 @@ fn occ_line_circle_and_ellipse_p_curves_are_read_exactly() {
         turn
     };
     let circle = on(&trims[0].loops[1], &|u, v| (u - 0.5).hypot(v - 0.5) / 0.15 - 1.0);
-    let ellipse = on(&trims[1].loops[1], &|u, v| ((u - 0.45) / 0.2).hypot((v - 0.5) / 0.1) - 1.0);
+    let ellipse = on(&trims[1].loops[1], &|u, v| {
+        ((u - 0.45) / 0.2).hypot((v - 0.5) / 0.1) - 1.0
+    });
     for turn in [circle, ellipse] {
         assert!((turn - std::f64::consts::TAU).abs() <= 1e-9, "a whole turn: {turn}");
     }
@@ -491,7 +500,9 @@ fn trimmed_curve_and_polyline_p_curves_bound_the_face_as_their_line_did() {
     );
     let f = step::read_all(hyperbola.as_bytes()).unwrap();
     // the file still opens: both surfaces (and the untrimmed face's 3D edges as curves of their own)
-    let surfaces: Vec<usize> = (0..f.objects.len()).filter(|&k| f.objects[k].as_surface().is_some()).collect();
+    let surfaces: Vec<usize> = (0..f.objects.len())
+        .filter(|&k| f.objects[k].as_surface().is_some())
+        .collect();
     assert_eq!(surfaces.len(), 2, "{:?}", f.notices);
     assert_eq!(f.trims[surfaces[0]], None);
     assert_eq!(f.trims[surfaces[1]], original.trims[1]);

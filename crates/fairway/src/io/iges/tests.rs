@@ -435,7 +435,9 @@ fn a_boundary_with_only_its_model_space_curve_is_projected_onto_the_surface() {
     );
     let f = read_all(text.as_bytes()).unwrap();
     assert_eq!(f.objects, objects, "the surface alone: its edges are its trim");
-    let got = f.trims[0].as_ref().unwrap_or_else(|| panic!("untrimmed: {:?}", f.notices));
+    let got = f.trims[0]
+        .as_ref()
+        .unwrap_or_else(|| panic!("untrimmed: {:?}", f.notices));
     let tol = crate::trim::fit_tolerance(&s);
     loops_agree(&s, got, &trim, 2.0 * tol);
     assert!(got.largest_gap() <= 1e-6, "{}", got.largest_gap());
@@ -459,7 +461,9 @@ fn a_boundary_preferring_its_model_space_curve_is_read_from_it() {
         .collect();
     assert_ne!(pref2, text);
     let f = read_all(pref2.as_bytes()).unwrap();
-    let got = f.trims[0].as_ref().unwrap_or_else(|| panic!("untrimmed: {:?}", f.notices));
+    let got = f.trims[0]
+        .as_ref()
+        .unwrap_or_else(|| panic!("untrimmed: {:?}", f.notices));
     assert_ne!(got, &trim, "projected, not the uv curves");
     loops_agree(&s, got, &trim, 2.0 * crate::trim::fit_tolerance(&s));
 }
@@ -493,8 +497,8 @@ fn a_model_space_boundary_off_its_surface_leaves_the_face_untrimmed_with_a_notic
     assert!(e.contains("not on this face's surface"), "{e}");
     // through a file: the boundary's curves computed on the surface moved up by 5, its 144 pointing at
     // the original surface (entity 1 instead of 3, the same width)
-    let moved = crate::io::interchange::map_points(Geometry::Surface(s.clone()), |q| q + DVec3::new(0.0, 0.0, 5.0))
-        .unwrap();
+    let moved =
+        crate::io::interchange::map_points(Geometry::Surface(s.clone()), |q| q + DVec3::new(0.0, 0.0, 5.0)).unwrap();
     let objects = vec![Geometry::Surface(s), moved];
     let text = super::write::write_with(
         &objects,
@@ -508,8 +512,10 @@ fn a_model_space_boundary_off_its_surface_leaves_the_face_untrimmed_with_a_notic
     assert_eq!(f.objects, objects);
     assert_eq!(f.trims, vec![None, None]);
     assert!(
-        f.notices.iter().any(|n| n.contains("its 144's boundaries are not kept")
-            && n.contains("cannot be projected onto the surface")),
+        f.notices
+            .iter()
+            .any(|n| n.contains("its 144's boundaries are not kept")
+                && n.contains("cannot be projected onto the surface")),
         "{:?}",
         f.notices
     );

@@ -363,7 +363,9 @@ impl DataSections<'_> {
             pos: 1,
             what: String::new(),
         };
-        let Ok(n) = p.count("N (curves)", MAX_CURVES as i64) else { return };
+        let Ok(n) = p.count("N (curves)", MAX_CURVES as i64) else {
+            return;
+        };
         for _ in 0..n {
             match p.int() {
                 Ok(de) => self.mark_curves(de, depth + 1, used),

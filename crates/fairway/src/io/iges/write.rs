@@ -143,7 +143,12 @@ pub fn write_labeled(objects: &[Geometry], labels: &[String], opts: &WriteOption
 /// `objects[k]`, written as a trimmed surface (144) whose boundaries (142) carry each loop twice, as its
 /// curves in the surface's (u, v) exactly as stored and as curves in space recomputed on the surface as
 /// it is now (module `write_trim`); the others as [`write_labeled`] writes them.
-pub fn write_trimmed(objects: &[Geometry], labels: &[String], trims: &[Option<FaceTrim>], opts: &WriteOptions) -> String {
+pub fn write_trimmed(
+    objects: &[Geometry],
+    labels: &[String],
+    trims: &[Option<FaceTrim>],
+    opts: &WriteOptions,
+) -> String {
     write_with(objects, labels, trims, opts, super::write_trim::Boundaries::Both)
 }
 
@@ -168,7 +173,13 @@ impl Entities {
     }
 
     /// Add an entity with its status digits; returns its directory number.
-    pub(super) fn add_with(&mut self, etype: u32, status: &'static str, params: Vec<String>, label: (String, i64)) -> i64 {
+    pub(super) fn add_with(
+        &mut self,
+        etype: u32,
+        status: &'static str,
+        params: Vec<String>,
+        label: (String, i64),
+    ) -> i64 {
         self.0.push(Entity {
             etype,
             form: 0,

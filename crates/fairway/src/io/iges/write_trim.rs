@@ -101,7 +101,14 @@ fn boundary(ents: &mut Entities, s: &BSplineSurface, sid: i64, l: &TrimLoop, mod
         }
         None => 0,
     };
-    let p = ["142".to_string(), "0".into(), sid.to_string(), bptr.to_string(), cptr.to_string(), "1".into()];
+    let p = [
+        "142".to_string(),
+        "0".into(),
+        sid.to_string(),
+        bptr.to_string(),
+        cptr.to_string(),
+        "1".into(),
+    ];
     ents.add_with(142, DEPENDENT_UV, p.to_vec(), none())
 }
 

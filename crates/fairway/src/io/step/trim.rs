@@ -240,7 +240,13 @@ enum EdgeGeometry {
 enum Path {
     BSpline(BSplineCurve),
     Line(DVec3, DVec3),
-    Conic { c: DVec3, x: DVec3, y: DVec3, a: f64, b: f64 },
+    Conic {
+        c: DVec3,
+        x: DVec3,
+        y: DVec3,
+        a: f64,
+        b: f64,
+    },
 }
 
 impl Path {
@@ -412,7 +418,9 @@ fn path_at(ex: &Exchange, gid: u64, curve: RawCurve<'_>, depth: usize) -> Result
     }
     if let Some(r) = g.record("TRIMMED_CURVE") {
         if depth >= MAX_TRIMMED {
-            return Err(perr(format!("trimmed curve #{gid}: nested more than {MAX_TRIMMED} deep")));
+            return Err(perr(format!(
+                "trimmed curve #{gid}: nested more than {MAX_TRIMMED} deep"
+            )));
         }
         let basis = reference(r.params.get(1), &format!("trimmed curve #{gid}'s basis curve"))?;
         let p = path_at(ex, basis, curve, depth + 1)?;
