@@ -765,7 +765,7 @@ fn a_trimmed_face_keeps_its_trim_when_opened_picked_and_saved() {
     let face: Geometry = s.into();
     let one = dir.join("face.stp");
     let text = step::write_trimmed(
-        &[face.clone()],
+        std::slice::from_ref(&face),
         &[String::new()],
         &[Some(trim.clone())],
         &Default::default(),
