@@ -460,8 +460,8 @@ fn occ_line_circle_and_ellipse_p_curves_are_read_exactly() {
     }
 }
 
-/// A p-curve given as a `TRIMMED_CURVE` of a `LINE`, and one given as a `POLYLINE` through the same
-/// corners, bound the face as the `LINE` did (the same corners, degree 1); a p-curve of a kind that is
+/// A p-curve given as a `TRIMMED_CURVE` of a `LINE` (running with it or against it), and one given as a
+/// `POLYLINE` through the same corners, bound the face as the `LINE` did (the same corners, degree 1); a p-curve of a kind that is
 /// not read (a `HYPERBOLA` here) leaves that face untrimmed with a notice naming it (its edges then curves
 /// of their own), the other face and the file read as before.
 #[test]
@@ -480,6 +480,11 @@ fn trimmed_curve_and_polyline_p_curves_bound_the_face_as_their_line_did() {
         "#9001",
         "#9001 = TRIMMED_CURVE('',#125,(PARAMETER_VALUE(0.1)),(PARAMETER_VALUE(0.9)),.T.,.PARAMETER.);",
     );
+    // the same side through a trimmed curve that runs against its basis line (sense agreement .F.)
+    let against = with(
+        "#9001",
+        "#9001 = TRIMMED_CURVE('',#125,(PARAMETER_VALUE(0.9)),(PARAMETER_VALUE(0.1)),.F.,.PARAMETER.);",
+    );
     let polyline = with(
         "#9001",
         "#9001 = POLYLINE('',(#9002,#9003,#9004));\n#9002 = CARTESIAN_POINT('',(0.1,0.));\n\
@@ -487,7 +492,11 @@ fn trimmed_curve_and_polyline_p_curves_bound_the_face_as_their_line_did() {
     );
     let first = |f: &fairway::io::InterchangeFile| f.trims[0].clone().expect("trimmed");
     let want = first(&original);
-    for (what, t) in [("trimmed curve", trimmed), ("polyline", polyline)] {
+    for (what, t) in [
+        ("trimmed curve", trimmed),
+        ("trimmed curve against its line", against),
+        ("polyline", polyline),
+    ] {
         let f = step::read_all(t.as_bytes()).unwrap();
         let got = first(&f);
         assert_eq!((got.loops.len(), got.loops[0].edges.len()), (2, 4), "{what}");
