@@ -61,6 +61,41 @@ pub struct Input {
     pub trim: Option<fairway::FaceTrim>,
 }
 
+/// Write `doc` to `path` (the format from its extension; an IGES or STEP file declaring `unit`), a
+/// trimmed face with its bounds `trim` where the format holds them (IGES, STEP, a `.ron` document of
+/// version 2); a JSON output holds the surface only, said on stderr.
+pub fn save_document(
+    path: &Path,
+    doc: fairway::io::Document,
+    trim: Option<fairway::FaceTrim>,
+    unit: Option<fairway::io::Unit>,
+) -> fairway::Result<()> {
+    use fairway::io::Format;
+    let Some(trim) = trim else {
+        return fairway::io::save_in(path, &doc, unit);
+    };
+    if matches!(Format::from_path(path), Ok(Format::Json)) {
+        eprintln!(
+            "fairway: {}: a JSON geometry file holds no trim: the face's bounds ({}) are not kept (write .ron, .igs \
+             or .stp to keep them)",
+            path.display(),
+            trim.summary()
+        );
+        return fairway::io::save_in(path, &doc, unit);
+    }
+    let scene = fairway::io::Scene {
+        objects: vec![fairway::io::SceneObject {
+            name: String::new(),
+            trim: Some(trim),
+            geometry: doc.geometry,
+            settings: doc.settings,
+        }],
+        unit,
+        ..Default::default()
+    };
+    fairway::io::save_scene(path, &scene)
+}
+
 /// Load an input file. IGES, STEP and RON documents with several objects: object `index` (default the
 /// first), the file's notices (skipped entities, trims not applied) and, when it holds several objects,
 /// which one was taken, on stderr.
@@ -72,8 +107,11 @@ pub fn load_input(path: &Path, index: Option<usize>) -> Result<Input> {
         e => anyhow!("{name}: {e}"),
     };
     let ron = matches!(fairway::io::Format::from_path(path), Ok(fairway::io::Format::Ron));
-    if let Some((scene, _)) = if ron { load_scene_input(path)? } else { None }.filter(|(s, _)| s.objects.len() > 1) {
-        // a document with several objects (RON version 2): picked like an object of an IGES or STEP file
+    if let Some((scene, _)) = if ron { load_scene_input(path)? } else { None }
+        .filter(|(s, _)| s.objects.len() > 1 || s.objects.iter().any(|o| o.trim.is_some()))
+    {
+        // a document with several objects, or a trimmed face (RON version 2): picked like an object of an
+        // IGES or STEP file
         let count = scene.objects.len();
         let k = pick(path, index, count)?;
         let o = scene.objects.into_iter().nth(k).expect("k < count");

@@ -112,21 +112,8 @@ pub fn run(a: &Args) -> Result<()> {
             let text = svg::try_curve_svg(c, None, &opts).map_err(|e| with_path(&a.output, e))?;
             io::write_atomic(&a.output, text.as_bytes()).map_err(|e| with_path(&a.output, e))
         }
-        // an IGES or STEP output declares the input's unit (the coordinates are not scaled)
-        // a trimmed face keeps its bounds where the output can hold them (STEP, the document formats)
-        _ if trim.is_some() && matches!(ext(&a.output).as_str(), "stp" | "step") => {
-            let scene = io::Scene {
-                objects: vec![io::SceneObject {
-                    name: String::new(),
-                    trim,
-                    geometry: doc.geometry,
-                    settings: doc.settings,
-                }],
-                unit: input.unit,
-                ..Default::default()
-            };
-            io::save_scene(&a.output, &scene).map_err(|e| with_path(&a.output, e))
-        }
-        _ => io::save_in(&a.output, &doc, input.unit).map_err(|e| with_path(&a.output, e)),
+        // an IGES or STEP output declares the input's unit (the coordinates are not scaled); a trimmed face
+        // keeps its bounds where the output can hold them (IGES, STEP, a .ron document)
+        _ => crate::common::save_document(&a.output, doc, trim, input.unit).map_err(|e| with_path(&a.output, e)),
     }
 }

@@ -49,6 +49,9 @@ pub struct Args {
     /// The input's length unit (IGES / STEP), declared by an IGES or STEP output (set once read).
     #[arg(skip)]
     pub unit: Option<Unit>,
+    /// The input's bounds when it is a trimmed face (set once the input is read), written with the result.
+    #[arg(skip)]
+    pub trim: Option<fairway::FaceTrim>,
     /// Region to fair: `u1,u2` for a curve, `u1,u2,v1,v2` for a surface (default: everything). On a closed
     /// curve `u1 > u2` is the stretch across the seam ([u1, end] then [start, u2]).
     #[arg(long, value_parser = parse_region, allow_hyphen_values = true)]
@@ -384,6 +387,7 @@ pub fn run(a: &Args) -> Result<()> {
     (a.tolerance, a.tolerance_from) =
         tolerance_of(&a, input.doc.settings.tolerance, input.unit)?.ok_or_else(|| no_tolerance(&a.input, &[]))?;
     a.unit = input.unit;
+    a.trim = input.trim;
     if input.unit.is_some() || a.tolerance_from == ToleranceFrom::Document {
         say_tolerance(&name, a.tolerance, input.unit, a.tolerance_from);
     }
@@ -608,8 +612,10 @@ fn save_result<T: Serialize>(a: &Args, result: Geometry, report: Option<&T>) -> 
     if let Some(r) = report {
         refuse_non_finite("the report", r)?;
     }
-    // an IGES or STEP output declares the input's unit
-    fairway::io::save_in(&a.output, &Document::new(result), a.unit)?;
+    // an IGES or STEP output declares the input's unit; a faired trimmed face keeps its bounds (the fair
+    // keeps the surface's knots and parameters, so its uv loops bound the same part of it)
+    let trim = a.trim.clone().filter(|_| matches!(result, Geometry::Surface(_)));
+    crate::common::save_document(&a.output, Document::new(result), trim, a.unit)?;
     if let (Some(path), Some(r)) = (&a.report, report) {
         write_report(path, r, &a.output)?;
     }

@@ -114,7 +114,7 @@ impl Autosave {
     }
 
     /// Write the autosave of a document of several objects now: a RON document of version 1 for one
-    /// unnamed object without a unit on the XY plane (as before), else of version 2 (every object,
+    /// unnamed object without a unit or a trim on the XY plane (as before), else of version 2 (every object,
     /// named, the unit, the view plane).
     pub fn write_scene(&self, scene: &Scene, source: Option<&Path>) -> Result<()> {
         std::fs::create_dir_all(&self.dir).map_err(|e| Error::Io {
@@ -122,7 +122,12 @@ impl Autosave {
             message: e.to_string(),
         })?;
         let text = match scene.objects.as_slice() {
-            [one] if one.name.is_empty() && scene.unit.is_none() && scene.view_plane == Default::default() => {
+            [one]
+                if one.name.is_empty()
+                    && one.trim.is_none()
+                    && scene.unit.is_none()
+                    && scene.view_plane == Default::default() =>
+            {
                 Document {
                     geometry: one.geometry.clone(),
                     settings: one.settings.clone(),

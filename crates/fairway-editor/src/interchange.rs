@@ -42,6 +42,21 @@ pub fn is_interchange(path: &Path) -> bool {
     Format::from_path(path).is_ok_and(|f| matches!(f, Format::Iges | Format::Step))
 }
 
+/// Object `k` of an IGES or STEP file as a document of its own: unnamed (saved as the file it came from
+/// was, a version 1 document when it is a plain curve or surface) with its trim, if it is a trimmed face.
+fn one_object(file: &InterchangeFile, k: usize) -> fairway::io::Scene {
+    let doc = Document::new(file.objects[k].clone());
+    fairway::io::Scene {
+        objects: vec![fairway::io::SceneObject {
+            name: String::new(),
+            trim: file.trims.get(k).cloned().flatten(),
+            geometry: doc.geometry,
+            settings: doc.settings,
+        }],
+        ..Default::default()
+    }
+}
+
 /// An IGES or STEP file with several objects, shown in the picker.
 #[derive(Debug, Clone)]
 pub struct ObjectPick {
@@ -321,10 +336,11 @@ impl App {
                 }
             )),
             1 => {
-                let doc = Document::new(file.objects[0].clone());
+                // a trimmed face keeps its bounds
+                let scene = one_object(&file, 0);
                 // keep the path only if saving back loses nothing else of the file
                 let keep = file.notices.is_empty();
-                if !self.set_document(doc.clone(), keep.then(|| path.to_path_buf()), Some(doc)) {
+                if !self.set_scene(scene.clone(), keep.then(|| path.to_path_buf()), Some(scene)) {
                     return;
                 }
                 self.unit = file.unit;
@@ -364,12 +380,13 @@ impl App {
 
     pub(crate) fn open_picked_object(&mut self, k: usize) {
         let Some(pick) = self.object_pick.take() else { return };
-        let Some(g) = pick.file.objects.get(k).cloned() else {
+        if k >= pick.file.objects.len() {
             return;
-        };
-        let doc = Document::new(g);
+        }
+        // a trimmed face keeps its bounds
+        let scene = one_object(&pick.file, k);
         // untitled: saving over the file would drop its other objects
-        if !self.set_document(doc.clone(), None, Some(doc)) {
+        if !self.set_scene(scene.clone(), None, Some(scene)) {
             return;
         }
         self.unit = pick.file.unit;

@@ -734,3 +734,89 @@ fn tolerance_field_takes_typed_units_converted_into_the_documents_unit() {
         "{e}"
     );
 }
+
+/// A trimmed face keeps its bounds through the editor (issue 29): opened from a STEP file of one face,
+/// imported through the picker from an IGES file with other objects beside it, and saved back as IGES,
+/// STEP and a .ron document (each read back with the same loops; the surface workspace draws them).
+#[test]
+fn a_trimmed_face_keeps_its_trim_when_opened_picked_and_saved() {
+    use fairway::io::{iges, load_scene, step};
+    use fairway::trim::{FaceTrim, TrimLoop};
+    let dir = temp_dir("trims");
+    let s = test_surface();
+    let ((u0, u1), (v0, v1)) = s.domain();
+    let at = |a: f64, b: f64| DVec3::new(u0 + a * (u1 - u0), v0 + b * (v1 - v0), 0.0);
+    let corners = [at(0.1, 0.1), at(0.9, 0.2), at(0.8, 0.9), at(0.15, 0.8)];
+    let edges = (0..4)
+        .map(|k| {
+            BSplineCurve::try_new(
+                1,
+                vec![0.0, 0.0, 1.0, 1.0],
+                vec![corners[k], corners[(k + 1) % 4]],
+                None,
+                2,
+            )
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .unwrap();
+    let trim = FaceTrim {
+        loops: vec![TrimLoop { outer: true, edges }],
+    };
+    let face: Geometry = s.into();
+    let one = dir.join("face.stp");
+    let text = step::write_trimmed(
+        std::slice::from_ref(&face),
+        &[String::new()],
+        &[Some(trim.clone())],
+        &Default::default(),
+    );
+    std::fs::write(&one, text).unwrap();
+    let saved_trim = |p: &Path| {
+        let (scene, notices) = load_scene(p).unwrap();
+        assert_eq!(scene.objects.len(), 1, "{}: {notices:?}", p.display());
+        scene.objects[0].trim.clone()
+    };
+
+    // opened directly: the face and its trim
+    let mut h = harness(App::default());
+    path_action(&mut h, &one, "Open path");
+    assert!(h.state().surface.is_some(), "{:?}", h.state().error);
+    assert_eq!(h.state().objects.len(), 1);
+    let got = h.state().objects[0].trim.clone().expect("opened with its trim");
+    assert_eq!(got.summary(), "trimmed: 1 outer loop, 0 inner loops, 4 edges");
+    assert!(
+        h.state_mut().surface.as_ref().unwrap().trim.is_some(),
+        "the 3D view draws the loop"
+    );
+    for (ext, exact) in [("igs", true), ("stp", false), ("ron", true)] {
+        let out = dir.join(format!("saved.{ext}"));
+        path_action(&mut h, &out, "Save to path");
+        assert!(h.state().error.is_none(), "{:?}", h.state().error);
+        let back = saved_trim(&out).unwrap_or_else(|| panic!("saved as .{ext} without its trim"));
+        if exact {
+            assert_eq!(back, got, "{ext}");
+        } else {
+            assert_eq!(back.summary(), got.summary());
+        }
+    }
+
+    // imported through the picker from an IGES file with a curve before the face
+    let multi = dir.join("multi.igs");
+    let objects = vec![test_curve_3d().into(), face.clone()];
+    let text = iges::write_trimmed(&objects, &[], &[None, Some(trim.clone())], &Default::default());
+    std::fs::write(&multi, text).unwrap();
+    path_action(&mut h, &multi, "Import one object");
+    assert!(h.state().object_pick.is_some(), "{:?}", h.state().error);
+    h.get_by_role_and_label(Role::Button, "Open object 2").click();
+    h.run();
+    assert_eq!(h.state().doc.geometry, face);
+    assert_eq!(
+        h.state().objects[0].trim.as_ref(),
+        Some(&trim),
+        "picked with its trim, exactly"
+    );
+    let out = dir.join("picked.igs");
+    path_action(&mut h, &out, "Save to path");
+    assert_eq!(saved_trim(&out), Some(trim));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -255,6 +255,22 @@ pub fn edge_on_surface(s: &BSplineSurface, e: &BSplineCurve, tol: f64) -> Result
     }
 }
 
+/// The fallback 3D edge of the uv edge `e` on `s` (where [`edge_on_surface`] fails, which a valid uv
+/// curve does not make it): a polyline through the surface's points at 65 parameters of `e`.
+pub fn polyline_on_surface(s: &BSplineSurface, e: &BSplineCurve) -> Result<BSplineCurve> {
+    const N: usize = 64;
+    let (a, b) = e.domain();
+    let ts: Vec<f64> = (0..=N).map(|k| a + (b - a) * k as f64 / N as f64).collect();
+    let pts = ts.iter().map(|&t| {
+        let q = e.point(t);
+        s.point(q.x, q.y)
+    });
+    let mut knots = vec![a];
+    knots.extend(ts.iter().copied());
+    knots.push(b);
+    BSplineCurve::try_new(1, knots, pts.collect(), None, 3)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

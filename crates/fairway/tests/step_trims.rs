@@ -15,6 +15,14 @@ fn corpus(name: &str) -> Vec<u8> {
     std::fs::read(path).unwrap()
 }
 
+/// A file of `tests/data/trims` (trimmed faces from other systems, not faired by the corpus test).
+fn trims_data(name: &str) -> Vec<u8> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data/trims")
+        .join(name);
+    std::fs::read(path).unwrap()
+}
+
 fn surface(g: &Geometry) -> &BSplineSurface {
     g.as_surface().expect("a surface")
 }
@@ -377,4 +385,141 @@ fn iges_trimmed_surfaces_keep_their_loops_and_export_to_step() {
             1e-9 + 10.0 * a.largest_gap(),
         );
     }
+}
+
+/// OpenCASCADE's p-curves that are not B-splines (`tests/data/trims/occ-conic-trims.step`, written by
+/// `make_conic_trims_step.py`): a face bounded by a uv rectangle (4 `LINE`s) with a circular hole (a
+/// `CIRCLE`), and one bounded by a pentagon (5 `LINE`s) with an elliptical hole (an `ELLIPSE`). Lines are
+/// read as degree-1 edges through the corners, the circle and the ellipse exactly as rational
+/// quadratics: every point of them on the conic to rounding, not to a fit tolerance.
+#[test]
+fn occ_line_circle_and_ellipse_p_curves_are_read_exactly() {
+    let f = step::read_all(&trims_data("occ-conic-trims.step")).unwrap();
+    assert_eq!(f.objects.len(), 2, "{:?}", f.notices);
+    assert!(
+        !f.notices
+            .iter()
+            .any(|n| n.contains("untrimmed") || n.contains("not read")),
+        "{:?}",
+        f.notices
+    );
+    let trims: Vec<&FaceTrim> = f.trims.iter().map(|t| t.as_ref().expect("trimmed")).collect();
+    for t in &trims {
+        assert_eq!((t.outer_loops(), t.inner_loops()), (1, 1), "{}", t.summary());
+        assert!(t.largest_gap() <= 1e-7, "{}", t.largest_gap());
+    }
+    let corners = |l: &fairway::trim::TrimLoop| -> Vec<(f64, f64)> {
+        l.edges
+            .iter()
+            .map(|e| {
+                assert_eq!((e.degree(), e.is_rational()), (1, false), "a line");
+                let q = e.point(e.domain().0);
+                (q.x, q.y)
+            })
+            .collect()
+    };
+    let near = |got: Vec<(f64, f64)>, want: &[(f64, f64)]| {
+        assert_eq!(got.len(), want.len());
+        // the loop may start at any corner and run either way round
+        let found = want
+            .iter()
+            .all(|w| got.iter().any(|g| (g.0 - w.0).hypot(g.1 - w.1) <= 1e-6));
+        assert!(found, "{got:?} vs {want:?}");
+    };
+    near(
+        corners(&trims[0].loops[0]),
+        &[(0.1, 0.1), (0.9, 0.1), (0.9, 0.9), (0.1, 0.9)],
+    );
+    let pentagon: Vec<(f64, f64)> = (0..5)
+        .map(|k| {
+            let a = std::f64::consts::FRAC_PI_2 + std::f64::consts::TAU * k as f64 / 5.0;
+            (0.5 + 0.42 * a.cos(), 0.5 + 0.42 * a.sin())
+        })
+        .collect();
+    near(corners(&trims[1].loops[0]), &pentagon);
+    // the holes: rational quadratics exactly on the circle and on the ellipse, all the way round
+    let on = |l: &fairway::trim::TrimLoop, f: &dyn Fn(f64, f64) -> f64| {
+        let mut turn = 0.0;
+        for e in &l.edges {
+            assert_eq!((e.degree(), e.is_rational()), (2, true));
+            let (a, b) = e.domain();
+            for k in 0..=100 {
+                let q = e.point(a + (b - a) * k as f64 / 100.0);
+                assert!(f(q.x, q.y).abs() <= 1e-12, "{q}: {}", f(q.x, q.y));
+            }
+            turn += b - a;
+        }
+        turn
+    };
+    let circle = on(&trims[0].loops[1], &|u, v| (u - 0.5).hypot(v - 0.5) / 0.15 - 1.0);
+    let ellipse = on(&trims[1].loops[1], &|u, v| {
+        ((u - 0.45) / 0.2).hypot((v - 0.5) / 0.1) - 1.0
+    });
+    for turn in [circle, ellipse] {
+        assert!((turn - std::f64::consts::TAU).abs() <= 1e-9, "a whole turn: {turn}");
+    }
+}
+
+/// A p-curve given as a `TRIMMED_CURVE` of a `LINE` (running with it or against it), and one given as a
+/// `POLYLINE` through the same corners, bound the face as the `LINE` did (the same corners, degree 1); a p-curve of a kind that is
+/// not read (a `HYPERBOLA` here) leaves that face untrimmed with a notice naming it (its edges then curves
+/// of their own), the other face and the file read as before.
+#[test]
+fn trimmed_curve_and_polyline_p_curves_bound_the_face_as_their_line_did() {
+    let text = String::from_utf8(trims_data("occ-conic-trims.step")).unwrap();
+    let original = step::read_all(text.as_bytes()).unwrap();
+    // the first rectangle side: u = 0.1 (a vertical line through (0.1, 0) in (u, v))
+    assert!(text.contains("#124 = DEFINITIONAL_REPRESENTATION('',(#125),#129);"));
+    let with = |item: &str, extra: &str| {
+        text.replace(
+            "#124 = DEFINITIONAL_REPRESENTATION('',(#125),#129);",
+            &format!("#124 = DEFINITIONAL_REPRESENTATION('',({item}),#129);\n{extra}"),
+        )
+    };
+    let trimmed = with(
+        "#9001",
+        "#9001 = TRIMMED_CURVE('',#125,(PARAMETER_VALUE(0.1)),(PARAMETER_VALUE(0.9)),.T.,.PARAMETER.);",
+    );
+    // the same side through a trimmed curve that runs against its basis line (sense agreement .F.)
+    let against = with(
+        "#9001",
+        "#9001 = TRIMMED_CURVE('',#125,(PARAMETER_VALUE(0.9)),(PARAMETER_VALUE(0.1)),.F.,.PARAMETER.);",
+    );
+    let polyline = with(
+        "#9001",
+        "#9001 = POLYLINE('',(#9002,#9003,#9004));\n#9002 = CARTESIAN_POINT('',(0.1,0.));\n\
+         #9003 = CARTESIAN_POINT('',(0.1,0.5));\n#9004 = CARTESIAN_POINT('',(0.1,1.));",
+    );
+    let first = |f: &fairway::io::InterchangeFile| f.trims[0].clone().expect("trimmed");
+    let want = first(&original);
+    for (what, t) in [
+        ("trimmed curve", trimmed),
+        ("trimmed curve against its line", against),
+        ("polyline", polyline),
+    ] {
+        let f = step::read_all(t.as_bytes()).unwrap();
+        let got = first(&f);
+        assert_eq!((got.loops.len(), got.loops[0].edges.len()), (2, 4), "{what}");
+        same_loops(&got, &want, 1e-12);
+        assert_eq!(f.trims[1], original.trims[1], "{what}: the other face as it was");
+    }
+    let hyperbola = with(
+        "#9001",
+        "#9001 = HYPERBOLA('',#9002,0.1,0.1);\n#9002 = AXIS2_PLACEMENT_2D('',#126,#128);",
+    );
+    let f = step::read_all(hyperbola.as_bytes()).unwrap();
+    // the file still opens: both surfaces (and the untrimmed face's 3D edges as curves of their own)
+    let surfaces: Vec<usize> = (0..f.objects.len())
+        .filter(|&k| f.objects[k].as_surface().is_some())
+        .collect();
+    assert_eq!(surfaces.len(), 2, "{:?}", f.notices);
+    assert_eq!(f.trims[surfaces[0]], None);
+    assert_eq!(f.trims[surfaces[1]], original.trims[1]);
+    assert!(
+        f.notices
+            .iter()
+            .any(|n| n.contains("opens untrimmed") && n.contains("is a HYPERBOLA, which is not read")),
+        "{:?}",
+        f.notices
+    );
 }

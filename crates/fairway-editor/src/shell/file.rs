@@ -201,10 +201,10 @@ impl App {
     }
 }
 
-/// Whether `scene` is what a version 1 document holds: one unnamed object, drawn on the XY plane (the
-/// view plane and names need version 2).
+/// Whether `scene` is what a version 1 document holds: one unnamed object without a trim, drawn on the XY
+/// plane (the view plane, names and trims need version 2, or IGES / STEP).
 pub(crate) fn is_plain_document(scene: &fairway::io::Scene) -> bool {
     scene.objects.len() < 2
-        && scene.objects.iter().all(|o| o.name.is_empty())
+        && scene.objects.iter().all(|o| o.name.is_empty() && o.trim.is_none())
         && scene.view_plane == fairway::io::ViewPlane::Xy
 }

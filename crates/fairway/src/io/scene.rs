@@ -226,7 +226,8 @@ pub fn load_scene(path: &Path) -> Result<(Scene, Vec<String>)> {
 }
 
 /// Write every object of `scene` in the format of the path's extension, atomically, in order: RON
-/// version 2; IGES and STEP with the names as labels and the scene's unit (millimetres if it has none);
+/// version 2; IGES and STEP with the names as labels, the scene's unit (millimetres if it has none) and
+/// each trimmed face with its bounds (IGES 144, STEP `ADVANCED_FACE`);
 /// JSON holds one object only (refused with more).
 pub fn save_scene(path: &Path, scene: &Scene) -> Result<()> {
     let unit = scene.unit.unwrap_or(Unit::Millimeter);
@@ -245,7 +246,7 @@ pub fn save_scene(path: &Path, scene: &Scene) -> Result<()> {
                 )));
             }
         },
-        Format::Iges => super::iges::write_labeled(&objects, &names, &opts),
+        Format::Iges => super::iges::write_trimmed(&objects, &names, &trims, &opts),
         Format::Step => super::step::write_trimmed(&objects, &names, &trims, &opts),
         Format::Points => {
             return Err(Error::InvalidInput(format!(

@@ -33,6 +33,10 @@
 //! one) in the file's unit, reported in [`IgesFile::unit`], unless
 //! [`ReadOptions::unit`] asks for a conversion. The writer writes G13 = 1.
 //!
+//! A trimmed surface (144) gives its surface the loops of its boundaries
+//! ([`IgesFile::trims`], module `trim`); [`write_trimmed`] writes a surface
+//! with its loops as a 144 (module `write_trim`).
+//!
 //! Writing ([`write()`], [`to_string`]) emits each float as its shortest
 //! round-trip decimal with a `D` exponent, so Fairway → IGES → Fairway is
 //! exact. The parser never panics and never sizes an allocation from a
@@ -52,6 +56,11 @@ pub use super::interchange::{EntityInfo, ReadOptions, Timestamp, Unit, WriteOpti
 /// Everything read from an IGES file: the shared [`InterchangeFile`](super::interchange::InterchangeFile).
 pub type IgesFile = super::interchange::InterchangeFile;
 
+/// The native system ID (global field 5) Fairway writes: a file that names it was written by Fairway, whose
+/// trimmed surfaces' model-space curves are derived from their parameter-space curves (module
+/// `write_trim`) and are not read as objects of their own.
+pub(super) const FAIRWAY_SYSTEM: &str = "Fairway";
+
 fn perr(message: impl Into<String>) -> Error {
     Error::Parse {
         format: "IGES".into(),
@@ -67,6 +76,7 @@ mod read;
 mod tests;
 mod trim;
 mod write;
+mod write_trim;
 
 use clamp::*;
 use entities::*;
@@ -74,4 +84,4 @@ use lex::*;
 
 pub use clamp::read_first;
 pub use read::{read_all, read_all_with};
-pub use write::{format_real, to_string, write, write_labeled};
+pub use write::{format_real, to_string, write, write_labeled, write_trimmed};

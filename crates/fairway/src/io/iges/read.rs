@@ -32,9 +32,13 @@ pub fn read_all_with(bytes: &[u8], opts: ReadOptions) -> Result<IgesFile> {
         rd,
         conversion,
     };
-    let (objects, infos, first_error) = data.read_entities(&mut notices);
-    let face_trims = data.face_trims(&mut notices);
-    let trims = attach_trims(&objects, &infos, &face_trims, &mut notices);
+    let mut trim_notices = vec![];
+    let face_trims = data.face_trims(&mut trim_notices);
+    // in a file Fairway wrote, a trimmed surface's curves in space are derived from its uv loops
+    let fairway_edges = matches!(gtoks.get(4), Some(Tok::Str(s)) if s == FAIRWAY_SYSTEM);
+    let (objects, infos, first_error) = data.read_entities(&mut notices, &face_trims, fairway_edges);
+    notices.append(&mut trim_notices);
+    let trims = attach_trims(&objects, &infos, &face_trims.by_surface, &mut notices);
     // nothing readable: the first entity's reason is the file's
     if objects.is_empty()
         && let Some(err) = first_error
@@ -250,12 +254,27 @@ pub(super) struct DataSections<'a> {
 impl DataSections<'_> {
     /// Entities: each curve and surface read (one bad entity skips that entity, listed in the
     /// notices, not the file), as (objects, their entity infos, the first error met).
-    pub(super) fn read_entities(&self, notices: &mut Vec<String>) -> (Vec<Geometry>, Vec<EntityInfo>, Option<Error>) {
+    /// The entities a read trimmed surface stands for (`trims.used`) are not reported as skipped; with
+    /// `fairway_edges` (a file Fairway wrote), its model-space curves are not read as objects either.
+    pub(super) fn read_entities(
+        &self,
+        notices: &mut Vec<String>,
+        trims: &super::trim::FaceTrims,
+        fairway_edges: bool,
+    ) -> (Vec<Geometry>, Vec<EntityInfo>, Option<Error>) {
         let mut budget = self.plines.len().saturating_mul(4).saturating_add(64);
         let mut objects = Vec::new();
         let mut infos = Vec::new();
         let mut first_error: Option<Error> = None;
+        let mut edges_kept = 0;
         for e in self.entries {
+            if trims.used.contains(&e.seq) && e.etype != 126 {
+                continue; // a 142 or 102 of a trimmed surface's boundary, read as its loops
+            }
+            if trims.used.contains(&e.seq) && (fairway_edges || !trims.model_curves.contains(&e.seq)) {
+                edges_kept += trims.model_curves.contains(&e.seq) as usize;
+                continue; // a boundary's parameter-space curve, or a model-space curve Fairway derived
+            }
             let Some(what) = entity_what(e, notices) else {
                 continue;
             };
@@ -292,6 +311,12 @@ impl DataSections<'_> {
                         .join(", "),
                 });
             }
+        }
+        if edges_kept > 0 {
+            notices.push(format!(
+                "{edges_kept} model-space curves of trimmed surfaces' boundaries kept as their trims (derived from \
+                 the uv loops by Fairway), not as objects of their own"
+            ));
         }
         (objects, infos, first_error)
     }

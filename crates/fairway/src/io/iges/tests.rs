@@ -357,3 +357,166 @@ fn bad_files_give_clear_errors() {
         assert!(e.contains(want), "{want}: {e}");
     }
 }
+
+/// A bicubic patch over 10 × 10 units with some relief, and a uv loop on it: a quadrilateral and a
+/// rational quadratic half circle closing it (exact in (u, v)).
+fn trimmed_patch() -> (BSplineSurface, crate::trim::FaceTrim) {
+    let n = 6;
+    let k = crate::knots::KnotVector::uniform(3, n).unwrap().values().to_vec();
+    let pts = (0..n * n)
+        .map(|i| {
+            let (x, y) = ((i / n) as f64 * 2.0, (i % n) as f64 * 2.0);
+            DVec3::new(x, y, (0.4 * x).sin() * (0.3 * y).cos())
+        })
+        .collect();
+    let s = BSplineSurface::try_new(3, 3, k.clone(), k, n, n, pts, None).unwrap();
+    let line = |a: (f64, f64), b: (f64, f64)| {
+        let pts = vec![DVec3::new(a.0, a.1, 0.0), DVec3::new(b.0, b.1, 0.0)];
+        BSplineCurve::try_new(1, vec![0.0, 0.0, 1.0, 1.0], pts, None, 2).unwrap()
+    };
+    // the half circle about (0.5, 0.7), radius 0.2, from (0.7, 0.7) over the top to (0.3, 0.7)
+    let w = std::f64::consts::FRAC_1_SQRT_2;
+    let arc = BSplineCurve::try_new(
+        2,
+        vec![0.0, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 1.0],
+        [(0.7, 0.7), (0.7, 0.9), (0.5, 0.9), (0.3, 0.9), (0.3, 0.7)]
+            .iter()
+            .map(|&(u, v)| DVec3::new(u, v, 0.0))
+            .collect(),
+        Some(vec![1.0, w, 1.0, w, 1.0]),
+        2,
+    )
+    .unwrap();
+    let outer = crate::trim::TrimLoop {
+        outer: true,
+        edges: vec![
+            line((0.3, 0.7), (0.2, 0.15)),
+            line((0.2, 0.15), (0.8, 0.2)),
+            line((0.8, 0.2), (0.7, 0.7)),
+            arc,
+        ],
+    };
+    (s, crate::trim::FaceTrim { loops: vec![outer] })
+}
+
+/// Each point of `got` (16 a edge) is within `tol` in space of the exact loop `want` on `s` at the same
+/// edge parameter, and the loops have as many edges, each from the same start to the same end in (u, v).
+fn loops_agree(s: &BSplineSurface, got: &crate::trim::FaceTrim, want: &crate::trim::FaceTrim, tol: f64) {
+    assert_eq!(got.loops.len(), want.loops.len());
+    for (g, w) in got.loops.iter().zip(&want.loops) {
+        assert_eq!((g.outer, g.edges.len()), (w.outer, w.edges.len()));
+        for (eg, ew) in g.edges.iter().zip(&w.edges) {
+            assert_eq!(eg.domain(), ew.domain(), "the model-space curve's parameter kept");
+            let (a, b) = ew.domain();
+            for k in 0..=64 {
+                let t = a + (b - a) * k as f64 / 64.0;
+                let (qg, qw) = (eg.point(t), ew.point(t));
+                let d = s.point(qg.x, qg.y).distance(s.point(qw.x, qw.y));
+                assert!(d <= tol, "{d:.3e} > {tol:.3e} at t = {t}");
+                assert!(DVec2::new(qg.x - qw.x, qg.y - qw.y).length() <= 1e-5, "{qg} vs {qw}");
+            }
+        }
+    }
+}
+
+/// A 142 with only a model-space curve (BPTR = 0), as some systems write: the reader projects it onto the
+/// surface, and the uv loop it builds lies within the trim tolerance of the exact one (twice: the written
+/// curve's own fit, then the projection), edge by edge, the curve's parameter kept.
+#[test]
+fn a_boundary_with_only_its_model_space_curve_is_projected_onto_the_surface() {
+    let (s, trim) = trimmed_patch();
+    let objects = vec![Geometry::Surface(s.clone())];
+    let text = super::write::write_with(
+        &objects,
+        &[],
+        &[Some(trim.clone())],
+        &WriteOptions::default(),
+        super::write_trim::Boundaries::ModelOnly,
+    );
+    let f = read_all(text.as_bytes()).unwrap();
+    assert_eq!(f.objects, objects, "the surface alone: its edges are its trim");
+    let got = f.trims[0]
+        .as_ref()
+        .unwrap_or_else(|| panic!("untrimmed: {:?}", f.notices));
+    let tol = crate::trim::fit_tolerance(&s);
+    loops_agree(&s, got, &trim, 2.0 * tol);
+    assert!(got.largest_gap() <= 1e-6, "{}", got.largest_gap());
+}
+
+/// A 142 whose preference flag says model space (PREF = 2) is read from its model-space curve even where
+/// it has a parameter-space curve too; with PREF = 1 the parameter-space curve is taken exactly.
+#[test]
+fn a_boundary_preferring_its_model_space_curve_is_read_from_it() {
+    let (s, trim) = trimmed_patch();
+    let objects = vec![Geometry::Surface(s.clone())];
+    let text = write_trimmed(&objects, &[], &[Some(trim.clone())], &WriteOptions::default());
+    assert_eq!(read_all(text.as_bytes()).unwrap().trims[0], Some(trim.clone()));
+    // PREF is the 142's last parameter: 1 → 2 (same width)
+    let pref2: String = text
+        .lines()
+        .map(|l| match l.starts_with("142,") {
+            true => format!("{}\n", l.replacen(",1;", ",2;", 1)),
+            false => format!("{l}\n"),
+        })
+        .collect();
+    assert_ne!(pref2, text);
+    let f = read_all(pref2.as_bytes()).unwrap();
+    let got = f.trims[0]
+        .as_ref()
+        .unwrap_or_else(|| panic!("untrimmed: {:?}", f.notices));
+    assert_ne!(got, &trim, "projected, not the uv curves");
+    loops_agree(&s, got, &trim, 2.0 * crate::trim::fit_tolerance(&s));
+}
+
+/// A boundary whose model-space curve is not on the face's surface (and that has no parameter-space
+/// curve) is refused with the reason; the file still opens, the surface untrimmed, with a notice.
+#[test]
+fn a_model_space_boundary_off_its_surface_leaves_the_face_untrimmed_with_a_notice() {
+    let (s, trim) = trimmed_patch();
+    let b = super::trim::Boundary {
+        outer: true,
+        uv: None,
+        model: Some(vec![
+            BSplineCurve::try_new(
+                1,
+                vec![0.0, 0.0, 1.0, 1.0],
+                vec![DVec3::new(2.0, 2.0, 5.0), DVec3::new(8.0, 2.0, 5.0)],
+                None,
+                3,
+            )
+            .unwrap(),
+        ]),
+        model_first: false,
+    };
+    let t = super::trim::Trim144 {
+        outer_is_domain: false,
+        loops: vec![b],
+    };
+    let e = t.on(&s).unwrap_err().to_string();
+    assert!(e.contains("cannot be projected onto the surface"), "{e}");
+    assert!(e.contains("not on this face's surface"), "{e}");
+    // through a file: the boundary's curves computed on the surface moved up by 5, its 144 pointing at
+    // the original surface (entity 1 instead of 3, the same width)
+    let moved =
+        crate::io::interchange::map_points(Geometry::Surface(s.clone()), |q| q + DVec3::new(0.0, 0.0, 5.0)).unwrap();
+    let objects = vec![Geometry::Surface(s), moved];
+    let text = super::write::write_with(
+        &objects,
+        &[],
+        &[None, Some(trim)],
+        &WriteOptions::default(),
+        super::write_trim::Boundaries::ModelOnly,
+    );
+    assert_eq!(text.matches("144,3,").count(), 1);
+    let f = read_all(text.replacen("144,3,", "144,1,", 1).as_bytes()).unwrap();
+    assert_eq!(f.objects, objects);
+    assert_eq!(f.trims, vec![None, None]);
+    assert!(
+        f.notices
+            .iter()
+            .any(|n| n.contains("its 144's boundaries are not kept")
+                && n.contains("cannot be projected onto the surface")),
+        "{:?}",
+        f.notices
+    );
+}

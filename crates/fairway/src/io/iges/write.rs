@@ -1,6 +1,7 @@
 //! Writing: fixed-format records, each float as its shortest round-trip decimal.
 
 use super::*;
+use crate::trim::FaceTrim;
 
 /// A float as an IGES real: the shortest decimal that parses back to the
 /// same f64, with a decimal point and a `D` exponent (`1.5`, `1.0D-7`).
@@ -135,10 +136,78 @@ pub(super) fn label_fields(label: &str) -> (String, i64) {
 /// [`write()`] with a label per object (`labels[k]` for `objects[k]`; missing or empty: none), written to
 /// directory fields 18–19 (`label_fields`), so that [`read_all`] reports them again.
 pub fn write_labeled(objects: &[Geometry], labels: &[String], opts: &WriteOptions) -> String {
+    write_trimmed(objects, labels, &[], opts)
+}
+
+/// [`write_labeled`] with the bounds of trimmed faces: `trims[k]` (if any) bounds the surface
+/// `objects[k]`, written as a trimmed surface (144) whose boundaries (142) carry each loop twice, as its
+/// curves in the surface's (u, v) exactly as stored and as curves in space recomputed on the surface as
+/// it is now (module `write_trim`); the others as [`write_labeled`] writes them.
+pub fn write_trimmed(
+    objects: &[Geometry],
+    labels: &[String],
+    trims: &[Option<FaceTrim>],
+    opts: &WriteOptions,
+) -> String {
+    write_with(objects, labels, trims, opts, super::write_trim::Boundaries::Both)
+}
+
+/// One entity to write: its type, form, status digits (blank, subordinate, use, hierarchy), label and
+/// parameters (the type first).
+pub(super) struct Entity {
+    pub(super) etype: u32,
+    pub(super) form: u32,
+    pub(super) status: &'static str,
+    pub(super) label: (String, i64),
+    pub(super) params: Vec<String>,
+}
+
+/// The entities of a file in directory order.
+#[derive(Default)]
+pub(super) struct Entities(pub(super) Vec<Entity>);
+
+impl Entities {
+    /// Add an independent entity (status `00000000`); returns its directory number.
+    pub(super) fn add(&mut self, etype: u32, params: Vec<String>, label: (String, i64)) -> i64 {
+        self.add_with(etype, "00000000", params, label)
+    }
+
+    /// Add an entity with its status digits; returns its directory number.
+    pub(super) fn add_with(
+        &mut self,
+        etype: u32,
+        status: &'static str,
+        params: Vec<String>,
+        label: (String, i64),
+    ) -> i64 {
+        self.0.push(Entity {
+            etype,
+            form: 0,
+            status,
+            label,
+            params,
+        });
+        2 * self.0.len() as i64 - 1
+    }
+}
+
+/// The whole file; `boundaries` says which curves a trimmed face's boundaries carry (both but in tests).
+pub(super) fn write_with(
+    objects: &[Geometry],
+    labels: &[String],
+    trims: &[Option<FaceTrim>],
+    opts: &WriteOptions,
+    boundaries: super::write_trim::Boundaries,
+) -> String {
     let date = opts.date_or_now().to_iges();
     let mut out = String::new();
     // S
-    let s_lines = ["Fairway IGES export: rational B-spline curves (126) and surfaces (128)."];
+    let trimmed = trims.iter().flatten().next().is_some();
+    let s_lines = [if trimmed {
+        "Fairway IGES export: B-spline curves (126), surfaces (128), trims (144)."
+    } else {
+        "Fairway IGES export: rational B-spline curves (126) and surfaces (128)."
+    }];
     for (i, l) in s_lines.iter().enumerate() {
         out.push_str(&record(l, 'S', i + 1));
     }
@@ -156,7 +225,7 @@ pub fn write_labeled(objects: &[Geometry], labels: &[String], opts: &WriteOption
         hollerith(";"),
         hollerith("Fairway"),
         hollerith(opts.file_name_or("fairway.igs")),
-        hollerith("Fairway"),
+        hollerith(super::FAIRWAY_SYSTEM),
         hollerith(env!("CARGO_PKG_VERSION")),
         "32".into(),
         "38".into(),
@@ -182,17 +251,27 @@ pub fn write_labeled(objects: &[Geometry], labels: &[String], opts: &WriteOption
     for (i, l) in g_lines.iter().enumerate() {
         out.push_str(&record(l, 'G', i + 1));
     }
+    let mut ents = Entities::default();
+    for (k, gm) in objects.iter().enumerate() {
+        let label = label_fields(labels.get(k).map_or("", String::as_str));
+        match (gm, trims.get(k)) {
+            (Geometry::Surface(s), Some(Some(t))) => super::write_trim::face(&mut ents, s, t, label, boundaries),
+            (Geometry::Curve(c), _) => {
+                ents.add(126, curve_params(c), label);
+            }
+            (Geometry::Surface(s), _) => {
+                ents.add(128, surface_params(s), label);
+            }
+        }
+    }
     // P data first (to know the pointers), then D.
     let mut d_out = String::new();
     let mut p_out = String::new();
     let mut p_seq = 1;
-    for (k, gm) in objects.iter().enumerate() {
+    for (k, e) in ents.0.iter().enumerate() {
         let de = 2 * k + 1;
-        let (etype, toks) = match gm {
-            Geometry::Curve(c) => (126, curve_params(c)),
-            Geometry::Surface(s) => (128, surface_params(s)),
-        };
-        let lines = wrap(&toks, 64);
+        let etype = e.etype;
+        let lines = wrap(&e.params, 64);
         let start = p_seq;
         for l in &lines {
             p_out.push_str(&format!("{l:<64} {de:>7}P{p_seq:>7}\n"));
@@ -200,15 +279,15 @@ pub fn write_labeled(objects: &[Geometry], labels: &[String], opts: &WriteOption
         }
         let d1 = format!(
             "{etype:>8}{start:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}",
-            0, 0, 0, 0, 0, 0, "00000000"
+            0, 0, 0, 0, 0, 0, e.status
         );
-        let (label, subscript) = label_fields(labels.get(k).map_or("", String::as_str));
+        let (label, subscript) = (&e.label.0, e.label.1);
         let d2 = format!(
             "{etype:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{label:>8}{subscript:>8}",
             0,
             0,
             lines.len(),
-            0,
+            e.form,
             "",
             "",
         );
@@ -221,7 +300,7 @@ pub fn write_labeled(objects: &[Geometry], labels: &[String], opts: &WriteOption
         "S{:>7}G{:>7}D{:>7}P{:>7}",
         s_lines.len(),
         g_lines.len(),
-        2 * objects.len(),
+        2 * ents.0.len(),
         p_seq - 1
     );
     out.push_str(&record(&t, 'T', 1));

@@ -1,9 +1,9 @@
 //! Face bounds read as trim loops ([`crate::trim`]): `ADVANCED_FACE` (or `FACE_SURFACE`) on a B-spline
 //! surface → `FACE_OUTER_BOUND` / `FACE_BOUND` → `EDGE_LOOP` → `ORIENTED_EDGE` → `EDGE_CURVE`, whose
 //! geometry is a `SURFACE_CURVE` / `SEAM_CURVE` (its `PCURVE` on this face's surface preferred: a 2D
-//! B-spline or `LINE` taken exactly between the edge's vertices, a `CIRCLE` as a fine polyline) or a 3D
-//! B-spline, `LINE` or `CIRCLE` (sampled
-//! between the vertices and projected onto the surface: a uv polyline within
+//! B-spline, `LINE` (degree 1) or `POLYLINE` taken exactly between the edge's vertices, a `CIRCLE` or
+//! `ELLIPSE` exactly as a rational quadratic, a `TRIMMED_CURVE` as its basis curve) or a 3D curve of those
+//! kinds (sampled between the vertices and projected onto the surface: a uv polyline within
 //! [`crate::trim::fit_tolerance`]). Orientations are applied (the face bound's, the oriented edge's, the
 //! edge curve's sense), so each stored loop runs as the face traverses it. A face whose bounds cannot be
 //! read (another edge curve type, an edge off its surface, a loop that does not close) opens untrimmed,
@@ -234,20 +234,36 @@ enum EdgeGeometry {
     Space(Path),
 }
 
-/// A curve an edge runs along: a B-spline, a line `p + t·d`, or a circle `c + r(cos t·x + sin t·y)`
-/// (t in radians; `x`, `y` unit and orthogonal).
+/// A curve an edge runs along: a B-spline (a `POLYLINE` as one of degree 1), a line `p + t·d`, or a
+/// circle or ellipse `c + a cos t·x + b sin t·y` (t in radians; `x`, `y` unit and orthogonal; a = b = r
+/// for a circle).
 enum Path {
     BSpline(BSplineCurve),
     Line(DVec3, DVec3),
-    Circle { c: DVec3, x: DVec3, y: DVec3, r: f64 },
+    Conic {
+        c: DVec3,
+        x: DVec3,
+        y: DVec3,
+        a: f64,
+        b: f64,
+    },
 }
 
 impl Path {
+    /// The same curve run the other way.
+    fn reversed(self) -> Path {
+        match self {
+            Path::BSpline(c) => Path::BSpline(c.reversed()),
+            Path::Line(p, d) => Path::Line(p, -d),
+            Path::Conic { c, x, y, a, b } => Path::Conic { c, x, y: -y, a, b },
+        }
+    }
+
     fn point(&self, t: f64) -> DVec3 {
         match self {
             Path::BSpline(c) => c.point(t),
             Path::Line(p, d) => *p + *d * t,
-            Path::Circle { c, x, y, r } => *c + *r * (t.cos() * *x + t.sin() * *y),
+            Path::Conic { c, x, y, a, b } => *c + *a * t.cos() * *x + *b * t.sin() * *y,
         }
     }
 
@@ -256,8 +272,9 @@ impl Path {
         match self {
             Path::BSpline(c) => CurveProjector::new(c, 8).project(q).param,
             Path::Line(p, d) => (q - *p).dot(*d) / d.length_squared(),
-            Path::Circle { c, x, y, .. } => {
-                let t = (q - *c).dot(*y).atan2((q - *c).dot(*x));
+            // exact for a point on the conic (an edge's vertex); the nearest for a circle
+            Path::Conic { c, x, y, a, b } => {
+                let t = ((q - *c).dot(*y) / *b).atan2((q - *c).dot(*x) / *a);
                 if t < 0.0 { t + std::f64::consts::TAU } else { t }
             }
         }
@@ -270,14 +287,14 @@ impl Path {
         use std::f64::consts::TAU;
         let (a, b) = match (self, ends) {
             (Path::BSpline(c), None) => c.domain(),
-            (Path::Circle { .. }, None) => (0.0, TAU),
+            (Path::Conic { .. }, None) => (0.0, TAU),
             (Path::Line(..), None) => return Err(perr("a closed edge on a line")),
             (_, Some(ab)) => ab,
         };
         let (a, b) = if same_sense || ends.is_some() { (a, b) } else { (b, a) };
         Ok(match self {
-            Path::Circle { .. } if same_sense && b <= a => (a, b + TAU),
-            Path::Circle { .. } if !same_sense && a <= b => (a + TAU, b),
+            Path::Conic { .. } if same_sense && b <= a => (a, b + TAU),
+            Path::Conic { .. } if !same_sense && a <= b => (a + TAU, b),
             _ => (a, b),
         })
     }
@@ -310,8 +327,9 @@ fn direction_or(ex: &Exchange, p: Option<&Param>, what: &str, default: DVec3) ->
     }
 }
 
-/// A `CIRCLE`: its `AXIS2_PLACEMENT_3D` (or `_2D`, in a parameter space) and radius.
-fn circle(ex: &Exchange, gid: u64, r: &super::parse::Record) -> Result<Path> {
+/// A `CIRCLE` (its `AXIS2_PLACEMENT_3D`, or `_2D` in a parameter space, and radius) or an `ELLIPSE` (the
+/// placement and its semi-axes along the placement's x and y).
+fn conic(ex: &Exchange, gid: u64, r: &super::parse::Record) -> Result<Path> {
     let aid = reference(r.params.get(1), "a circle's placement")?;
     let a = instance(ex, aid)?;
     let (c, z, x) = if let Some(p) = a.record("AXIS2_PLACEMENT_3D") {
@@ -329,20 +347,35 @@ fn circle(ex: &Exchange, gid: u64, r: &super::parse::Record) -> Result<Path> {
         )));
     };
     let x = (x - z * x.dot(z)).normalize_or_zero();
-    let radius = r.params.get(2).and_then(Param::real).unwrap_or(f64::NAN);
-    if x == DVec3::ZERO || !(radius > 0.0 && radius.is_finite()) {
-        return Err(perr(format!("circle #{gid} has no radius or no plane")));
+    let radius = |k: usize| r.params.get(k).and_then(Param::real).unwrap_or(f64::NAN);
+    let (a, b) = match r.name.as_str() {
+        "ELLIPSE" => (radius(2), radius(3)),
+        _ => (radius(2), radius(2)),
+    };
+    let kind = r.name.to_ascii_lowercase();
+    if x == DVec3::ZERO || !(a > 0.0 && a.is_finite() && b > 0.0 && b.is_finite()) {
+        return Err(perr(format!("{kind} #{gid} has no radius or no plane")));
     }
-    Ok(Path::Circle {
+    Ok(Path::Conic {
         c,
         x,
         y: z.cross(x),
-        r: radius,
+        a,
+        b,
     })
 }
 
-/// The curve `#gid` as a path: a B-spline (`raw` reads it) or a `LINE` (point and `VECTOR`).
+/// How deep `TRIMMED_CURVE`s may nest.
+const MAX_TRIMMED: usize = 8;
+
+/// The curve `#gid` as a path: a B-spline (`raw` reads it), a `LINE` (point and `VECTOR`), a `CIRCLE`, an
+/// `ELLIPSE`, a `POLYLINE` (of degree 1 on its points' parameters 0, 1, ...), or a `TRIMMED_CURVE` of one
+/// of those (its basis curve: an edge's vertices bound the part it runs along).
 fn path(ex: &Exchange, gid: u64, curve: RawCurve<'_>) -> Result<Path> {
+    path_at(ex, gid, curve, 0)
+}
+
+fn path_at(ex: &Exchange, gid: u64, curve: RawCurve<'_>, depth: usize) -> Result<Path> {
     if let Some(c) = curve(gid)? {
         return Ok(Path::BSpline(c));
     }
@@ -360,12 +393,44 @@ fn path(ex: &Exchange, gid: u64, curve: RawCurve<'_>) -> Result<Path> {
         }
         return Ok(Path::Line(p, d));
     }
-    if let Some(r) = g.record("CIRCLE") {
-        return circle(ex, gid, r);
+    if let Some(r) = g.record("CIRCLE").or_else(|| g.record("ELLIPSE")) {
+        return conic(ex, gid, r);
+    }
+    if let Some(r) = g.record("POLYLINE") {
+        let pts = r
+            .params
+            .get(1)
+            .and_then(Param::list)
+            .ok_or_else(|| perr(format!("polyline #{gid} has no points")))?;
+        if pts.len() < 2 || pts.len() > MAX_FACE_EDGES {
+            return Err(perr(format!("polyline #{gid} has {} points", pts.len())));
+        }
+        let pts = (pts.iter().enumerate())
+            .map(|(k, p)| super::read::point(ex, p, k))
+            .collect::<Result<Vec<_>>>()?;
+        let dim = pts.iter().map(|p| p.1).max().unwrap_or(3).clamp(2, 3);
+        let n = pts.len();
+        let mut knots = vec![0.0];
+        knots.extend((0..n).map(|k| k as f64));
+        knots.push((n - 1) as f64);
+        let pts = pts.into_iter().map(|p| p.0).collect();
+        return Ok(Path::BSpline(BSplineCurve::try_new(1, knots, pts, None, dim)?));
+    }
+    if let Some(r) = g.record("TRIMMED_CURVE") {
+        if depth >= MAX_TRIMMED {
+            return Err(perr(format!(
+                "trimmed curve #{gid}: nested more than {MAX_TRIMMED} deep"
+            )));
+        }
+        let basis = reference(r.params.get(1), &format!("trimmed curve #{gid}'s basis curve"))?;
+        let p = path_at(ex, basis, curve, depth + 1)?;
+        // sense agreement .F.: the trimmed curve runs against its basis curve
+        return Ok(if logical(r.params.get(4)) { p } else { p.reversed() });
     }
     let name = g.records.first().map_or("?", |r| r.name.as_str());
     Err(perr(format!(
-        "its curve #{gid} is a {name}, which is not read (B-spline, LINE and CIRCLE edge curves are)"
+        "its curve #{gid} is a {name}, which is not read (B-spline, LINE, CIRCLE, ELLIPSE, POLYLINE and \
+         TRIMMED_CURVE edge curves are)"
     )))
 }
 
@@ -450,17 +515,8 @@ fn edge_uv(
             let (p, q) = (path.point(lo), path.point(hi));
             BSplineCurve::try_new(1, vec![lo, lo, hi, hi], vec![p, q], None, 2)?
         }
-        (EdgeGeometry::Uv(_), Path::Circle { r, .. }) => {
-            // a polyline whose chords are within 10⁻¹⁰ of the domain's size of the arc: h²r/8
-            let ((u0, u1), (v0, v1)) = s.domain();
-            let h = (8.0 * 1e-10 * (u1 - u0).hypot(v1 - v0) / r).sqrt();
-            let n = (((hi - lo) / h).ceil() as usize).clamp(4, 8192);
-            let ts: Vec<f64> = (0..=n).map(|k| lo + (hi - lo) * k as f64 / n as f64).collect();
-            let mut knots = vec![lo];
-            knots.extend(ts.iter().copied());
-            knots.push(hi);
-            BSplineCurve::try_new(1, knots, ts.iter().map(|&t| path.point(t)).collect(), None, 2)?
-        }
+        // exact: a rational quadratic of arcs of at most a quarter turn
+        (EdgeGeometry::Uv(_), Path::Conic { c, x, y, a, b }) => conic_arc(*c, *x * *a, *y * *b, lo, hi)?,
         (EdgeGeometry::Space(_), _) => {
             let (lo_s, hi_s) = s.control_bounds();
             let off = OFF_SURFACE * (hi_s - lo_s).length();
@@ -469,4 +525,34 @@ fn edge_uv(
     };
     used.extend(ids);
     Ok(if ta > tb { e.reversed() } else { e })
+}
+
+/// The arc of the conic `c + cos t·x + sin t·y` for t from `t0` to `t1` (radians) as a rational quadratic
+/// B-spline in (u, v) (The NURBS Book A7.1, mapped by the affine map that takes the unit circle to the
+/// conic, which keeps the weights): ⌈(t1 − t0)/(π/2)⌉ arcs, each's middle point where the tangents at its
+/// ends meet, weighted cos(Δ/2); its knots on [t0, t1], one double knot between arcs (C1 there).
+pub(super) fn conic_arc(c: DVec3, x: DVec3, y: DVec3, t0: f64, t1: f64) -> Result<BSplineCurve> {
+    let sweep = t1 - t0;
+    if !(sweep > 0.0 && sweep.is_finite()) {
+        return Err(perr(format!("an arc from {t0} to {t1} radians is empty")));
+    }
+    let n = ((sweep / std::f64::consts::FRAC_PI_2 - 1e-12).ceil() as usize).clamp(1, 8);
+    let d = sweep / n as f64;
+    let w = (d / 2.0).cos();
+    let at = |t: f64| c + t.cos() * x + t.sin() * y;
+    let mut pts = vec![at(t0)];
+    let mut weights = vec![1.0];
+    let mut knots = vec![t0; 3];
+    for k in 0..n {
+        let (a, b) = (t0 + d * k as f64, t0 + d * (k + 1) as f64);
+        let m = 0.5 * (a + b);
+        pts.push(c + (m.cos() * x + m.sin() * y) / w);
+        pts.push(if k + 1 == n { at(t1) } else { at(b) });
+        weights.extend([w, 1.0]);
+        if k + 1 < n {
+            knots.extend([b, b]);
+        }
+    }
+    knots.extend([t1; 3]);
+    BSplineCurve::try_new(2, knots, pts, Some(weights), 2)
 }

@@ -11,7 +11,7 @@ use glam::DVec3;
 use super::WriteOptions;
 use super::write::{Data, refs, string};
 use crate::surface::BSplineSurface;
-use crate::trim::{FaceTrim, edge_on_surface, fit_tolerance};
+use crate::trim::{FaceTrim, edge_on_surface, fit_tolerance, polyline_on_surface};
 
 /// The face `s` bounded by `trim`, named `name`: the `ADVANCED_FACE`'s number.
 pub(super) fn face(d: &mut Data, s: &BSplineSurface, trim: &FaceTrim, name: &str) -> u64 {
@@ -34,7 +34,7 @@ pub(super) fn face(d: &mut Data, s: &BSplineSurface, trim: &FaceTrim, name: &str
         for (k, e) in l.edges.iter().enumerate() {
             let c3 = edge_on_surface(s, e, tol)
                 .map(|(c, _)| c)
-                .or_else(|_| polyline_on(s, e));
+                .or_else(|_| polyline_on_surface(s, e));
             let c3 = match c3 {
                 Ok(c) => d.curve_in(&c, "", 3),
                 // not reachable for a valid uv curve: the p-curve alone still carries the edge
@@ -72,19 +72,4 @@ pub(super) fn faces_representation(d: &mut Data, opts: &WriteOptions, shape: u64
         refs(&models)
     ));
     d.add(&format!("SHAPE_DEFINITION_REPRESENTATION(#{shape},#{rep})"));
-}
-
-/// The fallback 3D edge: a polyline through the surface's points at 65 parameters of the uv edge.
-fn polyline_on(s: &BSplineSurface, e: &crate::curve::BSplineCurve) -> crate::error::Result<crate::curve::BSplineCurve> {
-    const N: usize = 64;
-    let (a, b) = e.domain();
-    let ts: Vec<f64> = (0..=N).map(|k| a + (b - a) * k as f64 / N as f64).collect();
-    let pts = ts.iter().map(|&t| {
-        let q = e.point(t);
-        s.point(q.x, q.y)
-    });
-    let mut knots = vec![a];
-    knots.extend(ts.iter().copied());
-    knots.push(b);
-    crate::curve::BSplineCurve::try_new(1, knots, pts.collect(), None, 3)
 }
