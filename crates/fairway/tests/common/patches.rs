@@ -193,3 +193,56 @@ pub fn lift(p: &BSplineSurface) -> BSplineSurface {
         .collect();
     p.with_points(pts).unwrap()
 }
+
+/// A noisy tube: a bicubic with u along its axis (`nu` control rows from z = 0 to 2) and v around it, a
+/// uniform periodic cubic of `n` control points (n a multiple of 4; radius 1, each moved radially by up
+/// to ±`noise`), clamped exactly (first = last control column, C2 across v = 0 ≡ 1), cut at v = ¼, ½, ¾
+/// into 4 patches: each shares an edge with the next and the last with the first, all exactly G2.
+pub fn noisy_tube(nu: usize, n: usize, noise: f64) -> Vec<BSplineSurface> {
+    let hash = |i: usize, j: usize| {
+        let x = ((i * 7919 + j * 104_729) as f64 * 12.9898).sin() * 43_758.545_3;
+        2.0 * (x - x.floor()) - 1.0
+    };
+    let rows: Vec<BSplineCurve> = (0..nu)
+        .map(|i| {
+            let z = 2.0 * i as f64 / (nu - 1) as f64;
+            let q: Vec<DVec3> = (0..n)
+                .map(|j| {
+                    let t = std::f64::consts::TAU * j as f64 / n as f64;
+                    let r = 1.0 + noise * hash(i, j);
+                    DVec3::new(r * t.cos(), r * t.sin(), z)
+                })
+                .collect();
+            fairway::fair::closed::periodic_cubic(&q, 3).unwrap()
+        })
+        .collect();
+    // the rows along v as the tube's net: u clamped uniform over [0, 1]
+    let mut ku = vec![0.0; 4];
+    ku.extend((1..nu - 3).map(|k| k as f64 / (nu - 3) as f64));
+    ku.extend([1.0; 4]);
+    let nv = rows[0].n_points();
+    let pts = rows.iter().flat_map(|c| c.points().iter().copied()).collect();
+    let tube = BSplineSurface::try_new(3, 3, ku, rows[0].knots().values().to_vec(), nu, nv, pts, None).unwrap();
+    cut(&tube, &[], &[0.25, 0.5, 0.75]).remove(0)
+}
+
+/// `p` with its third control column from its v₀ side moved along the cross tangent there (each by up to
+/// half of `P(i, 1) − P(i, 0)`, a smooth bump vanishing three rows short of its u sides): its v₀ side
+/// keeps its position, normal and normal curvature (still G2 with a neighbour there) but is no longer
+/// parametrically C2 with it after any linear rescale (only C1); its u sides are unchanged.
+pub fn stretch_across(p: &BSplineSurface) -> BSplineSurface {
+    let (nu, nv) = (p.nu(), p.nv());
+    let pts = (0..nu)
+        .flat_map(|i| (0..nv).map(move |j| (i, j)))
+        .map(|(i, j)| {
+            let t = (i as f64 - 2.0) / (nu as f64 - 5.0);
+            let bump = if j == 2 && (0.0..=1.0).contains(&t) {
+                0.5 * (std::f64::consts::PI * t).sin().powi(2)
+            } else {
+                0.0
+            };
+            p.point_at(i, j) + (p.point_at(i, 1) - p.point_at(i, 0)) * bump
+        })
+        .collect();
+    p.with_points(pts).unwrap()
+}

@@ -417,7 +417,8 @@ pub(super) fn fair_grid(
                 g.size()
             ));
             super::exact_changes_notes(q.inserted + row_q.inserted, s(i), &piece, &mut n);
-            out.push((i, (piece, bound, n)));
+            let own = super::own_bound(s(i), &piece, bound, &mut n);
+            out.push((i, (piece, own, n)));
         }
     }
     Ok(out)
