@@ -226,22 +226,21 @@ pub fn noisy_tube(nu: usize, n: usize, noise: f64) -> Vec<BSplineSurface> {
     cut(&tube, &[], &[0.25, 0.5, 0.75]).remove(0)
 }
 
-/// `p` with its third control column from its v₀ side moved along the cross tangent there (each by up to
-/// half of `P(i, 1) − P(i, 0)`, a smooth bump vanishing three rows short of its u sides): its v₀ side
-/// keeps its position, normal and normal curvature (still G2 with a neighbour there) but is no longer
-/// parametrically C2 with it after any linear rescale (only C1); its u sides are unchanged.
-pub fn stretch_across(p: &BSplineSurface) -> BSplineSurface {
+/// `p` with its second control column from its v₀ side lifted by a smooth bump (0.01 high) that vanishes
+/// three rows short of its u sides: its v₀ side keeps its position but not its tangent plane (a crease
+/// with a neighbour there, G0), and its u sides are unchanged.
+pub fn crease(p: &BSplineSurface) -> BSplineSurface {
     let (nu, nv) = (p.nu(), p.nv());
     let pts = (0..nu)
         .flat_map(|i| (0..nv).map(move |j| (i, j)))
         .map(|(i, j)| {
             let t = (i as f64 - 2.0) / (nu as f64 - 5.0);
-            let bump = if j == 2 && (0.0..=1.0).contains(&t) {
-                0.5 * (std::f64::consts::PI * t).sin().powi(2)
+            let bump = if j == 1 && (0.0..=1.0).contains(&t) {
+                0.01 * (std::f64::consts::PI * t).sin().powi(2)
             } else {
                 0.0
             };
-            p.point_at(i, j) + (p.point_at(i, 1) - p.point_at(i, 0)) * bump
+            p.point_at(i, j) + DVec3::new(0.0, 0.0, bump)
         })
         .collect();
     p.with_points(pts).unwrap()
