@@ -1,6 +1,6 @@
 //! Rings of patches (issue 30): a layout that closes on itself — four patches around a noisy tube, each
-//! sharing an edge with the next and the last with the first — is faired as one closed surface, every
-//! edge kept, the closing one too.
+//! sharing an edge with the next and the last with the first, or 2 × 4 around it — is faired as one
+//! closed surface, every edge kept, the closing ones too.
 
 use fairway::fair::network::Route;
 use fairway::measure_surface::surface_measures;
@@ -64,3 +64,28 @@ fn four_patches_around_a_noisy_tube_are_faired_as_one_ring_keeping_the_closing_e
     }
 }
 
+
+#[test]
+fn two_rows_of_four_patches_around_a_noisy_tube_are_faired_as_one_cylinder() {
+    // cut across the axis at u = ½ too: 8 patches; 8 edges around (2 of them, one per row, closing the
+    // rows) and 4 across the cut, all G2
+    let g = noisy_tube_cut(14, 32, 0.003, &[0.5]);
+    let patches: Vec<fairway::BSplineSurface> = g.into_iter().flatten().collect();
+    let objects: Vec<Geometry> = patches.iter().cloned().map(Into::into).collect();
+    let joins = find_joins(&objects);
+    assert!(joins.surfaces.iter().all(|j| j.continuity.class == Continuity::G2));
+    let r = check("cylinder 2 × 4", &patches, 12, M);
+    for (i, o) in r.together.outcome.iter().enumerate() {
+        assert_eq!(o.route, Route::Ring, "patch {i}: {:?} {:?}", o.notes, r.together.notes);
+        assert!(
+            o.notes.iter().any(|n| n.contains("2 rows of 4 patches around a cylinder")),
+            "patch {i}: {:?}",
+            o.notes
+        );
+        assert!(
+            !o.notes.iter().any(|n| n.contains("closing edge held")),
+            "patch {i}: {:?}",
+            o.notes
+        );
+    }
+}

@@ -99,8 +99,8 @@ pub enum Route {
     Chain,
     /// A strip of patches joined into one surface.
     Strip,
-    /// A ring of patches (a strip closing on itself, e.g. around a tube) joined into one surface closed
-    /// across its last edge.
+    /// A ring of patches (a strip closing on itself, e.g. around a tube, or R × C patches around a
+    /// cylinder) joined into one surface closed across its last edge(s).
     Ring,
     /// A full grid of R × C ≥ 2 × 2 patches joined into one surface.
     Grid,

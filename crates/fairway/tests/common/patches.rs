@@ -199,6 +199,11 @@ pub fn lift(p: &BSplineSurface) -> BSplineSurface {
 /// to ±`noise`), clamped exactly (first = last control column, C2 across v = 0 ≡ 1), cut at v = ¼, ½, ¾
 /// into 4 patches: each shares an edge with the next and the last with the first, all exactly G2.
 pub fn noisy_tube(nu: usize, n: usize, noise: f64) -> Vec<BSplineSurface> {
+    noisy_tube_cut(nu, n, noise, &[]).remove(0)
+}
+
+/// [`noisy_tube`] cut across its axis too, at the u parameters `us`: `grid[r][c]`, r along the axis.
+pub fn noisy_tube_cut(nu: usize, n: usize, noise: f64, us: &[f64]) -> Vec<Vec<BSplineSurface>> {
     let hash = |i: usize, j: usize| {
         let x = ((i * 7919 + j * 104_729) as f64 * 12.9898).sin() * 43_758.545_3;
         2.0 * (x - x.floor()) - 1.0
@@ -223,7 +228,7 @@ pub fn noisy_tube(nu: usize, n: usize, noise: f64) -> Vec<BSplineSurface> {
     let nv = rows[0].n_points();
     let pts = rows.iter().flat_map(|c| c.points().iter().copied()).collect();
     let tube = BSplineSurface::try_new(3, 3, ku, rows[0].knots().values().to_vec(), nu, nv, pts, None).unwrap();
-    cut(&tube, &[], &[0.25, 0.5, 0.75]).remove(0)
+    cut(&tube, us, &[0.25, 0.5, 0.75])
 }
 
 /// `p` with its second control column from its v₀ side lifted by a smooth bump (0.01 high) that vanishes

@@ -600,6 +600,54 @@ fn fair_grids(
     in_grid
 }
 
+/// Fair the cylinders of patches among the concatenable edges `ok` (R ≥ 2 rows closing on themselves,
+/// `grid.rs`, `ring.rs`), each as one closed surface; one that cannot be joined has its edges held (`ok`
+/// says why). Which edges are a cylinder's.
+fn fair_cylinders(
+    objects: &[Geometry],
+    joins: &Joins,
+    net: &Net<'_>,
+    ok: &mut [std::result::Result<(), String>],
+    out: &mut [Geometry],
+    outcome: &mut [ObjectFair],
+    done: &mut [bool],
+) -> Vec<bool> {
+    let mut in_cylinder = vec![false; ok.len()];
+    for cy in grid::cylinders(&joins.surfaces, ok, objects.len()) {
+        let members = cy.grid.objects();
+        if members.iter().any(|&i| done[i]) {
+            continue;
+        }
+        let (tolerance, band_note) = net.band(&members);
+        let opts = SurfaceFairingOptions {
+            tolerance,
+            ..net.opts.surface
+        };
+        let edges: Vec<usize> = cy.grid.edges.iter().chain(&cy.wrap).copied().collect();
+        edges.iter().for_each(|&k| in_cylinder[k] = true);
+        match grid::fair_cylinder(objects, &cy, &joins.surfaces, &opts, joins.tolerance) {
+            Ok(patches) => {
+                for (i, (s, bound, mut n)) in patches {
+                    n.extend(band_note.clone());
+                    out[i] = s.into();
+                    outcome[i] = ObjectFair {
+                        faired: true,
+                        group: members.clone(),
+                        max_deviation: bound,
+                        notes: n,
+                        route: Route::Ring,
+                    };
+                    done[i] = true;
+                }
+            }
+            Err(e) => edges.iter().for_each(|&k| {
+                ok[k] = Err(format!("a cylinder of patches that cannot be joined as one: {e}"))
+            }),
+        }
+    }
+    in_cylinder
+}
+
 /// Fair the layouts of patches among the concatenable edges `ok` that are neither strips nor grids
 /// (`layout.rs`), each as one surface; a layout that cannot be joined leaves its edges to the strips
 /// (a note says why). Which edges are a faired layout's.
@@ -670,6 +718,8 @@ pub(crate) fn fair_surfaces(
     let mut in_grid = fair_grids(objects, joins, net, &mut ok, out, outcome, &mut done);
     let in_layout = fair_layouts(objects, joins, net, &ok, out, outcome, &mut done, notes);
     in_grid.iter_mut().zip(in_layout).for_each(|(g, l)| *g |= l);
+    let in_cylinder = fair_cylinders(objects, joins, net, &mut ok, out, outcome, &mut done);
+    in_grid.iter_mut().zip(in_cylinder).for_each(|(g, l)| *g |= l);
     let mut free: Vec<std::result::Result<(), String>> = ok
         .iter()
         .zip(&in_grid)

@@ -27,7 +27,7 @@
 //!
 //! The ring is then split back into its patches as a strip is (each on its own knots).
 
-use super::{Patch, Strip, along_v, fair_joined, from_along_v, join_strip, split_back};
+use super::{Patch, along_v, fair_joined, from_along_v, join_strip, split_back};
 use crate::curve::BSplineCurve;
 use crate::error::{Error, Result};
 use crate::fair::closed::{rotate, unrotate};
@@ -53,20 +53,34 @@ pub(super) fn fair_ring(
     tol: f64,
 ) -> Result<Vec<Patch>> {
     let mut st = join_strip(objects, order_, edges, tol)?;
-    let gap = close(&mut st.joined, tol)?;
-    st.err += 0.5 * gap;
-    let k = super::order(closing);
-    let j = &st.joined;
-    // pass A: the closing edge is the seam, held
-    let (a, bound_a) = fair_joined(j, st.err, opts, None)?;
     let what = format!(
         "faired as one closed surface with objects {order_:?}, a ring of patches, across all their shared edges, the closing one too (each keeps its continuity)"
     );
-    let mid = middle_edge(&st);
+    let (surface, bound, notes) = fair_closed_v(&mut st.joined, st.err, super::order(closing), &st.at, opts, tol)?;
+    split_back(objects, order_, &st, &surface, bound, &notes, &what)
+}
+
+/// Fair a joined ring `j` (v around it, its edges at the v values `at`, closing across its v ends with
+/// continuity order `k`; joining it moved it by up to `err`) as one closed surface (module docs):
+/// `j` closed (its first and last rows set to their mean), then the faired surface on its knots, a bound of
+/// its deviation from the patches, the fair's notes.
+pub(super) fn fair_closed_v(
+    j: &mut BSplineSurface,
+    err: f64,
+    k: usize,
+    at: &[f64],
+    opts: &SurfaceFairingOptions,
+    tol: f64,
+) -> Result<(BSplineSurface, f64, Vec<String>)> {
+    let err = err + 0.5 * close(j, tol)?;
+    let j = &*j;
+    // pass A: the closing edge is the seam, held
+    let (a, bound_a) = fair_joined(j, err, opts, None)?;
+    let mid = middle_edge(j, at);
     let blended = (|| -> Result<(BSplineSurface, f64, Vec<String>)> {
         let rows = along_v(j);
         let rot = reseam(&rows, j, mid, k)?;
-        let (b, _) = fair_joined(&rot, st.err, opts, None)?;
+        let (b, _) = fair_joined(&rot, err, opts, None)?;
         let tol_rm = removal_tolerance(j);
         let back: Vec<BSplineCurve> = along_v(&b.surface)
             .iter()
@@ -75,7 +89,7 @@ pub(super) fn fair_ring(
             .collect::<Result<_>>()?;
         let b = from_along_v(&back, (j.degree_u(), j.knots_u().values()))?;
         let s = blend(&a.surface, &b, j, mid, k)?;
-        let m = opts.tolerance - st.err;
+        let m = opts.tolerance - err;
         let bound = crate::fair::verify::surface_band_bound(j, &s, m)
             .ok_or_else(|| Error::InvalidInput("the blend is not on the ring's knots".into()))?;
         if bound > m {
@@ -84,9 +98,9 @@ pub(super) fn fair_ring(
                 crate::range::short(bound)
             )));
         }
-        Ok((s, bound + st.err, a.notes.clone()))
+        Ok((s, bound + err, a.notes.clone()))
     })();
-    let (surface, bound, notes) = match blended {
+    Ok(match blended {
         Ok(x) => x,
         Err(e) => {
             let mut n = a.notes.clone();
@@ -95,8 +109,7 @@ pub(super) fn fair_ring(
             ));
             (a.surface.clone(), bound_a, n)
         }
-    };
-    split_back(objects, order_, &st, &surface, bound, &notes, &what)
+    })
 }
 
 /// Close a joined ring: its first and last control rows (v = v₀, v₁), equal within `tol` point by point,
@@ -127,12 +140,11 @@ fn removal_tolerance(s: &BSplineSurface) -> f64 {
     1e-9 * (hi - lo).length()
 }
 
-/// The v of the edge nearest the middle of the joined ring.
-fn middle_edge(st: &Strip) -> f64 {
-    let (a, b) = st.joined.domain().1;
+/// The v of the edge (among `at`) nearest the middle of the joined ring `j`.
+fn middle_edge(j: &BSplineSurface, at: &[f64]) -> f64 {
+    let (a, b) = j.domain().1;
     let half = 0.5 * (a + b);
-    st.at
-        .iter()
+    at.iter()
         .copied()
         .min_by(|x, y| (x - half).abs().total_cmp(&(y - half).abs()))
         .unwrap_or(half)
