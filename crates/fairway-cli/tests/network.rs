@@ -364,7 +364,11 @@ fn a_two_by_two_grid_of_patches_is_faired_as_one_keeping_every_edge() {
         eprintln!("{}: deviation {h:.3e}, its own bound {b:.3e}", o["name"]);
         assert!(h <= b && b <= 0.004, "{o}");
         assert!(
-            o["notes"].as_array().unwrap().iter().any(|n| n.as_str().unwrap().contains("its own deviation bound")),
+            o["notes"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .any(|n| n.as_str().unwrap().contains("its own deviation bound")),
             "{o}"
         );
         bounds.push(b);

@@ -186,8 +186,16 @@ fn a_grid_line_g2_along_one_edge_and_a_crease_along_the_other_holds_that_line_an
     let objects: Vec<Geometry> = patches.iter().cloned().map(Into::into).collect();
     let joins = find_joins(&objects);
     let classes: Vec<Continuity> = joins.surfaces.iter().map(|j| j.continuity.class).collect();
-    assert_eq!(classes.iter().filter(|&&c| c == Continuity::G0).count(), 1, "{classes:?}");
-    assert_eq!(classes.iter().filter(|&&c| c == Continuity::G2).count(), 3, "{classes:?}");
+    assert_eq!(
+        classes.iter().filter(|&&c| c == Continuity::G0).count(),
+        1,
+        "{classes:?}"
+    );
+    assert_eq!(
+        classes.iter().filter(|&&c| c == Continuity::G2).count(),
+        3,
+        "{classes:?}"
+    );
     let mut o = NetworkOptions::default();
     o.surface.tolerance = 4e-3;
     let r = fair_network(&objects, &[], &o).unwrap();
@@ -219,7 +227,10 @@ fn a_grid_line_g2_along_one_edge_and_a_crease_along_the_other_holds_that_line_an
             "G2/crease line: patch {k}: isocurve extrema {} → {} ({} one by one), deviation {:.2e}",
             m0.n_curv_extrema, mt.n_curv_extrema, mh.n_curv_extrema, mt.hausdorff
         );
-        assert!(mt.hausdorff <= 4e-3 && mt.n_curv_extrema < m0.n_curv_extrema, "patch {k}");
+        assert!(
+            mt.hausdorff <= 4e-3 && mt.n_curv_extrema < m0.n_curv_extrema,
+            "patch {k}"
+        );
         (sum, sum_held) = (sum + mt.n_curv_extrema, sum_held + mh.n_curv_extrema);
     }
     eprintln!("G2/crease line: isocurve extrema in all: {sum} vs {sum_held} one by one");

@@ -2,10 +2,10 @@
 //! sharing an edge with the next and the last with the first, or 2 × 4 around it — is faired as one
 //! closed surface, every edge kept, the closing ones too.
 
+use fairway::Geometry;
 use fairway::fair::network::Route;
 use fairway::measure_surface::surface_measures;
 use fairway::network::{Continuity, JOIN_TOLERANCE, find_joins};
-use fairway::Geometry;
 
 mod common;
 use common::patches::*;
@@ -33,7 +33,10 @@ fn four_patches_around_a_noisy_tube_are_faired_as_one_ring_keeping_the_closing_e
     let c = r.together.joins_after.surfaces[closing].continuity;
     eprintln!("closing edge after: {c:?}");
     assert_eq!(c.class, Continuity::G2, "{c:?}");
-    assert!(c.normal_angle.to_degrees() <= 0.01 && c.gap <= 1e-9 * joins.tolerance / JOIN_TOLERANCE, "{c:?}");
+    assert!(
+        c.normal_angle.to_degrees() <= 0.01 && c.gap <= 1e-9 * joins.tolerance / JOIN_TOLERANCE,
+        "{c:?}"
+    );
     for (i, o) in r.together.outcome.iter().enumerate() {
         assert_eq!(o.route, Route::Ring, "patch {i}: {:?} {:?}", o.notes, r.together.notes);
         assert!(
@@ -54,7 +57,9 @@ fn four_patches_around_a_noisy_tube_are_faired_as_one_ring_keeping_the_closing_e
         r.together.objects[3].as_surface().unwrap(),
     );
     let moved = |a: &fairway::BSplineSurface, b: &fairway::BSplineSurface, col: usize| {
-        (0..a.nu()).map(|i| a.point_at(i, col).distance(b.point_at(i, col))).fold(0.0, f64::max)
+        (0..a.nu())
+            .map(|i| a.point_at(i, col).distance(b.point_at(i, col)))
+            .fold(0.0, f64::max)
     };
     let (m0, m3) = (moved(f0, &patches[0], 1), moved(f3, &patches[3], patches[3].nv() - 2));
     eprintln!("second control column from the closing edge moved by {m0:.2e} (patch 0), {m3:.2e} (patch 3)");
@@ -63,7 +68,6 @@ fn four_patches_around_a_noisy_tube_are_faired_as_one_ring_keeping_the_closing_e
         assert!(surface_measures(p, f.as_surface().unwrap()).hausdorff <= M);
     }
 }
-
 
 #[test]
 fn two_rows_of_four_patches_around_a_noisy_tube_are_faired_as_one_cylinder() {
@@ -78,7 +82,9 @@ fn two_rows_of_four_patches_around_a_noisy_tube_are_faired_as_one_cylinder() {
     for (i, o) in r.together.outcome.iter().enumerate() {
         assert_eq!(o.route, Route::Ring, "patch {i}: {:?} {:?}", o.notes, r.together.notes);
         assert!(
-            o.notes.iter().any(|n| n.contains("2 rows of 4 patches around a cylinder")),
+            o.notes
+                .iter()
+                .any(|n| n.contains("2 rows of 4 patches around a cylinder")),
             "patch {i}: {:?}",
             o.notes
         );

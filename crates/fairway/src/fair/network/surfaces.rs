@@ -361,7 +361,8 @@ fn fair_strip(
 ) -> Result<Vec<Patch>> {
     let st = join_strip(objects, order_, edges, tol)?;
     let (r, bound) = fair_joined(&st.joined, st.err, opts, None)?;
-    let what = format!("faired as one surface with objects {order_:?} across their shared edges (each keeps its continuity)");
+    let what =
+        format!("faired as one surface with objects {order_:?} across their shared edges (each keeps its continuity)");
     split_back(objects, order_, &st, &r.surface, bound, &r.notes, &what)
 }
 
@@ -640,9 +641,9 @@ fn fair_cylinders(
                     done[i] = true;
                 }
             }
-            Err(e) => edges.iter().for_each(|&k| {
-                ok[k] = Err(format!("a cylinder of patches that cannot be joined as one: {e}"))
-            }),
+            Err(e) => edges
+                .iter()
+                .for_each(|&k| ok[k] = Err(format!("a cylinder of patches that cannot be joined as one: {e}"))),
         }
     }
     in_cylinder
@@ -750,7 +751,10 @@ pub(crate) fn fair_surfaces(
                 ring::fair_ring(objects, &order_, &list, &joins.surfaces[c], &opts, joins.tolerance),
                 Route::Ring,
             ),
-            None => (fair_strip(objects, &order_, &list, &opts, joins.tolerance), Route::Strip),
+            None => (
+                fair_strip(objects, &order_, &list, &opts, joins.tolerance),
+                Route::Strip,
+            ),
         };
         match fair {
             Ok(patches) => {

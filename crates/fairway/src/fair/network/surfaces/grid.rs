@@ -439,7 +439,11 @@ fn split_grid(
     let s = |i: usize| objects[i].as_surface().expect("a surface");
     let mut out = vec![];
     let rows_back = split_strip(faired, &jg.outer.at, &jg.outer.placed)?;
-    for ((row_t, (joined, cells)), row_q) in rows_back.iter().zip(jg.inner.iter().zip(&g.cells)).zip(&jg.outer.placed) {
+    for ((row_t, (joined, cells)), row_q) in rows_back
+        .iter()
+        .zip(jg.inner.iter().zip(&g.cells))
+        .zip(&jg.outer.placed)
+    {
         let pieces = split_strip(&row_t.transposed(), &joined.at, &joined.placed)?;
         for ((piece, &i), q) in pieces.iter().zip(cells).zip(&joined.placed) {
             let (t, f) = turn(g.dirs[&i]);

@@ -162,7 +162,11 @@ fn held_lines(lay: &Layout, joins: &[SurfaceJoin], ok: &mut [std::result::Result
             _ => continue,
         };
         if !lines.iter().any(|(v, l, _)| (*v, *l) == line) {
-            lines.push((line.0, line.1, format!("edge of objects {} and {} held ({e})", j.a.0, j.b.0)));
+            lines.push((
+                line.0,
+                line.1,
+                format!("edge of objects {} and {} held ({e})", j.a.0, j.b.0),
+            ));
         }
     }
     for (vertical, l, what) in lines {
