@@ -3,7 +3,7 @@
 //! closed surface, every edge kept, the closing ones too.
 
 use fairway::Geometry;
-use fairway::fair::network::Route;
+use fairway::fair::network::{NetworkFair, Route};
 use fairway::measure_surface::surface_measures;
 use fairway::network::{Continuity, JOIN_TOLERANCE, find_joins};
 
@@ -37,20 +37,7 @@ fn four_patches_around_a_noisy_tube_are_faired_as_one_ring_keeping_the_closing_e
         c.normal_angle.to_degrees() <= 0.01 && c.gap <= 1e-9 * joins.tolerance / JOIN_TOLERANCE,
         "{c:?}"
     );
-    for (i, o) in r.together.outcome.iter().enumerate() {
-        assert_eq!(o.route, Route::Ring, "patch {i}: {:?} {:?}", o.notes, r.together.notes);
-        assert!(
-            o.notes.iter().any(|n| n.contains("a ring of patches")),
-            "patch {i}: {:?}",
-            o.notes
-        );
-        assert!(
-            !o.notes.iter().any(|n| n.contains("closing edge held")),
-            "patch {i}: {:?}",
-            o.notes
-        );
-        eprintln!("patch {i}: own deviation bound {:.3e}", o.max_deviation);
-    }
+    assert_ring(&r.together, "a ring of patches");
     // the closing edge was faired across, not held: the patches next to it moved there
     let (f0, f3) = (
         r.together.objects[0].as_surface().unwrap(),
@@ -79,19 +66,20 @@ fn two_rows_of_four_patches_around_a_noisy_tube_are_faired_as_one_cylinder() {
     let joins = find_joins(&objects);
     assert!(joins.surfaces.iter().all(|j| j.continuity.class == Continuity::G2));
     let r = check("cylinder 2 × 4", &patches, 12, M);
-    for (i, o) in r.together.outcome.iter().enumerate() {
-        assert_eq!(o.route, Route::Ring, "patch {i}: {:?} {:?}", o.notes, r.together.notes);
-        assert!(
-            o.notes
-                .iter()
-                .any(|n| n.contains("2 rows of 4 patches around a cylinder")),
-            "patch {i}: {:?}",
-            o.notes
-        );
+    assert_ring(&r.together, "2 rows of 4 patches around a cylinder");
+}
+
+/// Every patch took the ring route, its notes say `what` and no edge was held; each one's own deviation
+/// bound printed.
+fn assert_ring(r: &NetworkFair, what: &str) {
+    for (i, o) in r.outcome.iter().enumerate() {
+        assert_eq!(o.route, Route::Ring, "patch {i}: {:?} {:?}", o.notes, r.notes);
+        assert!(o.notes.iter().any(|n| n.contains(what)), "patch {i}: {:?}", o.notes);
         assert!(
             !o.notes.iter().any(|n| n.contains("closing edge held")),
             "patch {i}: {:?}",
             o.notes
         );
+        eprintln!("patch {i}: own deviation bound {:.3e}", o.max_deviation);
     }
 }

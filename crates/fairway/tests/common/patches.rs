@@ -178,12 +178,23 @@ pub fn check_with(name: &str, patches: &[BSplineSurface], edges: usize, m: f64, 
 /// columns short of its v sides: its u₀ side keeps its position and cross tangent (G1 with a neighbour
 /// there) but not its curvature across (no longer G2), and its v sides are unchanged.
 pub fn lift(p: &BSplineSurface) -> BSplineSurface {
+    bumped(p, (Some(2), None))
+}
+
+/// `p` with one control row (`at.0`, along v) or column (`at.1`, along u) lifted in z by a smooth bump
+/// 0.01 high that vanishes three points short of the line's ends.
+fn bumped(p: &BSplineSurface, at: (Option<usize>, Option<usize>)) -> BSplineSurface {
     let (nu, nv) = (p.nu(), p.nv());
     let pts = (0..nu)
         .flat_map(|i| (0..nv).map(move |j| (i, j)))
         .map(|(i, j)| {
-            let t = (j as f64 - 2.0) / (nv as f64 - 5.0);
-            let bump = if i == 2 && (0.0..=1.0).contains(&t) {
+            let (on, k, n) = match at {
+                (Some(r), _) => (i == r, j, nv),
+                (_, Some(c)) => (j == c, i, nu),
+                _ => (false, 0, 5),
+            };
+            let t = (k as f64 - 2.0) / (n as f64 - 5.0);
+            let bump = if on && (0.0..=1.0).contains(&t) {
                 0.01 * (std::f64::consts::PI * t).sin().powi(2)
             } else {
                 0.0
@@ -235,18 +246,5 @@ pub fn noisy_tube_cut(nu: usize, n: usize, noise: f64, us: &[f64]) -> Vec<Vec<BS
 /// three rows short of its u sides: its v₀ side keeps its position but not its tangent plane (a crease
 /// with a neighbour there, G0), and its u sides are unchanged.
 pub fn crease(p: &BSplineSurface) -> BSplineSurface {
-    let (nu, nv) = (p.nu(), p.nv());
-    let pts = (0..nu)
-        .flat_map(|i| (0..nv).map(move |j| (i, j)))
-        .map(|(i, j)| {
-            let t = (i as f64 - 2.0) / (nu as f64 - 5.0);
-            let bump = if j == 1 && (0.0..=1.0).contains(&t) {
-                0.01 * (std::f64::consts::PI * t).sin().powi(2)
-            } else {
-                0.0
-            };
-            p.point_at(i, j) + DVec3::new(0.0, 0.0, bump)
-        })
-        .collect();
-    p.with_points(pts).unwrap()
+    bumped(p, (None, Some(1)))
 }

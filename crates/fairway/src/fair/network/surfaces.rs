@@ -576,20 +576,7 @@ fn fair_grids(
         };
         g.edges.iter().for_each(|&k| in_grid[k] = true);
         match grid::fair_grid(objects, &g, &joins.surfaces, &opts, joins.tolerance) {
-            Ok(patches) => {
-                for (i, (s, bound, mut n)) in patches {
-                    n.extend(band_note.clone());
-                    out[i] = s.into();
-                    outcome[i] = ObjectFair {
-                        faired: true,
-                        group: members.clone(),
-                        max_deviation: bound,
-                        notes: n,
-                        route: Route::Grid,
-                    };
-                    done[i] = true;
-                }
-            }
+            Ok(patches) => record(patches, &members, band_note.as_ref(), Route::Grid, out, outcome, done),
             Err(e) => g.edges.iter().for_each(|&k| {
                 ok[k] = Err(format!(
                     "a {} grid of patches that cannot be joined as one: {e}",
@@ -599,6 +586,31 @@ fn fair_grids(
         }
     }
     in_grid
+}
+
+/// Record the patches of `group` faired as one by `route`: each one's surface and outcome (the band's note
+/// added to its notes), and that it is done.
+fn record(
+    patches: Vec<(usize, Patch)>,
+    group: &[usize],
+    band_note: Option<&String>,
+    route: Route,
+    out: &mut [Geometry],
+    outcome: &mut [ObjectFair],
+    done: &mut [bool],
+) {
+    for (i, (s, bound, mut n)) in patches {
+        n.extend(band_note.cloned());
+        out[i] = s.into();
+        outcome[i] = ObjectFair {
+            faired: true,
+            group: group.to_vec(),
+            max_deviation: bound,
+            notes: n,
+            route,
+        };
+        done[i] = true;
+    }
 }
 
 /// Fair the cylinders of patches among the concatenable edges `ok` (R ≥ 2 rows closing on themselves,
@@ -627,20 +639,7 @@ fn fair_cylinders(
         let edges: Vec<usize> = cy.grid.edges.iter().chain(&cy.wrap).copied().collect();
         edges.iter().for_each(|&k| in_cylinder[k] = true);
         match grid::fair_cylinder(objects, &cy, &joins.surfaces, &opts, joins.tolerance) {
-            Ok(patches) => {
-                for (i, (s, bound, mut n)) in patches {
-                    n.extend(band_note.clone());
-                    out[i] = s.into();
-                    outcome[i] = ObjectFair {
-                        faired: true,
-                        group: members.clone(),
-                        max_deviation: bound,
-                        notes: n,
-                        route: Route::Ring,
-                    };
-                    done[i] = true;
-                }
-            }
+            Ok(patches) => record(patches, &members, band_note.as_ref(), Route::Ring, out, outcome, done),
             Err(e) => edges
                 .iter()
                 .for_each(|&k| ok[k] = Err(format!("a cylinder of patches that cannot be joined as one: {e}"))),
@@ -676,18 +675,15 @@ fn fair_layouts(
         match layout::fair_layout(objects, &lay, &joins.surfaces, &opts, joins.tolerance) {
             Ok(patches) => {
                 lay.edges.iter().for_each(|&k| in_layout[k] = true);
-                for (i, (s, bound, mut n)) in patches {
-                    n.extend(band_note.clone());
-                    out[i] = s.into();
-                    outcome[i] = ObjectFair {
-                        faired: true,
-                        group: lay.members.clone(),
-                        max_deviation: bound,
-                        notes: n,
-                        route: Route::Layout,
-                    };
-                    done[i] = true;
-                }
+                record(
+                    patches,
+                    &lay.members,
+                    band_note.as_ref(),
+                    Route::Layout,
+                    out,
+                    outcome,
+                    done,
+                );
             }
             Err(e) => notes.push(format!(
                 "objects {:?}, {}: not faired as one ({e}); their edges go to the strip route",
@@ -757,20 +753,15 @@ pub(crate) fn fair_surfaces(
             ),
         };
         match fair {
-            Ok(patches) => {
-                for (&i, (s, bound, mut n)) in order_.iter().zip(patches) {
-                    n.extend(band_note.clone());
-                    out[i] = s.into();
-                    outcome[i] = ObjectFair {
-                        faired: true,
-                        group: order_.clone(),
-                        max_deviation: bound,
-                        notes: n,
-                        route,
-                    };
-                    done[i] = true;
-                }
-            }
+            Ok(patches) => record(
+                order_.iter().copied().zip(patches).collect(),
+                &order_,
+                band_note.as_ref(),
+                route,
+                out,
+                outcome,
+                &mut done,
+            ),
             Err(e) => all.iter().for_each(|&k| ok[k] = Err(e.to_string())),
         }
     }

@@ -169,25 +169,9 @@ pub(super) fn embed(members: &[usize], edges: &[usize], joins: &[SurfaceJoin]) -
     let mut queue = vec![first];
     while let Some(i) = queue.pop() {
         for &k in edges {
-            let j = &joins[k];
-            let (si, o, so) = match (j.a.0 == i, j.b.0 == i) {
-                (true, _) => (j.a.1, j.b.0, j.b.1),
-                (_, true) => (j.b.1, j.a.0, j.a.1),
-                _ => continue,
+            let Some((o, p, dn)) = neighbour(&joins[k], i, pos[&i], dirs[&i]) else {
+                continue;
             };
-            let di = dirs[&i];
-            let d = di[index(si)];
-            let (dr, dc) = d.step();
-            let p = (pos[&i].0 + dr, pos[&i].1 + dc);
-            // the neighbour faces back across the edge; its sides through the edge's ends face as ours do
-            let mut dn = [d; 4];
-            dn[index(so)] = d.opposite();
-            dn[index(opposite_side(so))] = d;
-            let (start_i, _) = ends_of(si);
-            let (start_o, end_o) = ends_of(so);
-            let (first, second) = if j.reversed { (end_o, start_o) } else { (start_o, end_o) };
-            dn[index(first)] = di[index(start_i)];
-            dn[index(second)] = di[index(start_i)].opposite();
             match (pos.get(&o), dirs.get(&o)) {
                 (Some(&q), Some(e)) => {
                     if q != p || *e != dn {
@@ -220,6 +204,28 @@ pub(super) fn embed(members: &[usize], edges: &[usize], joins: &[SurfaceJoin]) -
         dirs,
         size: ((r1 - r0 + 1) as usize, (c1 - c0 + 1) as usize),
     })
+}
+
+/// The patch across the edge `j` from patch `i` (in cell `at`, its sides facing `di`), if `j` is one of
+/// `i`'s: that patch, its cell and where its sides face — back across the edge, and its sides through
+/// the edge's ends as ours do.
+fn neighbour(j: &SurfaceJoin, i: usize, at: (i64, i64), di: [Dir; 4]) -> Option<(usize, (i64, i64), [Dir; 4])> {
+    let (si, o, so) = match (j.a.0 == i, j.b.0 == i) {
+        (true, _) => (j.a.1, j.b.0, j.b.1),
+        (_, true) => (j.b.1, j.a.0, j.a.1),
+        _ => return None,
+    };
+    let d = di[index(si)];
+    let (dr, dc) = d.step();
+    let mut dn = [d; 4];
+    dn[index(so)] = d.opposite();
+    dn[index(opposite_side(so))] = d;
+    let (start_i, _) = ends_of(si);
+    let (start_o, end_o) = ends_of(so);
+    let (first, second) = if j.reversed { (end_o, start_o) } else { (start_o, end_o) };
+    dn[index(first)] = di[index(start_i)];
+    dn[index(second)] = di[index(start_i)].opposite();
+    Some((o, (at.0 + dr, at.1 + dc), dn))
 }
 
 /// The grid that the patches `members` joined by `edges` form, if they form one of at least 2 × 2.
@@ -487,24 +493,9 @@ fn cylinder(members: &[usize], edges: &[usize], joins: &[SurfaceJoin]) -> Option
     let mut queue = vec![first];
     while let Some(i) = queue.pop() {
         for &k in edges {
-            let j = &joins[k];
-            let (si, o, so) = match (j.a.0 == i, j.b.0 == i) {
-                (true, _) => (j.a.1, j.b.0, j.b.1),
-                (_, true) => (j.b.1, j.a.0, j.a.1),
-                _ => continue,
+            let Some((o, p, dn)) = neighbour(&joins[k], i, pos[&i], dirs[&i]) else {
+                continue;
             };
-            let di = dirs[&i];
-            let d = di[index(si)];
-            let (dr, dc) = d.step();
-            let p = (pos[&i].0 + dr, pos[&i].1 + dc);
-            let mut dn = [d; 4];
-            dn[index(so)] = d.opposite();
-            dn[index(opposite_side(so))] = d;
-            let (start_i, _) = ends_of(si);
-            let (start_o, end_o) = ends_of(so);
-            let (a, b) = if j.reversed { (end_o, start_o) } else { (start_o, end_o) };
-            dn[index(a)] = di[index(start_i)];
-            dn[index(b)] = di[index(start_i)].opposite();
             match (pos.get(&o), dirs.get(&o)) {
                 (Some(&q), Some(e)) => {
                     // met again around the columns: the same row and turn, the column off by the period
