@@ -31,7 +31,9 @@
 //! p − 1 (p − 2), or lower where exact; the strip is faired by [`fair_surface`](crate::fair::fair_surface) and split back, each
 //! patch on its own knots across the edges. A strip that closes on itself (a ring of patches around a
 //! tube) is joined likewise, closed across its last edge, and faired across that edge too, as a closed
-//! curve is across its seam: two passes with their seams half the ring apart, blended (`surfaces/ring.rs`). Knot vectors along an edge are first merged (knot
+//! curve is across its seam: two passes with their seams half the ring apart, blended (`surfaces/ring.rs`);
+//! R ≥ 2 rows of patches around a cylinder are joined as a grid cut open along one column line and faired
+//! the same way. Knot vectors along an edge are first merged (knot
 //! insertion, exact), and patches of different degrees raised to the higher ones (exact; they come back
 //! raised). Patches forming a regular grid of 2 × 2 or more, every shared edge concatenable, are joined
 //! likewise into one surface, rows first then the rows together, one rescale per column and per row
