@@ -49,10 +49,11 @@ pub struct ObjectReport {
     pub tolerance_from: Option<ToleranceFrom>,
     /// The objects faired together with it as one curve or surface.
     pub group: Vec<usize>,
-    /// The route its fair took: "not faired", "alone", "chain" (curves concatenated), "strip", "grid"
-    /// or "layout" (patches joined into one surface; `fairway::fair::network::Route`).
+    /// The route its fair took: "not faired", "alone", "chain" (curves concatenated), "strip", "ring",
+    /// "grid" or "layout" (patches joined into one surface; `fairway::fair::network::Route`).
     pub route: &'static str,
-    /// A sound bound of its deviation from the input (0 if not faired).
+    /// A sound bound of its own deviation from the input (0 if not faired); a patch faired with others
+    /// has its own, at most the joined surface's.
     pub max_deviation_bound: f64,
     /// Its measures against the input (`null` for an object not faired: it is as it was).
     pub measures: Option<ObjectMeasures>,
@@ -256,9 +257,10 @@ pub fn run(a: &Args, scene: Scene, notices: &[String]) -> Result<()> {
     for (i, o) in r.outcome.iter().enumerate() {
         if o.faired {
             eprintln!(
-                "fairway: {name}: object {i}: route {} (with objects {:?})",
+                "fairway: {name}: object {i}: route {} (with objects {:?}), its deviation ≤ {}",
                 o.route.name(),
-                o.group
+                o.group,
+                fairway::range::short(o.max_deviation)
             );
         }
         for n in &o.notes {

@@ -3,7 +3,7 @@
 //! patch its band, and the isocurves lose curvature extrema, more than with the patches faired one by one
 //! with their edges held.
 
-use fairway::fair::network::{NetworkOptions, fair_network};
+use fairway::fair::network::{NetworkFair, NetworkOptions, fair_network};
 use fairway::measure_surface::surface_measures;
 use fairway::network::{Continuity, find_joins};
 use fairway::{BSplineSurface, Geometry};
@@ -147,6 +147,74 @@ fn a_grid_whose_knot_line_mixes_g2_and_g1_holds_that_line_and_fairs_each_side_to
     for (i, x) in r.outcome.iter().enumerate() {
         assert_eq!(x.group.len(), 2, "patch {i}: faired with its row: {:?}", x.notes);
     }
+    against_one_by_one("mixed", &patches, &r, o);
+    for (b, a) in joins.surfaces.iter().zip(&r.joins_after.surfaces) {
+        assert_eq!(a.continuity.class, b.continuity.class, "{a:?}");
+        assert!(a.continuity.normal_angle.to_degrees() <= 0.01 && a.continuity.gap <= 1e-9);
+    }
+}
+
+#[test]
+fn a_grid_line_g2_along_one_edge_and_a_crease_along_the_other_holds_that_line_and_fairs_each_side() {
+    // the v line between the columns: G2 along row 0's edge, a crease (G0, not concatenable, held) along
+    // row 1's (the fourth patch's second control column from it lifted); a knot line cannot be joined
+    // along one edge and held along another, so the G2 edge on it is held too and each column faired as
+    // one, keeping every edge's class (before, the held edge faced a cell inside the grid's frame, the
+    // layout route stopped, and every edge was held: each patch faired alone)
+    let s = bumpy();
+    let g = cut(&s, &[knot(s.knots_u().values(), 9)], &[knot(s.knots_v().values(), 7)]);
+    let patches = [g[0][0].clone(), g[0][1].clone(), g[1][0].clone(), crease(&g[1][1])];
+    let objects: Vec<Geometry> = patches.iter().cloned().map(Into::into).collect();
+    let joins = find_joins(&objects);
+    let classes: Vec<Continuity> = joins.surfaces.iter().map(|j| j.continuity.class).collect();
+    assert_eq!(
+        classes.iter().filter(|&&c| c == Continuity::G0).count(),
+        1,
+        "{classes:?}"
+    );
+    assert_eq!(
+        classes.iter().filter(|&&c| c == Continuity::G2).count(),
+        3,
+        "{classes:?}"
+    );
+    let mut o = NetworkOptions::default();
+    o.surface.tolerance = 4e-3;
+    let r = fair_network(&objects, &[], &o).unwrap();
+    for n in &r.notes {
+        eprintln!("note: {n}");
+    }
+    assert!(r.notes.iter().any(|n| n.contains("a crease, kept")), "{:?}", r.notes);
+    assert!(
+        r.notes
+            .iter()
+            .any(|n| n.contains("held too, the patches on each side faired together")),
+        "{:?}",
+        r.notes
+    );
+    for (i, x) in r.outcome.iter().enumerate() {
+        // each faired with its column: objects 0 and 2, 1 and 3
+        assert_eq!(x.group, vec![i % 2, i % 2 + 2], "patch {i}: {:?}", x.notes);
+        assert!(x.faired && x.max_deviation <= 4e-3, "patch {i}: {x:?}");
+    }
+    against_one_by_one("G2/crease line", &patches, &r, o);
+    for (b, a) in joins.surfaces.iter().zip(&r.joins_after.surfaces) {
+        eprintln!("edge {:?}–{:?}: {:?} → {:?}", b.a, b.b, b.continuity, a.continuity);
+        assert_eq!(a.continuity.class, b.continuity.class, "{a:?}");
+        assert!(a.continuity.gap <= 1e-9, "{a:?}");
+        if b.continuity.class == Continuity::G0 {
+            // the crease kept: its angle along the edge as it was
+            let d = (a.continuity.normal_angle - b.continuity.normal_angle).abs();
+            assert!(d <= 1e-9, "crease angle changed by {d:e}");
+        } else {
+            assert!(a.continuity.normal_angle.to_degrees() <= 0.01, "{a:?}");
+        }
+    }
+}
+
+/// Every patch of `r` (the fair of `patches` with options `o`) within the band with fewer isocurve
+/// extrema than it had, and fewer in all than the patches faired one by one with their edges held.
+fn against_one_by_one(name: &str, patches: &[BSplineSurface], r: &NetworkFair, o: NetworkOptions) {
+    let objects: Vec<Geometry> = patches.iter().cloned().map(Into::into).collect();
     let held = fair_network(&objects, &[], &NetworkOptions { hold_all: true, ..o }).unwrap();
     let (mut sum, mut sum_held) = (0, 0);
     for (k, ((p, f), h)) in patches.iter().zip(&r.objects).zip(&held.objects).enumerate() {
@@ -156,19 +224,15 @@ fn a_grid_whose_knot_line_mixes_g2_and_g1_holds_that_line_and_fairs_each_side_to
             surface_measures(p, h.as_surface().unwrap()),
         );
         eprintln!(
-            "mixed: patch {k}: isocurve extrema {} → {} ({} one by one), deviation {:.2e}",
+            "{name}: patch {k}: isocurve extrema {} → {} ({} one by one), deviation {:.2e}",
             m0.n_curv_extrema, mt.n_curv_extrema, mh.n_curv_extrema, mt.hausdorff
         );
         assert!(
-            mt.hausdorff <= 4e-3 && mt.n_curv_extrema < m0.n_curv_extrema,
-            "patch {k}"
+            mt.hausdorff <= o.surface.tolerance && mt.n_curv_extrema < m0.n_curv_extrema,
+            "{name}: patch {k}"
         );
         (sum, sum_held) = (sum + mt.n_curv_extrema, sum_held + mh.n_curv_extrema);
     }
-    eprintln!("mixed: isocurve extrema in all: {sum} vs {sum_held} one by one");
-    assert!(sum < sum_held);
-    for (b, a) in joins.surfaces.iter().zip(&r.joins_after.surfaces) {
-        assert_eq!(a.continuity.class, b.continuity.class, "{a:?}");
-        assert!(a.continuity.normal_angle.to_degrees() <= 0.01 && a.continuity.gap <= 1e-9);
-    }
+    eprintln!("{name}: isocurve extrema in all: {sum} vs {sum_held} one by one");
+    assert!(sum < sum_held, "{name}");
 }

@@ -65,6 +65,23 @@ fn assert_layout_route(name: &str, r: &Outcome, frame: &str) {
 fn an_l_of_three_patches_cut_from_one_noisy_surface_is_faired_as_one() {
     let g = two_by_two();
     let patches = vec![g[0][0].clone(), g[0][1].clone(), g[1][0].clone()];
+    // FAIRWAY_WRITE_L=path: also write the L there as a document (for the screenshot in the README)
+    if let Some(out) = std::env::var_os("FAIRWAY_WRITE_L") {
+        let scene = fairway::io::Scene {
+            objects: patches
+                .iter()
+                .zip(["CORNER", "EAST", "NORTH"])
+                .map(|(p, n)| fairway::io::SceneObject {
+                    name: n.into(),
+                    geometry: p.clone().into(),
+                    settings: Default::default(),
+                    trim: None,
+                })
+                .collect(),
+            ..Default::default()
+        };
+        fairway::io::save_scene(std::path::Path::new(&out), &scene).unwrap();
+    }
     assert_eq!(classes(&patches), (0, 2));
     let r = check_with("L", &patches, 2, M, false);
     assert_layout_route(

@@ -27,9 +27,13 @@
 //!
 //! **Surfaces.** Patches sharing edges with G1 (G2) that are parametrically C1 (C2) after a linear
 //! rescale across them are concatenated into one surface where they form a strip (each patch joined on at
-//! most two opposite sides; a ring is opened at one edge): each edge becomes a knot line of multiplicity
+//! most two opposite sides): each edge becomes a knot line of multiplicity
 //! p − 1 (p − 2), or lower where exact; the strip is faired by [`fair_surface`](crate::fair::fair_surface) and split back, each
-//! patch on its own knots across the edges. Knot vectors along an edge are first merged (knot
+//! patch on its own knots across the edges. A strip that closes on itself (a ring of patches around a
+//! tube) is joined likewise, closed across its last edge, and faired across that edge too, as a closed
+//! curve is across its seam: two passes with their seams half the ring apart, blended (`surfaces/ring.rs`);
+//! R ≥ 2 rows of patches around a cylinder are joined as a grid cut open along one column line and faired
+//! the same way. Knot vectors along an edge are first merged (knot
 //! insertion, exact), and patches of different degrees raised to the higher ones (exact; they come back
 //! raised). Patches forming a regular grid of 2 × 2 or more, every shared edge concatenable, are joined
 //! likewise into one surface, rows first then the rows together, one rescale per column and per row
@@ -97,6 +101,9 @@ pub enum Route {
     Chain,
     /// A strip of patches joined into one surface.
     Strip,
+    /// A ring of patches (a strip closing on itself, e.g. around a tube, or R × C patches around a
+    /// cylinder) joined into one surface closed across its last edge(s).
+    Ring,
     /// A full grid of R × C ≥ 2 × 2 patches joined into one surface.
     Grid,
     /// Patches sharing edges that are neither a strip nor a full grid (an L, a T, …), laid on the cells of
@@ -105,13 +112,14 @@ pub enum Route {
 }
 
 impl Route {
-    /// Its name in reports: "not faired", "alone", "chain", "strip", "grid", "layout".
+    /// Its name in reports: "not faired", "alone", "chain", "strip", "ring", "grid", "layout".
     pub fn name(self) -> &'static str {
         match self {
             Route::NotFaired => "not faired",
             Route::Alone => "alone",
             Route::Chain => "chain",
             Route::Strip => "strip",
+            Route::Ring => "ring",
             Route::Grid => "grid",
             Route::Layout => "layout",
         }

@@ -178,12 +178,23 @@ pub fn check_with(name: &str, patches: &[BSplineSurface], edges: usize, m: f64, 
 /// columns short of its v sides: its u₀ side keeps its position and cross tangent (G1 with a neighbour
 /// there) but not its curvature across (no longer G2), and its v sides are unchanged.
 pub fn lift(p: &BSplineSurface) -> BSplineSurface {
+    bumped(p, (Some(2), None))
+}
+
+/// `p` with one control row (`at.0`, along v) or column (`at.1`, along u) lifted in z by a smooth bump
+/// 0.01 high that vanishes three points short of the line's ends.
+fn bumped(p: &BSplineSurface, at: (Option<usize>, Option<usize>)) -> BSplineSurface {
     let (nu, nv) = (p.nu(), p.nv());
     let pts = (0..nu)
         .flat_map(|i| (0..nv).map(move |j| (i, j)))
         .map(|(i, j)| {
-            let t = (j as f64 - 2.0) / (nv as f64 - 5.0);
-            let bump = if i == 2 && (0.0..=1.0).contains(&t) {
+            let (on, k, n) = match at {
+                (Some(r), _) => (i == r, j, nv),
+                (_, Some(c)) => (j == c, i, nu),
+                _ => (false, 0, 5),
+            };
+            let t = (k as f64 - 2.0) / (n as f64 - 5.0);
+            let bump = if on && (0.0..=1.0).contains(&t) {
                 0.01 * (std::f64::consts::PI * t).sin().powi(2)
             } else {
                 0.0
@@ -192,4 +203,48 @@ pub fn lift(p: &BSplineSurface) -> BSplineSurface {
         })
         .collect();
     p.with_points(pts).unwrap()
+}
+
+/// A noisy tube: a bicubic with u along its axis (`nu` control rows from z = 0 to 2) and v around it, a
+/// uniform periodic cubic of `n` control points (n a multiple of 4; radius 1, each moved radially by up
+/// to ±`noise`), clamped exactly (first = last control column, C2 across v = 0 ≡ 1), cut at v = ¼, ½, ¾
+/// into 4 patches: each shares an edge with the next and the last with the first, all exactly G2.
+pub fn noisy_tube(nu: usize, n: usize, noise: f64) -> Vec<BSplineSurface> {
+    noisy_tube_cut(nu, n, noise, &[]).remove(0)
+}
+
+/// [`noisy_tube`] cut across its axis too, at the u parameters `us`: `grid[r][c]`, r along the axis.
+pub fn noisy_tube_cut(nu: usize, n: usize, noise: f64, us: &[f64]) -> Vec<Vec<BSplineSurface>> {
+    let hash = |i: usize, j: usize| {
+        let x = ((i * 7919 + j * 104_729) as f64 * 12.9898).sin() * 43_758.545_3;
+        2.0 * (x - x.floor()) - 1.0
+    };
+    let rows: Vec<BSplineCurve> = (0..nu)
+        .map(|i| {
+            let z = 2.0 * i as f64 / (nu - 1) as f64;
+            let q: Vec<DVec3> = (0..n)
+                .map(|j| {
+                    let t = std::f64::consts::TAU * j as f64 / n as f64;
+                    let r = 1.0 + noise * hash(i, j);
+                    DVec3::new(r * t.cos(), r * t.sin(), z)
+                })
+                .collect();
+            fairway::fair::closed::periodic_cubic(&q, 3).unwrap()
+        })
+        .collect();
+    // the rows along v as the tube's net: u clamped uniform over [0, 1]
+    let mut ku = vec![0.0; 4];
+    ku.extend((1..nu - 3).map(|k| k as f64 / (nu - 3) as f64));
+    ku.extend([1.0; 4]);
+    let nv = rows[0].n_points();
+    let pts = rows.iter().flat_map(|c| c.points().iter().copied()).collect();
+    let tube = BSplineSurface::try_new(3, 3, ku, rows[0].knots().values().to_vec(), nu, nv, pts, None).unwrap();
+    cut(&tube, us, &[0.25, 0.5, 0.75])
+}
+
+/// `p` with its second control column from its v₀ side lifted by a smooth bump (0.01 high) that vanishes
+/// three rows short of its u sides: its v₀ side keeps its position but not its tangent plane (a crease
+/// with a neighbour there, G0), and its u sides are unchanged.
+pub fn crease(p: &BSplineSurface) -> BSplineSurface {
+    bumped(p, (None, Some(1)))
 }

@@ -16,6 +16,7 @@ use crate::surface::BSplineSurface;
 
 mod grid;
 mod layout;
+mod ring;
 
 /// The curves along v of `s`, one per control row i (points `P(i, ·)`, knots V).
 fn along_v(s: &BSplineSurface) -> Vec<BSplineCurve> {
@@ -302,15 +303,17 @@ fn edge_to(joined: &BSplineSurface, next: &BSplineSurface, side: Side, j: &Surfa
     }
 }
 
-/// Concatenate a strip of patches (`order[k]` joins `order[k − 1]` by `edges[k − 1]`), fair it as one
-/// surface, split it back (module docs of [`super`]).
-fn fair_strip(
-    objects: &[Geometry],
-    order_: &[usize],
-    edges: &[&SurfaceJoin],
-    opts: &SurfaceFairingOptions,
-    tol: f64,
-) -> Result<Vec<Patch>> {
+/// A strip of patches joined into one surface along v: the surface, the v of each edge between them,
+/// how each patch sits in it, and the error the joining made (the edges' gaps closed, knot removals).
+struct Strip {
+    joined: BSplineSurface,
+    at: Vec<f64>,
+    placed: Vec<Placed>,
+    err: f64,
+}
+
+/// Concatenate a strip of patches (`order[k]` joins `order[k − 1]` by `edges[k − 1]`) into one surface.
+fn join_strip(objects: &[Geometry], order_: &[usize], edges: &[&SurfaceJoin], tol: f64) -> Result<Strip> {
     let s = |i: usize| objects[i].as_surface().expect("a surface");
     let side_of = |j: &SurfaceJoin, i: usize| if j.a.0 == i { j.a.1 } else { j.b.1 };
     let turn0 = turn_to_v(side_of(edges[0], order_[0]), true);
@@ -339,22 +342,83 @@ fn fair_strip(
         (joined, err) = (c, err + e_err);
         at.push(y);
     }
-    let (r, bound) = fair_joined(&joined, err, opts, None)?;
-    let pieces = split_strip(&r.surface, &at, &placed)?;
+    Ok(Strip {
+        joined,
+        at,
+        placed,
+        err,
+    })
+}
+
+/// Concatenate a strip of patches ([`join_strip`]), fair it as one surface, split it back (module docs of
+/// [`super`]).
+fn fair_strip(
+    objects: &[Geometry],
+    order_: &[usize],
+    edges: &[&SurfaceJoin],
+    opts: &SurfaceFairingOptions,
+    tol: f64,
+) -> Result<Vec<Patch>> {
+    let st = join_strip(objects, order_, edges, tol)?;
+    let (r, bound) = fair_joined(&st.joined, st.err, opts, None)?;
+    let what =
+        format!("faired as one surface with objects {order_:?} across their shared edges (each keeps its continuity)");
+    split_back(objects, order_, &st, &r.surface, bound, &r.notes, &what)
+}
+
+/// The faired surface `faired` of a joined strip `st` split back into its patches, each on its own knots
+/// with its own deviation bound ([`own_bound`], at most the whole's `bound`) and the fair's `notes`
+/// followed by `what`.
+fn split_back(
+    objects: &[Geometry],
+    order_: &[usize],
+    st: &Strip,
+    faired: &BSplineSurface,
+    bound: f64,
+    notes: &[String],
+    what: &str,
+) -> Result<Vec<Patch>> {
+    let s = |i: usize| objects[i].as_surface().expect("a surface");
+    let pieces = split_strip(faired, &st.at, &st.placed)?;
     Ok(pieces
         .into_iter()
         .zip(order_)
-        .zip(&placed)
+        .zip(&st.placed)
         .map(|((piece, &i), q)| {
             let piece = on_knots_of(&piece, s(i));
-            let mut n = r.notes.clone();
-            n.push(format!(
-                "faired as one surface with objects {order_:?} across their shared edges (each keeps its continuity)"
-            ));
+            let mut n = notes.to_vec();
+            n.push(what.to_string());
             exact_changes_notes(q.inserted, s(i), &piece, &mut n);
-            (piece, bound, n)
+            let b = own_bound(s(i), &piece, bound, &mut n);
+            (piece, b, n)
         })
         .collect())
+}
+
+/// A patch's own deviation bound after a fair with others: the sound bound of its own change
+/// ([`surface_band_bound`](crate::fair::verify::surface_band_bound) on its own knots) where that applies
+/// and is smaller, else the bound of the whole it was faired in.
+/// A note says which.
+pub(super) fn own_bound(original: &BSplineSurface, piece: &BSplineSurface, whole: f64, notes: &mut Vec<String>) -> f64 {
+    use crate::range::short;
+    match crate::fair::verify::surface_band_bound(original, piece, whole) {
+        Some(b) => {
+            let b = b.min(whole);
+            notes.push(format!(
+                "its own deviation bound {} (the surface faired as one: {})",
+                short(b),
+                short(whole)
+            ));
+            b
+        }
+        None => {
+            notes.push(format!(
+                "its deviation bound is the surface faired as one's, {} (its own net differs from the original's in knots or degrees)",
+                short(whole)
+            ));
+            whole
+        }
+    }
 }
 
 /// The faired strip split back along v = `at[k]` into its patches, each on its own v knots and u domain,
@@ -407,14 +471,14 @@ fn edge_ok(objects: &[Geometry], j: &SurfaceJoin, net: &Net<'_>, tol: f64) -> st
     concatenate(&p, order(j)).map(|_| ()).map_err(|e| e.to_string())
 }
 
+/// A strip of patches found among the concatenable edges: its patches in order, the edges between them,
+/// and for a ring the edge that closes it (the last patch's with the first).
+type Found = (Vec<usize>, Vec<usize>, Option<usize>);
+
 /// The strips of patches joined by the concatenable edges `ok`: each patch with at most two such
-/// edges, on opposite sides (else its edges are held, with the reason in `why`); a ring is opened at one
-/// edge. Each strip is its patches in order and the edges between them.
-fn strips(
-    joins: &[SurfaceJoin],
-    ok: &mut [std::result::Result<(), String>],
-    n: usize,
-) -> Vec<(Vec<usize>, Vec<usize>)> {
+/// edges, on opposite sides (else its edges are held, with the reason in `why`); a ring is a strip
+/// opened at one edge, its closing edge.
+fn strips(joins: &[SurfaceJoin], ok: &mut [std::result::Result<(), String>], n: usize) -> Vec<Found> {
     let at = |ok: &[std::result::Result<(), String>], i: usize| -> Vec<usize> {
         (0..joins.len())
             .filter(|&k| ok[k].is_ok() && (joins[k].a.0 == i || joins[k].b.0 == i))
@@ -448,10 +512,9 @@ fn strips(
         if seen[start] || e.is_empty() {
             continue;
         }
-        if e.len() == 2 {
-            ok[e[0]] = Err("a ring of patches: opened at this edge (held)".into());
-        }
-        let (mut order_, mut edges, mut cur, mut prev) = (vec![start], vec![], start, usize::MAX);
+        // a ring: walked from its first edge round to the closing one, e[0]
+        let closing = (e.len() == 2).then_some(e[0]);
+        let (mut order_, mut edges, mut cur, mut prev) = (vec![start], vec![], start, closing.unwrap_or(usize::MAX));
         seen[start] = true;
         while let Some(k) = at(ok, cur).into_iter().find(|&k| k != prev) {
             let next = if joins[k].a.0 == cur {
@@ -467,7 +530,7 @@ fn strips(
             order_.push(cur);
             edges.push(k);
         }
-        out.push((order_, edges));
+        out.push((order_, edges, closing));
     }
     out
 }
@@ -513,20 +576,7 @@ fn fair_grids(
         };
         g.edges.iter().for_each(|&k| in_grid[k] = true);
         match grid::fair_grid(objects, &g, &joins.surfaces, &opts, joins.tolerance) {
-            Ok(patches) => {
-                for (i, (s, bound, mut n)) in patches {
-                    n.extend(band_note.clone());
-                    out[i] = s.into();
-                    outcome[i] = ObjectFair {
-                        faired: true,
-                        group: members.clone(),
-                        max_deviation: bound,
-                        notes: n,
-                        route: Route::Grid,
-                    };
-                    done[i] = true;
-                }
-            }
+            Ok(patches) => record(patches, &members, band_note.as_ref(), Route::Grid, out, outcome, done),
             Err(e) => g.edges.iter().for_each(|&k| {
                 ok[k] = Err(format!(
                     "a {} grid of patches that cannot be joined as one: {e}",
@@ -536,6 +586,66 @@ fn fair_grids(
         }
     }
     in_grid
+}
+
+/// Record the patches of `group` faired as one by `route`: each one's surface and outcome (the band's note
+/// added to its notes), and that it is done.
+fn record(
+    patches: Vec<(usize, Patch)>,
+    group: &[usize],
+    band_note: Option<&String>,
+    route: Route,
+    out: &mut [Geometry],
+    outcome: &mut [ObjectFair],
+    done: &mut [bool],
+) {
+    for (i, (s, bound, mut n)) in patches {
+        n.extend(band_note.cloned());
+        out[i] = s.into();
+        outcome[i] = ObjectFair {
+            faired: true,
+            group: group.to_vec(),
+            max_deviation: bound,
+            notes: n,
+            route,
+        };
+        done[i] = true;
+    }
+}
+
+/// Fair the cylinders of patches among the concatenable edges `ok` (R ≥ 2 rows closing on themselves,
+/// `grid.rs`, `ring.rs`), each as one closed surface; one that cannot be joined has its edges held (`ok`
+/// says why). Which edges are a cylinder's.
+fn fair_cylinders(
+    objects: &[Geometry],
+    joins: &Joins,
+    net: &Net<'_>,
+    ok: &mut [std::result::Result<(), String>],
+    out: &mut [Geometry],
+    outcome: &mut [ObjectFair],
+    done: &mut [bool],
+) -> Vec<bool> {
+    let mut in_cylinder = vec![false; ok.len()];
+    for cy in grid::cylinders(&joins.surfaces, ok, objects.len()) {
+        let members = cy.grid.objects();
+        if members.iter().any(|&i| done[i]) {
+            continue;
+        }
+        let (tolerance, band_note) = net.band(&members);
+        let opts = SurfaceFairingOptions {
+            tolerance,
+            ..net.opts.surface
+        };
+        let edges: Vec<usize> = cy.grid.edges.iter().chain(&cy.wrap).copied().collect();
+        edges.iter().for_each(|&k| in_cylinder[k] = true);
+        match grid::fair_cylinder(objects, &cy, &joins.surfaces, &opts, joins.tolerance) {
+            Ok(patches) => record(patches, &members, band_note.as_ref(), Route::Ring, out, outcome, done),
+            Err(e) => edges
+                .iter()
+                .for_each(|&k| ok[k] = Err(format!("a cylinder of patches that cannot be joined as one: {e}"))),
+        }
+    }
+    in_cylinder
 }
 
 /// Fair the layouts of patches among the concatenable edges `ok` that are neither strips nor grids
@@ -565,18 +675,15 @@ fn fair_layouts(
         match layout::fair_layout(objects, &lay, &joins.surfaces, &opts, joins.tolerance) {
             Ok(patches) => {
                 lay.edges.iter().for_each(|&k| in_layout[k] = true);
-                for (i, (s, bound, mut n)) in patches {
-                    n.extend(band_note.clone());
-                    out[i] = s.into();
-                    outcome[i] = ObjectFair {
-                        faired: true,
-                        group: lay.members.clone(),
-                        max_deviation: bound,
-                        notes: n,
-                        route: Route::Layout,
-                    };
-                    done[i] = true;
-                }
+                record(
+                    patches,
+                    &lay.members,
+                    band_note.as_ref(),
+                    Route::Layout,
+                    out,
+                    outcome,
+                    done,
+                );
             }
             Err(e) => notes.push(format!(
                 "objects {:?}, {}: not faired as one ({e}); their edges go to the strip route",
@@ -608,6 +715,8 @@ pub(crate) fn fair_surfaces(
     let mut in_grid = fair_grids(objects, joins, net, &mut ok, out, outcome, &mut done);
     let in_layout = fair_layouts(objects, joins, net, &ok, out, outcome, &mut done, notes);
     in_grid.iter_mut().zip(in_layout).for_each(|(g, l)| *g |= l);
+    let in_cylinder = fair_cylinders(objects, joins, net, &mut ok, out, outcome, &mut done);
+    in_grid.iter_mut().zip(in_cylinder).for_each(|(g, l)| *g |= l);
     let mut free: Vec<std::result::Result<(), String>> = ok
         .iter()
         .zip(&in_grid)
@@ -619,11 +728,12 @@ pub(crate) fn fair_surfaces(
             ok[k] = r;
         }
     }
-    for (order_, edges) in found {
-        if grid::has_held(&order_, &edges, &joins.surfaces) {
+    for (order_, edges, closing) in found {
+        let all: Vec<usize> = edges.iter().copied().chain(closing).collect();
+        if grid::has_held(&order_, &all, &joins.surfaces) {
             // the strip route fairs the whole strip: it cannot keep the span next to a held edge
             let why = "a patch of this strip has a held edge (the strip could not be laid on a frame)";
-            edges.iter().for_each(|&k| ok[k] = Err(why.into()));
+            all.iter().for_each(|&k| ok[k] = Err(why.into()));
             continue;
         }
         let list: Vec<&SurfaceJoin> = edges.iter().map(|&k| &joins.surfaces[k]).collect();
@@ -632,22 +742,27 @@ pub(crate) fn fair_surfaces(
             tolerance,
             ..net.opts.surface
         };
-        match fair_strip(objects, &order_, &list, &opts, joins.tolerance) {
-            Ok(patches) => {
-                for (&i, (s, bound, mut n)) in order_.iter().zip(patches) {
-                    n.extend(band_note.clone());
-                    out[i] = s.into();
-                    outcome[i] = ObjectFair {
-                        faired: true,
-                        group: order_.clone(),
-                        max_deviation: bound,
-                        notes: n,
-                        route: Route::Strip,
-                    };
-                    done[i] = true;
-                }
-            }
-            Err(e) => edges.iter().for_each(|&k| ok[k] = Err(e.to_string())),
+        let (fair, route) = match closing {
+            Some(c) => (
+                ring::fair_ring(objects, &order_, &list, &joins.surfaces[c], &opts, joins.tolerance),
+                Route::Ring,
+            ),
+            None => (
+                fair_strip(objects, &order_, &list, &opts, joins.tolerance),
+                Route::Strip,
+            ),
+        };
+        match fair {
+            Ok(patches) => record(
+                order_.iter().copied().zip(patches).collect(),
+                &order_,
+                band_note.as_ref(),
+                route,
+                out,
+                outcome,
+                &mut done,
+            ),
+            Err(e) => all.iter().for_each(|&k| ok[k] = Err(e.to_string())),
         }
     }
     let mut held: Vec<Vec<Side>> = vec![vec![]; objects.len()];

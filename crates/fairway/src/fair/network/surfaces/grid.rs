@@ -169,25 +169,9 @@ pub(super) fn embed(members: &[usize], edges: &[usize], joins: &[SurfaceJoin]) -
     let mut queue = vec![first];
     while let Some(i) = queue.pop() {
         for &k in edges {
-            let j = &joins[k];
-            let (si, o, so) = match (j.a.0 == i, j.b.0 == i) {
-                (true, _) => (j.a.1, j.b.0, j.b.1),
-                (_, true) => (j.b.1, j.a.0, j.a.1),
-                _ => continue,
+            let Some((o, p, dn)) = neighbour(&joins[k], i, pos[&i], dirs[&i]) else {
+                continue;
             };
-            let di = dirs[&i];
-            let d = di[index(si)];
-            let (dr, dc) = d.step();
-            let p = (pos[&i].0 + dr, pos[&i].1 + dc);
-            // the neighbour faces back across the edge; its sides through the edge's ends face as ours do
-            let mut dn = [d; 4];
-            dn[index(so)] = d.opposite();
-            dn[index(opposite_side(so))] = d;
-            let (start_i, _) = ends_of(si);
-            let (start_o, end_o) = ends_of(so);
-            let (first, second) = if j.reversed { (end_o, start_o) } else { (start_o, end_o) };
-            dn[index(first)] = di[index(start_i)];
-            dn[index(second)] = di[index(start_i)].opposite();
             match (pos.get(&o), dirs.get(&o)) {
                 (Some(&q), Some(e)) => {
                     if q != p || *e != dn {
@@ -220,6 +204,28 @@ pub(super) fn embed(members: &[usize], edges: &[usize], joins: &[SurfaceJoin]) -
         dirs,
         size: ((r1 - r0 + 1) as usize, (c1 - c0 + 1) as usize),
     })
+}
+
+/// The patch across the edge `j` from patch `i` (in cell `at`, its sides facing `di`), if `j` is one of
+/// `i`'s: that patch, its cell and where its sides face — back across the edge, and its sides through
+/// the edge's ends as ours do.
+fn neighbour(j: &SurfaceJoin, i: usize, at: (i64, i64), di: [Dir; 4]) -> Option<(usize, (i64, i64), [Dir; 4])> {
+    let (si, o, so) = match (j.a.0 == i, j.b.0 == i) {
+        (true, _) => (j.a.1, j.b.0, j.b.1),
+        (_, true) => (j.b.1, j.a.0, j.a.1),
+        _ => return None,
+    };
+    let d = di[index(si)];
+    let (dr, dc) = d.step();
+    let mut dn = [d; 4];
+    dn[index(so)] = d.opposite();
+    dn[index(opposite_side(so))] = d;
+    let (start_i, _) = ends_of(si);
+    let (start_o, end_o) = ends_of(so);
+    let (first, second) = if j.reversed { (end_o, start_o) } else { (start_o, end_o) };
+    dn[index(first)] = di[index(start_i)];
+    dn[index(second)] = di[index(start_i)].opposite();
+    Some((o, (at.0 + dr, at.1 + dc), dn))
 }
 
 /// The grid that the patches `members` joined by `edges` form, if they form one of at least 2 × 2.
@@ -360,9 +366,28 @@ pub(super) fn fair_grid(
     opts: &SurfaceFairingOptions,
     tol: f64,
 ) -> Result<Vec<(usize, Patch)>> {
+    let jg = join_grid(objects, g, joins, tol)?;
+    let (r, bound) = super::fair_joined(&jg.outer.surface, jg.err, opts, None)?;
+    let what = format!(
+        "faired as one surface with objects {:?}, a {} grid of patches, across their shared edges (each keeps its continuity)",
+        g.objects(),
+        g.size()
+    );
+    split_grid(objects, g, &jg, &r.surface, bound, &r.notes, &what)
+}
+
+/// A grid joined into one surface: each row along v (`inner`), then the rows together (`outer`, its u
+/// along the rows' v, its v across the rows), the error made.
+struct JoinedGrid {
+    inner: Vec<Joined>,
+    outer: Joined,
+    err: f64,
+}
+
+/// Concatenate the grid's patches into one surface (module docs).
+fn join_grid(objects: &[Geometry], g: &Grid, joins: &[SurfaceJoin], tol: f64) -> Result<JoinedGrid> {
     let s = |i: usize| objects[i].as_surface().expect("a surface");
     let (rows, cols) = (g.cells.len(), g.cells[0].len());
-    let all = g.objects();
     let turned: Vec<Vec<BSplineSurface>> = g
         .cells
         .iter()
@@ -403,22 +428,158 @@ pub(super) fn fair_grid(
     let stacked: Vec<BSplineSurface> = inner.iter().map(|j| j.surface.transposed()).collect();
     let outer = join_rows(&[stacked], &row_orders, tol)?.remove(0);
     let err = outer.err + inner.iter().map(|j| j.err).fold(0.0, f64::max);
-    let (r, bound) = super::fair_joined(&outer.surface, err, opts, None)?;
+    Ok(JoinedGrid { inner, outer, err })
+}
+
+/// The faired surface `faired` of a joined grid split back into its patches (rows first), each on its
+/// own knots with its own deviation bound (at most `bound`), the fair's `notes` followed by `what`.
+fn split_grid(
+    objects: &[Geometry],
+    g: &Grid,
+    jg: &JoinedGrid,
+    faired: &BSplineSurface,
+    bound: f64,
+    notes: &[String],
+    what: &str,
+) -> Result<Vec<(usize, Patch)>> {
+    let s = |i: usize| objects[i].as_surface().expect("a surface");
     let mut out = vec![];
-    let rows_back = split_strip(&r.surface, &outer.at, &outer.placed)?;
-    for ((row_t, (joined, cells)), row_q) in rows_back.iter().zip(inner.iter().zip(&g.cells)).zip(&outer.placed) {
+    let rows_back = split_strip(faired, &jg.outer.at, &jg.outer.placed)?;
+    for ((row_t, (joined, cells)), row_q) in rows_back
+        .iter()
+        .zip(jg.inner.iter().zip(&g.cells))
+        .zip(&jg.outer.placed)
+    {
         let pieces = split_strip(&row_t.transposed(), &joined.at, &joined.placed)?;
         for ((piece, &i), q) in pieces.iter().zip(cells).zip(&joined.placed) {
             let (t, f) = turn(g.dirs[&i]);
             let piece = on_knots_of(&undo(piece, t, f), s(i));
-            let mut n = r.notes.clone();
-            n.push(format!(
-                "faired as one surface with objects {all:?}, a {} grid of patches, across their shared edges (each keeps its continuity)",
-                g.size()
-            ));
+            let mut n = notes.to_vec();
+            n.push(what.to_string());
             super::exact_changes_notes(q.inserted + row_q.inserted, s(i), &piece, &mut n);
-            out.push((i, (piece, bound, n)));
+            let own = super::own_bound(s(i), &piece, bound, &mut n);
+            out.push((i, (piece, own, n)));
         }
     }
     Ok(out)
+}
+
+/// A grid of patches closing on itself around one direction (R ≥ 2 rows of C ≥ 2 patches around a
+/// cylinder): the grid cut open along one column line, and the edges along that line (each joining
+/// column C − 1 to column 0 of its row).
+pub(super) struct Cylinder {
+    pub(super) grid: Grid,
+    pub(super) wrap: Vec<usize>,
+}
+
+/// The cylinders among the patches joined by the concatenable edges `ok` (components none of whose
+/// patches has a held edge that [`embed`] cannot lay on a grid because they close on themselves).
+pub(super) fn cylinders(joins: &[SurfaceJoin], ok: &[std::result::Result<(), String>], n: usize) -> Vec<Cylinder> {
+    components(joins, ok, n)
+        .into_iter()
+        .filter(|(m, edges)| !has_held(m, edges, joins) && embed(m, edges, joins).is_none())
+        .filter_map(|(m, edges)| cylinder(&m, &edges, joins))
+        .collect()
+}
+
+/// The patches `members` joined by `edges` laid on a grid of cells whose columns close on themselves
+/// (as [`embed`], the column taken modulo the period that the walk around finds): R ≥ 2 rows (one row is
+/// a ring of the strip route), every cell taken once, every edge between neighbours.
+fn cylinder(members: &[usize], edges: &[usize], joins: &[SurfaceJoin]) -> Option<Cylinder> {
+    let first = *members.first()?;
+    let mut dirs: HashMap<usize, [Dir; 4]> = HashMap::from([(first, [Dir::S, Dir::N, Dir::W, Dir::E])]);
+    let mut pos: HashMap<usize, (i64, i64)> = HashMap::from([(first, (0, 0))]);
+    let mut period: Option<i64> = None;
+    let mut queue = vec![first];
+    while let Some(i) = queue.pop() {
+        for &k in edges {
+            let Some((o, p, dn)) = neighbour(&joins[k], i, pos[&i], dirs[&i]) else {
+                continue;
+            };
+            match (pos.get(&o), dirs.get(&o)) {
+                (Some(&q), Some(e)) => {
+                    // met again around the columns: the same row and turn, the column off by the period
+                    if *e != dn || q.0 != p.0 {
+                        return None;
+                    }
+                    let off = (q.1 - p.1).abs();
+                    if off != 0 {
+                        if period.is_some_and(|x| x != off) {
+                            return None;
+                        }
+                        period = Some(off);
+                    }
+                }
+                _ => {
+                    pos.insert(o, p);
+                    dirs.insert(o, dn);
+                    queue.push(o);
+                }
+            }
+        }
+    }
+    let cols = period?;
+    let r0 = pos.values().map(|p| p.0).min()?;
+    let rows = pos.values().map(|p| p.0).max()? - r0 + 1;
+    let (rows, cols_u) = (usize::try_from(rows).ok()?, usize::try_from(cols).ok()?);
+    if rows < 2 || cols_u < 2 || rows * cols_u != members.len() || edges.len() != rows * cols_u + cols_u * (rows - 1) {
+        return None;
+    }
+    let mut cells = vec![vec![usize::MAX; cols_u]; rows];
+    let mut at: HashMap<usize, (usize, usize)> = HashMap::new();
+    for (&i, &(r, c)) in &pos {
+        let (r, c) = ((r - r0) as usize, c.rem_euclid(cols) as usize);
+        if cells[r][c] != usize::MAX {
+            return None;
+        }
+        cells[r][c] = i;
+        at.insert(i, (r, c));
+    }
+    // the line cut open: the edges leaving column C − 1 eastwards
+    let wrap: Vec<usize> = edges
+        .iter()
+        .copied()
+        .filter(|&k| {
+            let j = &joins[k];
+            [j.a, j.b]
+                .iter()
+                .any(|&(i, side)| at[&i].1 == cols_u - 1 && dirs[&i][index(side)] == Dir::E)
+        })
+        .collect();
+    if wrap.len() != rows {
+        return None;
+    }
+    let inner: Vec<usize> = edges.iter().copied().filter(|k| !wrap.contains(k)).collect();
+    Some(Cylinder {
+        grid: Grid {
+            cells,
+            dirs,
+            edges: inner,
+        },
+        wrap,
+    })
+}
+
+/// Fair a cylinder of patches as one surface closed around it (the grid joined as [`fair_grid`] does, cut
+/// open along one column line, then faired as a ring, `ring.rs`): each object with its patch.
+pub(super) fn fair_cylinder(
+    objects: &[Geometry],
+    cy: &Cylinder,
+    joins: &[SurfaceJoin],
+    opts: &SurfaceFairingOptions,
+    tol: f64,
+) -> Result<Vec<(usize, Patch)>> {
+    let g = &cy.grid;
+    let jg = join_grid(objects, g, joins, tol)?;
+    // the joined grid's u runs around (the rows' v): turned so that v does
+    let mut j = jg.outer.surface.transposed();
+    let k = cy.wrap.iter().map(|&e| order(&joins[e])).max().unwrap_or(1);
+    let (faired, bound, notes) = super::ring::fair_closed_v(&mut j, jg.err, k, &jg.inner[0].at, opts, tol)?;
+    let what = format!(
+        "faired as one closed surface with objects {:?}, {} rows of {} patches around a cylinder, across all their shared edges, the closing ones too (each keeps its continuity)",
+        g.objects(),
+        g.cells.len(),
+        g.cells[0].len()
+    );
+    split_grid(objects, g, &jg, &faired.transposed(), bound, &notes, &what)
 }

@@ -140,6 +140,45 @@ pub(super) fn hold_mixed_lines(joins: &[SurfaceJoin], ok: &mut [std::result::Res
                 by_order.values().flatten().for_each(|&k| ok[k] = Err(why.clone()));
             }
         }
+        held_lines(&lay, joins, ok);
+    }
+}
+
+/// Hold the edges along every knot line of a laid-out component that an edge between two of its
+/// patches, held itself (e.g. a G2 edge only C1 after the rescale, a crease), crosses: one knot line
+/// cannot be joined along some edges and held along another, so the component falls apart at that line
+/// into parts faired each as one, their spans along the line held — each edge keeps its own continuity.
+/// The edges held say why in `ok`.
+fn held_lines(lay: &Layout, joins: &[SurfaceJoin], ok: &mut [std::result::Result<(), String>]) {
+    let mut lines: Vec<(bool, usize, String)> = vec![];
+    for (k, j) in joins.iter().enumerate() {
+        let (Some(&a), Some(&b)) = (lay.emb.pos.get(&j.a.0), lay.emb.pos.get(&j.b.0)) else {
+            continue;
+        };
+        let Err(e) = &ok[k] else { continue };
+        let line = match (a.0 == b.0, a.1 == b.1) {
+            (true, _) if a.1.abs_diff(b.1) == 1 => (true, a.1.min(b.1)),
+            (_, true) if a.0.abs_diff(b.0) == 1 => (false, a.0.min(b.0)),
+            _ => continue,
+        };
+        if !lines.iter().any(|(v, l, _)| (*v, *l) == line) {
+            lines.push((
+                line.0,
+                line.1,
+                format!("edge of objects {} and {} held ({e})", j.a.0, j.b.0),
+            ));
+        }
+    }
+    for (vertical, l, what) in lines {
+        let why = format!(
+            "on a knot line of objects {:?} (between {} {l} and {}) along which the {what}: held too, the patches on each side faired together",
+            lay.members,
+            if vertical { "columns" } else { "rows" },
+            l + 1
+        );
+        for (_, ks) in line_edges(lay, joins, vertical).get(l).into_iter().flatten() {
+            ks.iter().for_each(|&k| ok[k] = Err(why.clone()));
+        }
     }
 }
 
@@ -562,7 +601,8 @@ pub(super) fn fair_layout(
             ));
         }
         exact_changes_notes(cell.inserted, original, &piece, &mut n);
-        out.push((i, (piece, bound, n)));
+        let own = super::own_bound(original, &piece, bound, &mut n);
+        out.push((i, (piece, own, n)));
     }
     Ok(out)
 }
