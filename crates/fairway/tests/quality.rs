@@ -93,6 +93,28 @@ fn the_default_fair_is_at_least_as_fair_as_the_reference_smoother_on_every_suite
     println!("Σ torsion extrema over the 3D rows: original {tau_orig}, reference {tau_ref}, fairway {tau_fw}");
 }
 
+/// At every tolerance of `case`, the default fair (torsion faired, as by default) holds the band and has no
+/// more curvature extrema than the reference smoother or the original and no larger E_var than the smoother.
+fn assert_at_least_as_fair_as_the_reference(case: &suite::Case, label: &str) {
+    let orig = measure(&case.curve, &case.curve);
+    for f in suite::TOLERANCE_FACTORS {
+        let m = f * case.sigma;
+        let (reference, fair) = reference_and_fair(&case.curve, m, TORSION_WEIGHT);
+        let (r, w) = (
+            measure(&case.curve, &reference.curve),
+            measure(&case.curve, &fair.curve),
+        );
+        let row = format!(
+            "{label} {f}σ: extrema {} / ref {} / fairway {}, E_var {:.4e} / {:.4e} / {:.4e}",
+            orig.n_curv_extrema, r.n_curv_extrema, w.n_curv_extrema, orig.E_var, r.E_var, w.E_var
+        );
+        println!("{row}");
+        assert!(w.dev_max <= m * (1.0 + 1e-9), "{row}: dev {:.4e}", w.dev_max);
+        assert!(w.n_curv_extrema <= r.n_curv_extrema.min(orig.n_curv_extrema), "{row}");
+        assert!(w.E_var <= r.E_var, "{row}");
+    }
+}
+
 /// Curves no tuning has seen: the suite's shapes and knots with other noise draws
 /// (`QT_SEED=k cargo run --release -p fairway --example quality_table` prints the whole table of a draw).
 /// Over draws 0–27 these were the rows that lost to the reference smoother before the polish ranked its
@@ -107,23 +129,7 @@ fn the_default_fair_beats_the_reference_smoother_on_other_noise_draws() {
             .into_iter()
             .find(|c| c.name == name)
             .expect("a suite case");
-        let orig = measure(&case.curve, &case.curve);
-        for f in suite::TOLERANCE_FACTORS {
-            let m = f * case.sigma;
-            let (reference, fair) = reference_and_fair(&case.curve, m, TORSION_WEIGHT);
-            let (r, w) = (
-                measure(&case.curve, &reference.curve),
-                measure(&case.curve, &fair.curve),
-            );
-            let row = format!(
-                "{name} draw {draw} {f}σ: extrema {} / ref {} / fairway {}, E_var {:.4e} / {:.4e} / {:.4e}",
-                orig.n_curv_extrema, r.n_curv_extrema, w.n_curv_extrema, orig.E_var, r.E_var, w.E_var
-            );
-            println!("{row}");
-            assert!(w.dev_max <= m * (1.0 + 1e-9), "{row}: dev {:.4e}", w.dev_max);
-            assert!(w.n_curv_extrema <= r.n_curv_extrema.min(orig.n_curv_extrema), "{row}");
-            assert!(w.E_var <= r.E_var, "{row}");
-        }
+        assert_at_least_as_fair_as_the_reference(&case, &format!("{name} draw {draw}"));
     }
 }
 
@@ -136,23 +142,7 @@ fn the_default_fair_beats_the_reference_smoother_on_other_noise_draws() {
 fn the_default_fair_beats_the_reference_smoother_on_shapes_no_test_was_tuned_on() {
     for k in 0..12 {
         let case = suite::unseen_shape(k);
-        let orig = measure(&case.curve, &case.curve);
-        for f in suite::TOLERANCE_FACTORS {
-            let m = f * case.sigma;
-            let (reference, fair) = reference_and_fair(&case.curve, m, TORSION_WEIGHT);
-            let (r, w) = (
-                measure(&case.curve, &reference.curve),
-                measure(&case.curve, &fair.curve),
-            );
-            let row = format!(
-                "shape {k} {f}σ: extrema {} / ref {} / fairway {}, E_var {:.4e} / {:.4e} / {:.4e}",
-                orig.n_curv_extrema, r.n_curv_extrema, w.n_curv_extrema, orig.E_var, r.E_var, w.E_var
-            );
-            println!("{row}");
-            assert!(w.dev_max <= m * (1.0 + 1e-9), "{row}: dev {:.4e}", w.dev_max);
-            assert!(w.n_curv_extrema <= r.n_curv_extrema.min(orig.n_curv_extrema), "{row}");
-            assert!(w.E_var <= r.E_var, "{row}");
-        }
+        assert_at_least_as_fair_as_the_reference(&case, &format!("shape {k}"));
     }
 }
 

@@ -339,7 +339,13 @@ pub fn unseen_closed_shape(k: u64) -> Case {
     let dim = if rng.uniform() < 0.35 { 3 } else { 2 };
     let sigma = 10f64.powf(rng.range(-3.7, -2.5));
     let harm: Vec<(f64, f64, f64)> = (2..6)
-        .map(|j| (j as f64, rng.range(0.0, 0.25) / j as f64, rng.range(0.0, std::f64::consts::TAU)))
+        .map(|j| {
+            (
+                j as f64,
+                rng.range(0.0, 0.25) / j as f64,
+                rng.range(0.0, std::f64::consts::TAU),
+            )
+        })
         .collect();
     let lift: Vec<f64> = (0..3).map(|_| rng.range(-0.3, 0.3)).collect();
     let shape = move |t: f64| {

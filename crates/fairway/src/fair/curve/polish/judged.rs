@@ -86,12 +86,20 @@ impl FairingSetup {
         if fair_enough(self.judged(&self.best)?) {
             return None;
         }
+        Some(self.least_move_towards(goal, |s, d| s.judged(d).is_some_and(fair_enough)))
+    }
+
+    /// The least move from the update in `self.best` towards `goal` that `ok` accepts: a bisection on the
+    /// segment between the two ([`STEP_BLEND_BISECTIONS`] halvings; the band, convex in the update, holds
+    /// along it), the goal itself (not a + 1·(g − a), a rounding away from it) where no shorter move is
+    /// accepted. Leaves it in `self.best`; returns its (deviation at the check samples, paper's E).
+    pub(super) fn least_move_towards(&mut self, goal: Vec<DVec3>, ok: impl Fn(&Self, &[DVec3]) -> bool) -> (f64, f64) {
         let blend =
             |t: f64, a: &[DVec3]| -> Vec<DVec3> { a.iter().zip(&goal).map(|(a, g)| *a + t * (*g - *a)).collect() };
         let (mut lo, mut hi) = (0.0, 1.0);
         for _ in 0..STEP_BLEND_BISECTIONS {
             let t = 0.5 * (lo + hi);
-            if self.judged(&blend(t, &self.best)).is_some_and(fair_enough) {
+            if ok(self, &blend(t, &self.best)) {
                 hi = t;
             } else {
                 lo = t;
@@ -101,6 +109,6 @@ impl FairingSetup {
         let mut disp = vec![DVec3::ZERO; self.chk_u.len()];
         self.chk_displacements(&self.best.clone(), &mut disp);
         let dev = disp.iter().fold(0.0f64, |a, d| a.max(d.length_squared())).sqrt();
-        Some((dev, self.energy_of_update(&self.best)))
+        (dev, self.energy_of_update(&self.best))
     }
 }

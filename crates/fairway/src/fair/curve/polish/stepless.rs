@@ -4,7 +4,7 @@
 use glam::DVec3;
 
 use super::super::FairingSetup;
-use super::{Objective, STEP_BLEND_BISECTIONS, STEP_BLEND_MARGIN};
+use super::{Objective, STEP_BLEND_MARGIN};
 
 impl FairingSetup {
     /// At knots below C2 the polish prices the curvature steps, which ∫(dκ/ds)² over the spans (what
@@ -51,24 +51,8 @@ impl FairingSetup {
             (_, true) => from_smoother,
             _ => return None,
         };
-        let blend =
-            |t: f64, a: &[DVec3]| -> Vec<DVec3> { a.iter().zip(&goal).map(|(a, g)| *a + t * (*g - *a)).collect() };
         // a blend must beat the reference with a margin: `measure` integrates E_var with its own nodes
         let clear = |r: (usize, f64)| r.0 <= reference.0 && r.1 <= reference.1 * (1.0 - STEP_BLEND_MARGIN);
-        let (mut lo, mut hi) = (0.0, 1.0);
-        for _ in 0..STEP_BLEND_BISECTIONS {
-            let t = 0.5 * (lo + hi);
-            if clear(rank(self, &blend(t, &self.best))) {
-                hi = t;
-            } else {
-                lo = t;
-            }
-        }
-        // the end of the segment is the goal itself (not a + 1·(g − a), a rounding away from it)
-        self.best = if hi < 1.0 { blend(hi, &self.best) } else { goal };
-        let mut disp = vec![DVec3::ZERO; self.chk_u.len()];
-        self.chk_displacements(&self.best.clone(), &mut disp);
-        let dev = disp.iter().fold(0.0f64, |a, d| a.max(d.length_squared())).sqrt();
-        Some((dev, self.energy_of_update(&self.best)))
+        Some(self.least_move_towards(goal, |s, d| clear(rank(s, d))))
     }
 }
