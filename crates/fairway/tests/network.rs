@@ -678,3 +678,44 @@ fn a_g2_join_only_c1_in_its_parameter_is_made_c2_and_faired_through() {
     assert!(r.notes[1].contains("over a quarter of the band"), "{:?}", r.notes);
     assert_eq!(r.outcome[2].group, vec![2]);
 }
+
+/// Two faces on one surface (a trimmed face split in two, each read with the surface): the surface is
+/// faired once and both objects take it — not held along its four "shared" boundaries, which left both as
+/// they were — and selecting the second face alone fairs the surface too. A neighbour sharing a real edge
+/// with it keeps that edge.
+#[test]
+fn faces_on_one_surface_are_faired_once_and_keep_their_neighbours_edge() {
+    let (sa, sb) = two_patches(false);
+    let objects: Vec<Geometry> = vec![sa.clone().into(), sb.clone().into(), sa.clone().into()];
+    let m = 4e-3;
+    let mut o = NetworkOptions::default();
+    o.surface.tolerance = m;
+    for selected in [vec![], vec![2]] {
+        let r = fair_network(&objects, &selected, &o).unwrap();
+        let (a, twin) = (r.objects[0].as_surface().unwrap(), r.objects[2].as_surface().unwrap());
+        assert_eq!(a, twin, "both faces carry the one faired surface");
+        assert_ne!(a, &sa, "the surface was faired ({:?})", r.outcome);
+        assert!(r.outcome[2].faired && r.outcome[2].notes.iter().any(|n| n.contains("same surface")));
+        let dev = fairway::measure_surface::surface_measures(&sa, a).dev_max;
+        assert!(dev <= m * (1.0 + 1e-9), "deviation {dev}");
+        // the real edge between the surface and its neighbour (object 1) is kept, on both faces
+        for j in r
+            .joins_after
+            .surfaces
+            .iter()
+            .filter(|j| j.a.0 != j.b.0 && (j.a.0 == 1 || j.b.0 == 1))
+        {
+            assert!(j.continuity.normal_angle.to_degrees() <= 0.01, "{j:?}");
+            assert!(j.continuity.gap <= 1e-9, "{j:?}");
+        }
+        if selected.is_empty() {
+            assert!(r.outcome[1].faired, "the neighbour is faired with it");
+        } else {
+            assert_eq!(
+                r.objects[1].as_surface().unwrap(),
+                &sb,
+                "an unselected neighbour stays as it was"
+            );
+        }
+    }
+}

@@ -167,10 +167,20 @@ pub fn fair_network_at(
     tolerances: &[Option<f64>],
 ) -> Result<NetworkFair> {
     let joins = find_joins(objects);
+    // faces on one surface (a trimmed face split in two, read with its surface twice): the surface is
+    // faired once, under its first object, and the others take its result; their "joins" with it are
+    // the surface's own untrimmed boundaries, not edges between faces
+    let twin: Vec<Option<usize>> = (0..objects.len())
+        .map(|i| (0..i).find(|&j| matches!(objects[i], Geometry::Surface(_)) && objects[j] == objects[i]))
+        .collect();
+    let single = |i: usize| twin[i].is_none();
+    let mut faired_joins = joins.clone();
+    faired_joins.curves.retain(|j| single(j.a.object) && single(j.b.object));
+    faired_joins.surfaces.retain(|j| single(j.a.0) && single(j.b.0));
     let net = Net {
         opts,
         chosen: (0..objects.len())
-            .map(|i| selected.is_empty() || selected.contains(&i))
+            .map(|i| single(i) && (selected.is_empty() || selected.contains(&i) || twin_chosen(&twin, selected, i)))
             .collect(),
         tolerance: objects
             .iter()
@@ -194,11 +204,24 @@ pub fn fair_network_at(
         })
         .collect();
     let mut notes = vec![];
-    let plan = curves::plan(objects, &joins, &net, &mut notes);
+    let plan = curves::plan(objects, &faired_joins, &net, &mut notes);
     for chain in &plan {
         curves::fair_chain(objects, chain, &net, &mut out, &mut outcome);
     }
-    surfaces::fair_surfaces(objects, &joins, &net, &mut out, &mut outcome, &mut notes);
+    surfaces::fair_surfaces(objects, &faired_joins, &net, &mut out, &mut outcome, &mut notes);
+    for (i, t) in twin.iter().enumerate() {
+        let Some(j) = *t else { continue };
+        if selected.is_empty() || selected.contains(&i) || selected.contains(&j) {
+            out[i] = out[j].clone();
+            outcome[i] = ObjectFair {
+                group: vec![j, i],
+                notes: vec![format!(
+                    "the same surface as object {j} (faces on one surface): faired once, with it"
+                )],
+                ..outcome[j].clone()
+            };
+        }
+    }
     let joins_after = remeasure(&joins, &out);
     Ok(NetworkFair {
         objects: out,
@@ -207,6 +230,14 @@ pub fn fair_network_at(
         joins_after,
         notes,
     })
+}
+
+/// Whether the surface object `i` is faired with a twin of it (an earlier object with the same surface,
+/// [`fair_network_at`]) that is not itself selected: selecting either face fairs the surface.
+fn twin_chosen(twin: &[Option<usize>], selected: &[usize], i: usize) -> bool {
+    twin.iter()
+        .enumerate()
+        .any(|(k, t)| *t == Some(i) && selected.contains(&k))
 }
 
 /// What every step of a network fair reads: the options, which objects are faired and each one's band.
