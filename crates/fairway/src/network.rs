@@ -272,6 +272,11 @@ pub fn find_joins(objects: &[Geometry]) -> Joins {
     let all_corners: Vec<_> = surfaces.iter().map(|(_, s)| corners(s)).collect();
     for (x, &(i, si)) in surfaces.iter().enumerate() {
         for (y, &(j, sj)) in surfaces.iter().enumerate().skip(x + 1) {
+            // faces on one surface (a trimmed face split in two): its untrimmed boundaries are no edges
+            // between them
+            if si == sj {
+                continue;
+            }
             for (ka, a) in Side::ALL.into_iter().enumerate() {
                 for (kb, b) in Side::ALL.into_iter().enumerate() {
                     if !near(all_corners[x][ka], all_corners[y][kb]) {

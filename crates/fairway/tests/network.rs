@@ -681,12 +681,17 @@ fn a_g2_join_only_c1_in_its_parameter_is_made_c2_and_faired_through() {
 
 /// Two faces on one surface (a trimmed face split in two, each read with the surface): the surface is
 /// faired once and both objects take it — not held along its four "shared" boundaries, which left both as
-/// they were — and selecting the second face alone fairs the surface too. A neighbour sharing a real edge
-/// with it keeps that edge.
+/// they were — and selecting the second face alone fairs the surface too; those boundaries are not listed
+/// as joins. A neighbour sharing a real edge with it keeps that edge.
 #[test]
 fn faces_on_one_surface_are_faired_once_and_keep_their_neighbours_edge() {
     let (sa, sb) = two_patches(false);
     let objects: Vec<Geometry> = vec![sa.clone().into(), sb.clone().into(), sa.clone().into()];
+    // the surface's own boundaries are no joins between its two faces; the real edge with object 1 is,
+    // on both faces
+    let joins = find_joins(&objects);
+    assert!(joins.surfaces.iter().all(|j| !(j.a.0 != 1 && j.b.0 != 1)), "{joins:?}");
+    assert_eq!(joins.surfaces.len(), 2, "{joins:?}");
     let m = 4e-3;
     let mut o = NetworkOptions::default();
     o.surface.tolerance = m;
