@@ -635,16 +635,21 @@ pub(crate) fn judged_against_reference(
             None => lo = t,
         }
     }
+    let input_kept = taken.is_none() && smoothed.0 > orig.0;
     let (curve, max_deviation) = match taken {
         Some(x) => x,
-        None if smoothed.0 > orig.0 => (goal, 0.0),
+        None if input_kept => (goal, 0.0),
         None => (goal, reference.max_deviation),
     };
+    // the moved loop's E against the same target as the fair's own (`first_pass_setup`), as `fair_closed`
+    // reports it
+    let energy = first_pass_on(&input, opts)?.energy(&curve);
     Ok(FairingResult {
         curve,
         max_deviation,
-        notes: r.notes,
-        ..reference
+        alpha: if input_kept { 0.0 } else { r.alpha },
+        energy,
+        ..r
     })
 }
 
