@@ -8,6 +8,7 @@
 //! ISO_LEVELS=1 cargo run --release -p fairway --example surface_timing   # one isocurve tolerance only
 //! COMBINE=weighted cargo run --release -p fairway --example surface_timing   # the default combination
 //! REFAIR_LEVELS=1 cargo run --release -p fairway --example surface_timing   # isocurves re-faired per level
+//! SIZES=30,50 cargo run --release -p fairway --example surface_timing      # only these net sizes
 //! ```
 //!
 //! The isocurves are faired on all cores unless `RAYON_NUM_THREADS` says
@@ -56,7 +57,12 @@ fn main() {
     println!(
         "n\tpoints\tcpu_ms\twall_ms\tiso_ms\tcombine_ms\tfit_ms\tverify_ms\trounds\tm_iso/m\tstrength\talpha\tdev"
     );
-    for n in [10, 20, 30, 50, 70, 100] {
+    // SIZES=30,50 runs only those net sizes
+    let sizes: Vec<usize> = std::env::var("SIZES").map_or_else(
+        |_| vec![10, 20, 30, 50, 70, 100],
+        |s| s.split(',').map(|x| x.trim().parse().expect("SIZES: comma-separated net sizes")).collect(),
+    );
+    for n in sizes {
         let s = noisy_net(n);
         let opts = SurfaceFairingOptions::default()
             .tolerance(3e-3)
