@@ -141,6 +141,8 @@ pub(super) struct PolishCache {
     smooth: Option<SmoothStart>,
     /// `measure`'s dead band of the curvature extrema of the working curve (`judged_against_reference`).
     judged_delta: std::cell::Cell<Option<f64>>,
+    /// The original's rank as `measure` counts it (`judged_against_reference`): the same for every re-fair.
+    judged_orig: Option<Rank>,
 }
 
 /// How fair an update is: (curvature extrema at the probes, E_var).
@@ -160,6 +162,8 @@ struct SmoothStart {
     rank: Rank,
     /// Its E_var on 10 Gauss nodes a span, once asked for (`judged_against_reference`).
     measured_var: Option<f64>,
+    /// Its rank as `measure` counts it, once asked for (`judged_against_reference`).
+    judged: Option<Rank>,
 }
 
 /// The fairest iterate of the interior point so far and what ranks it ([`FairingSetup::ip_consider`]).
@@ -692,6 +696,7 @@ impl FairingSetup {
                     dev: sdev,
                     rank,
                     measured_var: None,
+                    judged: None,
                 });
                 (smooth, sdev, rank)
             }

@@ -75,8 +75,25 @@ impl FairingSetup {
             return None;
         }
         let zero = vec![DVec3::ZERO; self.nf];
-        let orig = self.judged(&zero)?;
-        let smoothed = self.judged(smooth)?;
+        // (both are kept for the re-fairs of this setup: the original's always, the smoother's at its band)
+        let orig = match self.polish_cache.judged_orig {
+            Some(r) => r,
+            None => {
+                let r = self.judged(&zero)?;
+                self.polish_cache.judged_orig = Some(r);
+                r
+            }
+        };
+        let smoothed = match self.polish_cache.smooth.as_ref().and_then(|s| s.judged) {
+            Some(r) => r,
+            None => {
+                let r = self.judged(smooth)?;
+                if let Some(s) = self.polish_cache.smooth.as_mut() {
+                    s.judged = Some(r);
+                }
+                r
+            }
+        };
         let (goal, theirs) = if smoothed.0 > orig.0 {
             (zero, orig)
         } else {
