@@ -11,7 +11,9 @@
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
+use fairway::BSplineCurve;
 use fairway::fair::FairingSetup;
+use fairway::fair::network::{NetworkOptions, fair_network};
 
 #[path = "../benches/common/mod.rs"]
 mod common;
@@ -120,6 +122,31 @@ fn main() {
         }),
         100,
     );
+    // a document of 8 bench cubics side by side (no joins): "Fair all" on 1 and on 2 workers (the chains
+    // are faired in parallel); the CPU column is the calling thread's only, so read the wall time here
+    let objects: Vec<fairway::Geometry> = (0..8)
+        .map(|k| {
+            let pts = cv.points().iter().map(|p| *p + fairway::DVec3::new(0.0, 2.0 * k as f64, 0.0));
+            BSplineCurve::try_new(3, cv.knots().values().to_vec(), pts.collect(), None, 2)
+                .unwrap()
+                .into()
+        })
+        .collect();
+    for threads in [1, 2] {
+        let mut no = NetworkOptions {
+            curve: o,
+            ..Default::default()
+        };
+        no.surface.threads = Some(threads);
+        let name = format!("network of 8 curves, {threads} worker(s)");
+        report(
+            &name,
+            time(secs_for(&name), || {
+                black_box(fair_network(black_box(&objects), &[], &no).unwrap());
+            }),
+            800,
+        );
+    }
     for n in [100usize, 1000, 10_000, 100_000] {
         if n > max_points {
             break;

@@ -724,3 +724,45 @@ fn faces_on_one_surface_are_faired_once_and_keep_their_neighbours_edge() {
         }
     }
 }
+
+/// The chains of a network are faired in parallel (`fair_network_at`): on one worker and on two the
+/// objects and every outcome are the same, and each chain is what it is faired alone.
+#[test]
+fn chains_faired_in_parallel_give_the_result_of_one_thread() {
+    let (_, pieces) = chain();
+    // the loop far from the chain (no join between them), and a lone curve farther still
+    let shift = DVec3::new(20.0, 0.0, 0.0);
+    let moved = |c: &BSplineCurve, by: DVec3| {
+        let pts = c.points().iter().map(|p| *p + by).collect();
+        BSplineCurve::try_new(c.degree(), c.knots().values().to_vec(), pts, None, c.dim()).unwrap()
+    };
+    let mut objects: Vec<Geometry> = pieces.iter().cloned().map(Into::into).collect();
+    objects.extend(loop_of_four().iter().map(|c| moved(c, shift).into()));
+    objects.push(moved(&pieces[1], 2.0 * shift).into());
+    let with = |threads: usize| {
+        let mut o = NetworkOptions {
+            curve: opts(4e-3),
+            ..Default::default()
+        };
+        o.surface.threads = Some(threads);
+        fair_network(&objects, &[], &o).unwrap()
+    };
+    let (one, two) = (with(1), with(2));
+    let groups: std::collections::BTreeSet<Vec<usize>> = one.outcome.iter().map(|r| r.group.clone()).collect();
+    assert!(groups.len() >= 3, "several chains: {groups:?}");
+    assert!(one.outcome.iter().all(|r| r.faired), "{:?}", one.outcome);
+    assert_eq!(one.objects, two.objects);
+    assert_eq!(one.outcome, two.outcome);
+    assert_eq!(one.notes, two.notes);
+    // the lone curve, faired alone, is the network's
+    let alone = fair_network(
+        &objects[objects.len() - 1..],
+        &[],
+        &NetworkOptions {
+            curve: opts(4e-3),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(alone.objects[0], one.objects[objects.len() - 1]);
+}

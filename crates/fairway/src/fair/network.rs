@@ -205,8 +205,13 @@ pub fn fair_network_at(
         .collect();
     let mut notes = vec![];
     let plan = curves::plan(objects, &faired_joins, &net, &mut notes);
-    for chain in &plan {
-        curves::fair_chain(objects, chain, &net, &mut out, &mut outcome);
+    // the chains read only the originals: faired in parallel (as the surface engine's isocurves, on
+    // `threads` workers), written back in order — the same result on any number of threads
+    let faired = crate::fair::surface::par_map(&plan, opts.surface.threads, |chain| {
+        curves::fair_chain(objects, chain, &net)
+    });
+    for (chain, f) in plan.iter().zip(faired) {
+        curves::apply_chain(chain, f, &mut out, &mut outcome);
     }
     surfaces::fair_surfaces(objects, &faired_joins, &net, &mut out, &mut outcome, &mut notes);
     for (i, t) in twin.iter().enumerate() {

@@ -284,15 +284,17 @@ pub(crate) fn end_setup(
     (opts, ends)
 }
 
-/// Fair one chain and write its pieces into `out` (module docs of [`super`]); an error leaves them as
-/// they were, with the reason in their notes.
-pub(crate) fn fair_chain(
-    objects: &[Geometry],
-    chain: &Chain,
-    net: &Net<'_>,
-    out: &mut [Geometry],
-    outcome: &mut [ObjectFair],
-) {
+/// One chain faired (module docs of [`super`]): its objects, the band's note, and the faired pieces or
+/// the error. Reads only the originals, so the chains of a network are faired in parallel
+/// ([`super::fair_network_at`]) and written back in order by [`apply_chain`].
+pub(crate) struct ChainFair {
+    group: Vec<usize>,
+    band_note: Option<String>,
+    result: Result<Vec<Piece>>,
+}
+
+/// Fair one chain (module docs of [`super`]).
+pub(crate) fn fair_chain(objects: &[Geometry], chain: &Chain, net: &Net<'_>) -> ChainFair {
     let group: Vec<usize> = chain.pieces.iter().map(|p| p.0).collect();
     let (tolerance, band_note) = net.band(&group);
     let opts = FairingOptions {
@@ -305,6 +307,21 @@ pub(crate) fn fair_chain(
     } else {
         fair_concatenated(objects, chain, opts)
     };
+    ChainFair {
+        group,
+        band_note,
+        result,
+    }
+}
+
+/// Write a faired chain's pieces into `out` and their outcome; an error leaves them as they were, with
+/// the reason in their notes.
+pub(crate) fn apply_chain(chain: &Chain, faired: ChainFair, out: &mut [Geometry], outcome: &mut [ObjectFair]) {
+    let ChainFair {
+        group,
+        band_note,
+        result,
+    } = faired;
     match result {
         Ok(pieces) => {
             for (&i, (c, bound, mut notes)) in group.iter().zip(pieces) {

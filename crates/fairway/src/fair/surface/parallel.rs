@@ -1,10 +1,10 @@
-//! The parallel map of the surface engine.
+//! The parallel map of the surface engine (and of a network fair's curve chains).
 
 /// `f` over `items`, results in the order of `items`, on rayon's global pool (`threads` `None`; its size
 /// is rayon's choice, `RAYON_NUM_THREADS` if set), on a pool of `threads` workers, or here in this thread
 /// (`Some(1)`). The result of each item does not depend on the thread count. A panic in a worker is
 /// re-raised here (the editor's frame guard reports it).
-pub(super) fn par_map<T: Sync, R: Send>(
+pub(crate) fn par_map<T: Sync, R: Send>(
     items: &[T],
     threads: Option<usize>,
     f: impl Fn(&T) -> R + Sync + Send,
