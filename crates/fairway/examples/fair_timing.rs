@@ -126,7 +126,10 @@ fn main() {
     // are faired in parallel); the CPU column is the calling thread's only, so read the wall time here
     let objects: Vec<fairway::Geometry> = (0..8)
         .map(|k| {
-            let pts = cv.points().iter().map(|p| *p + fairway::DVec3::new(0.0, 2.0 * k as f64, 0.0));
+            let pts = cv
+                .points()
+                .iter()
+                .map(|p| *p + fairway::DVec3::new(0.0, 2.0 * k as f64, 0.0));
             BSplineCurve::try_new(3, cv.knots().values().to_vec(), pts.collect(), None, 2)
                 .unwrap()
                 .into()

@@ -12,6 +12,9 @@ use super::{Rank, STEP_BLEND_BISECTIONS};
 /// again as `measure` measures.
 const CLOSE_EXTREMA: usize = 2;
 const CLOSE_VAR: f64 = 0.9;
+/// Knot spans from which [`FairingSetup::judged`]'s two measures run in parallel (at 1,000 spans each
+/// takes milliseconds; below, a thread's wake-up is not worth it).
+const PARALLEL_SPANS: usize = 1000;
 
 impl FairingSetup {
     /// (curvature extrema, E_var) of `c₀ + Σ N_i d_i` as `measure` counts them on the whole working curve
@@ -28,12 +31,20 @@ impl FairingSetup {
                 d
             }
         };
-        let extrema = if crate::curve::is_closed_curve(&c) {
-            crate::measure::curvature_extrema_around(&c, delta)
-        } else {
-            crate::measure::curvature_extrema_at(&c, delta)
+        let extrema = || {
+            if crate::curve::is_closed_curve(&c) {
+                crate::measure::curvature_extrema_around(&c, delta)
+            } else {
+                crate::measure::curvature_extrema_at(&c, delta)
+            }
         };
-        Some((extrema, crate::measure::energies(&c).0))
+        let var = || crate::measure::energies(&c).0;
+        // on a long curve the two measures (each O(spans), 40 samples a span) run side by side
+        Some(if c.knots().n_spans() >= PARALLEL_SPANS {
+            rayon::join(extrema, var)
+        } else {
+            (extrema(), var())
+        })
     }
 
     /// The polish ranks its iterates at its own probes and nodes; the reference smoother is judged by
