@@ -2,7 +2,7 @@
 //! Fairway's default full fair (`fair_curve`, setup included: CPU per fair over ≥ 0.3 s of fairs, and the fastest fair's wall time) — one JSON object a line,
 //! for `scripts/bench-vs-scipy.sh`, which fits the same curves with SciPy's smoothing splines.
 //!
-//! `cargo run --release -p fairway --example speed_suite > suite.jsonl`
+//! `cargo run --release -p fairway --example speed_suite > suite.jsonl` (`ONLY=quintic`: those rows only)
 
 #[path = "../tests/common/suite.rs"]
 mod suite;
@@ -25,7 +25,9 @@ fn list(v: impl Iterator<Item = f64>) -> String {
 }
 
 fn main() {
-    for case in suite::cases() {
+    // ONLY=quintic runs only the cases whose name contains it (for a profile of one row)
+    let only = std::env::var("ONLY").unwrap_or_default();
+    for case in suite::cases().into_iter().filter(|c| c.name.contains(only.as_str())) {
         let c = &case.curve;
         for f in suite::TOLERANCE_FACTORS {
             let m = f * case.sigma;

@@ -8,12 +8,13 @@
 //! a cubic Hermite guess from the end speeds, then Newton on
 //! `s(u) − s = 0` (derivative `|c'(u)|`) with bisection as a fallback.
 //!
-//! Speed: for a non-rational curve of degree ≤ 3, `c'` is a polynomial of
-//! degree ≤ 2 on each knot span, so the table stores its exact Taylor
+//! Speed: for a non-rational curve of degree ≤ 5, `c'` is a polynomial of
+//! degree ≤ 4 on each knot span, so the table stores its exact Taylor
 //! expansion about the span's midpoint, `c'(m + h) = c'(m) + c''(m) h +
-//! c'''(m) h²/2` (one derivative evaluation per span), and every speed
+//! c'''(m) h²/2 + …` (one derivative evaluation per span), and every speed
 //! evaluation afterwards is a few multiply-adds instead of a basis
-//! evaluation. Other curves evaluate `c'` through the basis.
+//! evaluation (for a quintic, ~10× cheaper). Other curves evaluate `c'`
+//! through the basis.
 
 use glam::DVec3;
 
@@ -39,28 +40,70 @@ pub struct ArcLengthTable {
     herm: Vec<[f64; 4]>,
 }
 
-/// `c'(m + h) = a + b h + c h²` on one knot span (exact for a non-rational curve of degree ≤ 3).
+/// Degree of the curves whose speed the table takes from a per-span Taylor form (`c'` of degree ≤ 4).
+const TAYLOR_MAX_DEGREE: usize = 5;
+
+/// `c'(m + h) = a + b h + c h² + e₃ h³ + e₄ h⁴` on one knot span (exact for a non-rational curve of degree
+/// ≤ 5; `hi` is zero up to degree 3, where the form is the quadratic alone).
 #[derive(Debug, Clone, Copy, Default)]
 struct SpanPoly {
     m: f64,
     a: DVec3,
     b: DVec3,
     c: DVec3,
+    /// `c⁽⁴⁾(m)/6, c⁽⁵⁾(m)/24` (quartic and quintic curves).
+    hi: Option<[DVec3; 2]>,
 }
 
 impl SpanPoly {
+    /// The form on the span of `m` (degree ≤ [`TAYLOR_MAX_DEGREE`], non-rational).
+    fn new(curve: &BSplineCurve, m: f64) -> Self {
+        if curve.degree() <= 3 {
+            let d = curve.derivs(m);
+            return Self {
+                m,
+                a: d.d1,
+                b: d.d2,
+                c: 0.5 * d.d3,
+                hi: None,
+            };
+        }
+        let (kv, p) = (curve.knots().values(), curve.degree());
+        let span = curve.knots().find_span(m);
+        let mut nd = [[0.0; crate::basis::MAX_ORDER]; TAYLOR_MAX_DEGREE + 1];
+        crate::basis::ders_basis_funs(kv, span, curve.knots().clamp(m), p, &mut nd);
+        let der = |k: usize| -> DVec3 { (0..=p).map(|j| curve.points()[span - p + j] * nd[k][j]).sum() };
+        Self {
+            m,
+            a: der(1),
+            b: der(2),
+            c: 0.5 * der(3),
+            hi: Some([der(4) / 6.0, der(5) / 24.0]),
+        }
+    }
+
+    #[inline]
+    fn d1(&self, h: f64) -> DVec3 {
+        match &self.hi {
+            None => self.a + h * (self.b + h * self.c),
+            Some([e3, e4]) => self.a + h * (self.b + h * (self.c + h * (*e3 + h * *e4))),
+        }
+    }
+
     #[inline]
     fn speed(&self, u: f64) -> f64 {
-        let h = u - self.m;
-        (self.a + h * (self.b + h * self.c)).length()
+        self.d1(u - self.m).length()
     }
 
     /// Speed v and dv/du = c'·c''/v.
     #[inline]
     fn speed_and_slope(&self, u: f64) -> (f64, f64) {
         let h = u - self.m;
-        let d1 = self.a + h * (self.b + h * self.c);
-        let d2 = self.b + 2.0 * h * self.c;
+        let d1 = self.d1(h);
+        let d2 = match &self.hi {
+            None => self.b + 2.0 * h * self.c,
+            Some([e3, e4]) => self.b + h * (2.0 * self.c + h * (3.0 * *e3 + h * (4.0 * *e4))),
+        };
         let v = d1.length();
         (v, if v > 0.0 { d1.dot(d2) / v } else { 0.0 })
     }
@@ -126,7 +169,7 @@ impl ArcLengthTable {
             piece_span: Vec::new(),
             herm: Vec::new(),
         };
-        let fast = curve.weights().is_none() && curve.degree() <= 3;
+        let fast = curve.weights().is_none() && curve.degree() <= TAYLOR_MAX_DEGREE;
         // Rounding floor: c'(u) = Σ N'_i(u) P_i sums terms of size up to p/Δ·|P|max, so its
         // absolute error is ≈ ε·p/Δ·|P|max (Δ the span width). For a curve far from the
         // origin (coordinates 1e9, size 10) that is far above `accuracy` × length, and
@@ -156,13 +199,7 @@ impl ArcLengthTable {
                 // two pieces per span at least: keeps the Hermite guess good
                 let m = 0.5 * (w[0] + w[1]);
                 if fast {
-                    let d = curve.derivs(m);
-                    t.polys.push(SpanPoly {
-                        m,
-                        a: d.d1,
-                        b: d.d2,
-                        c: 0.5 * d.d3,
-                    });
+                    t.polys.push(SpanPoly::new(curve, m));
                 }
                 let sp = t.polys.len().saturating_sub(1);
                 let (l, r) = (t.piece(curve, sp, w[0], m), t.piece(curve, sp, m, w[1]));
@@ -471,13 +508,23 @@ mod tests {
 
     #[test]
     fn span_taylor_speed_equals_the_basis_speed() {
-        // non-uniform knots, a 3D cubic and a quadratic: the per-span Taylor form is c' exactly
+        // non-uniform knots, 3D curves of degree 2–5: the per-span Taylor form is c' exactly
         for (p, knots) in [
             (
                 3usize,
                 vec![0.0, 0.0, 0.0, 0.0, 0.1, 0.35, 0.4, 0.8, 1.0, 1.0, 1.0, 1.0],
             ),
             (2, vec![0.0, 0.0, 0.0, 0.2, 0.5, 0.55, 0.9, 1.0, 1.0, 1.0]),
+            (
+                4,
+                vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.15, 0.3, 0.6, 0.65, 1.0, 1.0, 1.0, 1.0, 1.0],
+            ),
+            (
+                5,
+                vec![
+                    0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.2, 0.25, 0.7, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0,
+                ],
+            ),
         ] {
             let n = knots.len() - p - 1;
             let pts: Vec<DVec3> = (0..n)
@@ -492,6 +539,14 @@ mod tests {
                 assert!(
                     (fast - slow).abs() <= 1e-13 * slow.max(1.0),
                     "p {p} u {u}: {fast} vs {slow}"
+                );
+                // and its slope dv/du = c'·c''/v, which the inversion's Newton steps use
+                let (_, slope) = t.polys[t.span_of(j)].speed_and_slope(u);
+                let d = c.derivs(u);
+                let exact = d.d1.dot(d.d2) / d.d1.length();
+                assert!(
+                    (slope - exact).abs() <= 1e-11 * exact.abs().max(1.0),
+                    "p {p} u {u}: slope {slope} vs {exact}"
                 );
             }
             let m = 20000;
