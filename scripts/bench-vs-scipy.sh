@@ -3,7 +3,7 @@
 #
 # For every curve of the quality suite (crates/fairway/tests/common/suite.rs) at 1, 3 and 10 × its noise σ:
 #   * Fairway: one default full fair (`fair_curve`, setup included), from `cargo run --release -p fairway
-#     --example speed_suite`: the fastest of ≥ 0.3 s of fairs (wall), and the thread CPU per fair over them;
+#     --example speed_suite`: the fastest of ≥ 0.3 s of fairs (wall), and the process CPU per fair over them (all threads);
 #   * SciPy: the curve sampled at 2000 parameters (20 a control point on long curves), fitted by FITPACK's
 #     parametric smoothing spline (`scipy.interpolate.splprep`, degree min(p, 5), periodic for closed
 #     curves) with the smoothing factor s searched (bisection in log s, 40 solves at most) for the largest s

@@ -5,8 +5,9 @@
 //!
 //! `cargo run --release -p fairway --example fair_timing [-- SECONDS [MAX_POINTS]]`
 //!
-//! Each case runs for about SECONDS (default 2) after one warm-up fair; the CPU time is this thread's
-//! (`/proc/thread-self/schedstat`, nanoseconds), so it excludes whatever else runs on the machine.
+//! Each case runs for about SECONDS (default 2) after one warm-up fair; the CPU time is the process's, all
+//! threads (`/proc/self/task/*/schedstat`, nanoseconds), so it excludes whatever else runs on the machine
+//! and includes the work rayon's workers do for it.
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
@@ -19,12 +20,9 @@ use fairway::fair::network::{NetworkOptions, fair_network};
 mod common;
 use common::{noisy_curve, opts};
 
-/// This thread's CPU time (ns), 0 where `/proc` does not have it.
+/// The process's CPU time (ns), all threads ([`common::process_cpu_ns`]), 0 where `/proc` does not have it.
 fn cpu_ns() -> u64 {
-    std::fs::read_to_string("/proc/thread-self/schedstat")
-        .ok()
-        .and_then(|s| s.split_whitespace().next().and_then(|x| x.parse().ok()))
-        .unwrap_or(0)
+    common::process_cpu_ns().unwrap_or(0)
 }
 
 /// Runs `f` for about `secs` (at least 3 times) after one warm-up call; (wall, CPU) per call in µs.
@@ -123,7 +121,8 @@ fn main() {
         100,
     );
     // a document of 8 bench cubics side by side (no joins): "Fair all" on 1 and on 2 workers (the chains
-    // are faired in parallel); the CPU column is the calling thread's only, so read the wall time here
+    // are faired in parallel; the pool of 2 is built per call and its threads' CPU leaves with them: read
+    // the wall time there)
     let objects: Vec<fairway::Geometry> = (0..8)
         .map(|k| {
             let pts = cv

@@ -4,20 +4,17 @@
 //!
 //! `cargo run --release -p fairway --example speed_suite > suite.jsonl` (`ONLY=quintic`: those rows only)
 
+#[path = "../benches/common/mod.rs"]
+#[allow(dead_code)]
+mod common;
 #[path = "../tests/common/suite.rs"]
 mod suite;
+use common::process_cpu_ns as cpu_ns;
 
 use std::hint::black_box;
 use std::time::Instant;
 
 use fairway::fair::{FairingOptions, fair_curve};
-
-/// This thread's CPU time (ns), `None` where `/proc` does not have it.
-fn cpu_ns() -> Option<u64> {
-    std::fs::read_to_string("/proc/thread-self/schedstat")
-        .ok()
-        .and_then(|s| s.split_whitespace().next().and_then(|x| x.parse().ok()))
-}
 
 fn list(v: impl Iterator<Item = f64>) -> String {
     let items: Vec<String> = v.map(|x| format!("{x:?}")).collect();
@@ -33,8 +30,8 @@ fn main() {
             let m = f * case.sigma;
             let opts = FairingOptions::default().tolerance(m);
             black_box(fair_curve(c, opts).expect("fair"));
-            // at least 0.3 s of fairs: the thread's CPU clock advances by scheduler ticks (4 ms here), so
-            // the CPU time per fair is the loop's over its count; the fastest single fair's wall time too
+            // at least 0.3 s of fairs: the CPU time per fair is the loop's over its count (all threads: a closed
+            // curve's two passes run side by side); the fastest single fair's wall time too
             let (t0, c0) = (Instant::now(), cpu_ns());
             let (mut n, mut best) = (0u32, f64::INFINITY);
             while n < 3 || t0.elapsed().as_secs_f64() < 0.3 {

@@ -484,7 +484,7 @@ pub fn first_pass_setup(curve: &BSplineCurve, opts: FairingOptions) -> Result<Fa
 fn fair_closed_with(
     curve: &BSplineCurve,
     opts: FairingOptions,
-    pass: impl Fn(&mut FairingSetup) -> Result<FairingResult>,
+    pass: impl Fn(&mut FairingSetup) -> Result<FairingResult> + Sync,
 ) -> Result<FairingResult> {
     let input = curve.to_polynomial()?;
     if !is_closed_curve(&input) {
@@ -502,18 +502,26 @@ fn fair_closed_with(
         return pass(&mut FairingSetup::new(&input, opts)?);
     }
     let mut s1 = first_pass_on(&input, opts)?;
-    let r1 = pass(&mut s1)?;
-    let held = |reason: String| FairingResult {
-        seam: Seam::Held(reason),
-        ..r1.clone()
-    };
     let tol = removal_tolerance(&input);
     // to 1e-12: the same table gives the measure's DEV_SAMPLES arc-length samples for the verification
     let table = ArcLengthTable::new(&input, 1e-12);
     let at = rotation_point(&input, &table);
-    let rot0 = match reseam(&input, at, tol) {
-        Ok((c, _)) => c,
-        Err(_) => return Ok(held(seam_reason(&input))),
+    let rot0 = reseam(&input, at, tol).map(|(c, _)| c);
+    // the two passes are independent (pass 2 fairs the re-seamed original): side by side on two threads
+    let second = |rot0: &BSplineCurve| FairingSetup::new(rot0, pass_options(opts)).and_then(|mut s2| pass(&mut s2));
+    let (r1, r2) = match &rot0 {
+        Ok(rot0) => {
+            let (r1, r2) = rayon::join(|| pass(&mut s1), || second(rot0));
+            (r1?, Some(r2))
+        }
+        Err(_) => (pass(&mut s1)?, None),
+    };
+    let held = |reason: String| FairingResult {
+        seam: Seam::Held(reason),
+        ..r1.clone()
+    };
+    let (Ok(rot0), Some(r2)) = (rot0, r2) else {
+        return Ok(held(seam_reason(&input)));
     };
     // pass 1 kept the seam's control points, so its seam re-seams the same way (same knots)
     let rot1 = match reseam(&r1.curve, at, tol) {
@@ -525,7 +533,7 @@ fn fair_closed_with(
         }
     };
     // pass 2: the same single pass on the rotated original (its held ends are at u_m)
-    let r2 = match FairingSetup::new(&rot0, pass_options(opts)).and_then(|mut s2| pass(&mut s2)) {
+    let r2 = match r2 {
         Ok(r) => r,
         Err(e) => return Ok(held(format!("the pass on the re-seamed curve failed ({e}): held"))),
     };
