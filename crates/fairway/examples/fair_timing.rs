@@ -81,6 +81,13 @@ fn main() {
         100,
     );
     report(
+        "full fair through fair_curve (+ extrema guard)",
+        time(secs_for("fair_curve"), || {
+            black_box(fairway::fair::fair_curve(black_box(&cv), o).unwrap());
+        }),
+        100,
+    );
+    report(
         "setup only",
         time(secs_for("setup only"), || {
             black_box(FairingSetup::new(black_box(&cv), o).unwrap());
