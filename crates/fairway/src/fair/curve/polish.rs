@@ -141,8 +141,9 @@ pub(super) struct PolishCache {
     smooth: Option<SmoothStart>,
     /// `measure`'s dead band of the curvature extrema of the working curve (`judged_against_reference`).
     judged_delta: std::cell::Cell<Option<f64>>,
-    /// The original's rank as `measure` counts it (`judged_against_reference`): the same for every re-fair.
-    judged_orig: Option<Rank>,
+    /// The original's rank as `measure` counts it, its parts as asked (`judged_against_reference`): the same
+    /// for every re-fair.
+    judged_orig: judged::Parts,
 }
 
 /// How fair an update is: (curvature extrema at the probes, E_var).
@@ -162,8 +163,8 @@ struct SmoothStart {
     rank: Rank,
     /// Its E_var on 10 Gauss nodes a span, once asked for (`judged_against_reference`).
     measured_var: Option<f64>,
-    /// Its rank as `measure` counts it, once asked for (`judged_against_reference`).
-    judged: Option<Rank>,
+    /// Its rank as `measure` counts it, its parts once asked for (`judged_against_reference`).
+    judged: judged::Parts,
 }
 
 /// The fairest iterate of the interior point so far and what ranks it ([`FairingSetup::ip_consider`]).
@@ -696,7 +697,7 @@ impl FairingSetup {
                     dev: sdev,
                     rank,
                     measured_var: None,
-                    judged: None,
+                    judged: Default::default(),
                 });
                 (smooth, sdev, rank)
             }

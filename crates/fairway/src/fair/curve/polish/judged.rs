@@ -4,6 +4,8 @@
 
 use glam::DVec3;
 
+use crate::BSplineCurve;
+
 use super::super::FairingSetup;
 use super::{Rank, STEP_BLEND_BISECTIONS};
 
@@ -16,28 +18,69 @@ const CLOSE_VAR: f64 = 0.9;
 /// takes milliseconds; below, a thread's wake-up is not worth it).
 const PARALLEL_SPANS: usize = 1000;
 
+/// A rank as `measure` counts it, each part computed once it is asked for (a curve's judged extrema and
+/// E_var are kept between re-fairs where the curve stays: the original, the smoother's result).
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct Parts {
+    extrema: Option<usize>,
+    var: Option<f64>,
+}
+
+impl Parts {
+    fn rank(self) -> Option<Rank> {
+        Some((self.extrema?, self.var?))
+    }
+}
+
 impl FairingSetup {
-    /// (curvature extrema, E_var) of `c₀ + Σ N_i d_i` as `measure` counts them on the whole working curve
-    /// (around the loop on a closed one), with the polish's dead band.
-    fn judged(&self, d: &[DVec3]) -> Option<Rank> {
-        let c = self.updated_curve(d).ok()?;
-        // `measure`'s dead band, from the whole curve's reference target (the polish's own, `var.delta`,
-        // is from the stretch's denser samples: on a noisy 300-point wave it is half of this)
-        let delta = match self.polish_cache.judged_delta.get() {
+    /// `parts` of `c₀ + Σ N_i d_i` with the extrema, and E_var where `var` asks for it, filled in
+    /// ([`Self::judged`] where both are missing, one measure otherwise).
+    fn judged_parts(&self, parts: Parts, d: &[DVec3], var: bool) -> Option<Parts> {
+        match (parts.extrema, parts.var) {
+            (None, None) if var => {
+                let (e, v) = self.judged(d)?;
+                Some(Parts {
+                    extrema: Some(e),
+                    var: Some(v),
+                })
+            }
+            (None, _) => Some(Parts {
+                extrema: Some(self.judged_extrema(&self.updated_curve(d).ok()?)),
+                ..parts
+            }),
+            (Some(_), None) if var => Some(Parts {
+                var: Some(crate::measure::energies(&self.updated_curve(d).ok()?).0),
+                ..parts
+            }),
+            _ => Some(parts),
+        }
+    }
+
+    /// The curvature extrema of `c` as `measure` counts them on the whole working curve (around the loop
+    /// on a closed one), with `measure`'s dead band of the working curve.
+    fn judged_extrema(&self, c: &BSplineCurve) -> usize {
+        extrema_of(c, self.judged_delta())
+    }
+
+    /// `measure`'s dead band, from the whole curve's reference target (the polish's own, `var.delta`, is
+    /// from the stretch's denser samples: on a noisy 300-point wave it is half of this).
+    fn judged_delta(&self) -> f64 {
+        match self.polish_cache.judged_delta.get() {
             Some(d) => d,
             None => {
                 let d = crate::measure::extrema_threshold(&self.work);
                 self.polish_cache.judged_delta.set(Some(d));
                 d
             }
-        };
-        let extrema = || {
-            if crate::curve::is_closed_curve(&c) {
-                crate::measure::curvature_extrema_around(&c, delta)
-            } else {
-                crate::measure::curvature_extrema_at(&c, delta)
-            }
-        };
+        }
+    }
+
+    /// (curvature extrema, E_var) of `c₀ + Σ N_i d_i` as `measure` counts them on the whole working curve
+    /// (around the loop on a closed one), with the polish's dead band.
+    fn judged(&self, d: &[DVec3]) -> Option<Rank> {
+        let c = self.updated_curve(d).ok()?;
+        let delta = self.judged_delta();
+        let extrema = || extrema_of(&c, delta);
         let var = || crate::measure::energies(&c).0;
         // on a long curve the two measures (each O(spans), 40 samples a span) run side by side
         Some(if c.knots().n_spans() >= PARALLEL_SPANS {
@@ -81,46 +124,62 @@ impl FairingSetup {
                 v
             }
         };
-        let close = near(bar) || near(smooth_rank) || !(measured_var(self, &self.best) < CLOSE_VAR * smooth_var);
+        let best_var = if self.best.as_slice() == smooth {
+            smooth_var
+        } else {
+            measured_var(self, &self.best)
+        };
+        let close = near(bar) || near(smooth_rank) || !(best_var < CLOSE_VAR * smooth_var);
         if !close {
             return None;
         }
         let zero = vec![DVec3::ZERO; self.nf];
+        // the smoother's own result (the polish found nothing fairer: a 10,000-point curve): it is at least as
+        // fair as the reference unless the smoother's has more extrema than the original (then the original
+        // is the reference), which the extrema alone decide
+        let tie = self.best.as_slice() == smooth;
         // (both are kept for the re-fairs of this setup: the original's always, the smoother's at its band)
-        let orig = match self.polish_cache.judged_orig {
-            Some(r) => r,
-            None => {
-                let r = self.judged(&zero)?;
-                self.polish_cache.judged_orig = Some(r);
-                r
-            }
-        };
-        let smoothed = match self.polish_cache.smooth.as_ref().and_then(|s| s.judged) {
-            Some(r) => r,
-            None => {
-                let r = self.judged(smooth)?;
-                if let Some(s) = self.polish_cache.smooth.as_mut() {
-                    s.judged = Some(r);
-                }
-                r
-            }
-        };
+        let (mut orig, mut smoothed) = (
+            self.polish_cache.judged_orig,
+            self.polish_cache.smooth.as_ref().map(|s| s.judged).unwrap_or_default(),
+        );
+        if tie && orig.extrema.is_none() && smoothed.extrema.is_none() && self.work.knots().n_spans() >= PARALLEL_SPANS
+        {
+            // a long curve: the two counts side by side
+            let (c0, cs) = (self.updated_curve(&zero).ok()?, self.updated_curve(smooth).ok()?);
+            let delta = self.judged_delta();
+            let (e0, es) = rayon::join(|| extrema_of(&c0, delta), || extrema_of(&cs, delta));
+            (orig.extrema, smoothed.extrema) = (Some(e0), Some(es));
+        }
+        let mut orig = self.judged_parts(orig, &zero, !tie)?;
+        let mut smoothed = self.judged_parts(smoothed, smooth, !tie)?;
+        if tie && smoothed.extrema <= orig.extrema {
+            self.keep_judged(orig, smoothed);
+            return None;
+        }
+        orig = self.judged_parts(orig, &zero, true)?;
+        smoothed = self.judged_parts(smoothed, smooth, true)?;
+        self.keep_judged(orig, smoothed);
+        let (orig, smoothed) = (orig.rank()?, smoothed.rank()?);
         let (goal, theirs) = if smoothed.0 > orig.0 {
             (zero, orig)
         } else {
             (smooth.to_vec(), smoothed)
         };
         let fair_enough = |r: Rank| r.0 <= theirs.0 && r.1 <= theirs.1;
-        // the smoother's own result (the polish found nothing fairer: a 10,000-point curve) is judged already
-        let ours = if self.best.as_slice() == smooth {
-            smoothed
-        } else {
-            self.judged(&self.best)?
-        };
+        let ours = if tie { smoothed } else { self.judged(&self.best)? };
         if fair_enough(ours) {
             return None;
         }
         Some(self.least_move_towards(goal, |s, d| s.judged(d).is_some_and(fair_enough)))
+    }
+
+    /// Keep the judged parts of the original and of the smoother's result for the re-fairs.
+    fn keep_judged(&mut self, orig: Parts, smoothed: Parts) {
+        self.polish_cache.judged_orig = orig;
+        if let Some(s) = self.polish_cache.smooth.as_mut() {
+            s.judged = smoothed;
+        }
     }
 
     /// The least move from the update in `self.best` towards `goal` that `ok` accepts: a bisection on the
@@ -144,5 +203,14 @@ impl FairingSetup {
         self.chk_displacements(&self.best.clone(), &mut disp);
         let dev = disp.iter().fold(0.0f64, |a, d| a.max(d.length_squared())).sqrt();
         (dev, self.energy_of_update(&self.best))
+    }
+}
+
+/// The curvature extrema of `c` as `measure` counts them (around the loop on a closed curve), dead band `delta`.
+fn extrema_of(c: &BSplineCurve, delta: f64) -> usize {
+    if crate::curve::is_closed_curve(c) {
+        crate::measure::curvature_extrema_around(c, delta)
+    } else {
+        crate::measure::curvature_extrema_at(c, delta)
     }
 }
