@@ -457,12 +457,24 @@ impl CurveFairing {
         if pass != Pass::Full || self.edited || self.asks_for_curvature_steps() {
             return Ok(f);
         }
-        let input = &self.input;
-        let (delta, before) = *self.original_extrema.get_or_insert_with(|| {
-            let delta = crate::measure::extrema_threshold(input);
-            (delta, extrema_count(input, delta))
-        });
-        let after = extrema_count(&f.result.curve, delta);
+        // (counts the fair's own judged check made on the same curve at the same dead band are taken as
+        // they are: the same function of the same curve)
+        let counted = |setups: &[&FairingSetup], c: &BSplineCurve, delta: f64| -> usize {
+            setups
+                .iter()
+                .find_map(|s| s.counted_extrema(c, delta))
+                .unwrap_or_else(|| extrema_count(c, delta))
+        };
+        let (delta, before) = match self.original_extrema {
+            Some(known) => known,
+            None => {
+                let delta = crate::measure::extrema_threshold(&self.input);
+                let known = (delta, counted(&self.setups(), &self.input, delta));
+                self.original_extrema = Some(known);
+                known
+            }
+        };
+        let after = counted(&self.setups(), &f.result.curve, delta);
         if after > before {
             let r = &mut f.result;
             r.notes.push(format!(

@@ -144,6 +144,8 @@ pub(super) struct PolishCache {
     /// The original's rank as `measure` counts it, its parts as asked (`judged_against_reference`): the same
     /// for every re-fair.
     judged_orig: judged::Parts,
+    /// The last curve `judged` measured and its extrema ([`FairingSetup::counted_extrema`]).
+    last_judged: std::cell::RefCell<Option<(crate::BSplineCurve, usize)>>,
 }
 
 /// How fair an update is: (curvature extrema at the probes, E_var).

@@ -83,11 +83,33 @@ impl FairingSetup {
         let extrema = || extrema_of(&c, delta);
         let var = || crate::measure::energies(&c).0;
         // on a long curve the two measures (each O(spans), 40 samples a span) run side by side
-        Some(if c.knots().n_spans() >= PARALLEL_SPANS {
+        let rank = if c.knots().n_spans() >= PARALLEL_SPANS {
             rayon::join(extrema, var)
         } else {
             (extrema(), var())
-        })
+        };
+        // the last curve judged is usually the result: the final guard of `CurveFairing::fair` counts it again
+        *self.polish_cache.last_judged.borrow_mut() = Some((c, rank.0));
+        Some(rank)
+    }
+
+    /// The curvature extrema of `c` with dead band `delta` as `measure` counts them, where this setup has
+    /// counted them already (the working curve, or the last curve judged, at `measure`'s dead band of the
+    /// working curve): the final guard of [`crate::fair::CurveFairing::fair`] counts the input and the
+    /// result, which a close call here has just counted.
+    pub(crate) fn counted_extrema(&self, c: &BSplineCurve, delta: f64) -> Option<usize> {
+        if self.polish_cache.judged_delta.get()?.to_bits() != delta.to_bits() {
+            return None;
+        }
+        if *c == self.work
+            && let Some(e) = self.polish_cache.judged_orig.extrema
+        {
+            return Some(e);
+        }
+        match &*self.polish_cache.last_judged.borrow() {
+            Some((last, e)) if last == c => Some(*e),
+            _ => None,
+        }
     }
 
     /// The polish ranks its iterates at its own probes and nodes; the reference smoother is judged by
