@@ -44,6 +44,12 @@ pub(super) struct CheckGrid {
     pu: usize,
     pv: usize,
     threads: Option<usize>,
+    /// The v-parameters in runs of one knot span, for [`Self::change_peaks`]: `(span, first, end)`.
+    v_runs: Vec<(usize, usize, usize)>,
+    /// The v-basis values transposed per run: for run `r`, `v_vals_t[r]` holds `pv + 1` rows of its
+    /// parameters' values (row `jb`: `M_{span − pv + jb}` at each parameter of the run), so that the
+    /// change along a grid row is evaluated a run at a time, each coordinate over contiguous memory.
+    v_vals_t: Vec<Vec<f64>>,
 }
 
 /// Rows of a check grid per unit of parallel work (fixed, so the result does not depend on the threads).
@@ -107,18 +113,37 @@ impl CheckGrid {
                 }
             }
         }
+        // |Σ_jb T[k][j] M_jb(v_l)| over the free j, a run of one knot span at a time and each coordinate
+        // over the run's parameters: per coordinate the same sums in the same order (jb ascending, from
+        // 0) as a DVec3 accumulation, and the length as `DVec3::length` ((x² + y²) + z², then √)
         let mut d = vec![0.0f64; mu * mv];
+        let mut xyz = [Vec::new(), Vec::new(), Vec::new()];
         for k in 0..mu {
-            for l in 0..mv {
-                let sp = self.v.spans[l];
-                let mut x = DVec3::ZERO;
+            let trow = &tmp[k * nfv..(k + 1) * nfv];
+            for (&(sp, l0, l1), wt) in self.v_runs.iter().zip(&self.v_vals_t) {
+                let len = l1 - l0;
+                for x in &mut xyz {
+                    x.clear();
+                    x.resize(len, 0.0);
+                }
                 for jb in 0..=self.pv {
                     let j = sp - self.pv + jb;
-                    if fv.contains(&j) {
-                        x += tmp[k * nfv + j - fv.start] * self.v.vals[l][jb];
+                    if !fv.contains(&j) {
+                        continue;
+                    }
+                    let t = trow[j - fv.start].to_array();
+                    let w = &wt[jb * len..(jb + 1) * len];
+                    for (x, tc) in xyz.iter_mut().zip(t) {
+                        for (xl, &wl) in x.iter_mut().zip(w) {
+                            *xl += tc * wl;
+                        }
                     }
                 }
-                d[k * mv + l] = x.length();
+                let [xs, ys, zs] = &xyz;
+                let out = &mut d[k * mv + l0..k * mv + l1];
+                for (((o, &x), &y), &z) in out.iter_mut().zip(xs).zip(ys).zip(zs) {
+                    *o = (x * x + y * y + z * z).sqrt();
+                }
             }
         }
         let max = d.iter().fold(0.0f64, |m, &x| m.max(x));
@@ -144,12 +169,31 @@ impl CheckGrid {
     }
 
     pub(super) fn new(s: &BSplineSurface, cu: &[f64], cv: &[f64], threads: Option<usize>) -> Self {
+        let v = GridBasis::new(s.knots_v(), cv);
+        let pv = s.degree_v();
+        let mut v_runs = Vec::new();
+        let mut l0 = 0;
+        while l0 < v.spans.len() {
+            let sp = v.spans[l0];
+            let l1 = l0 + v.spans[l0..].iter().take_while(|&&x| x == sp).count();
+            v_runs.push((sp, l0, l1));
+            l0 = l1;
+        }
+        let v_vals_t = (v_runs.iter())
+            .map(|&(_, l0, l1)| {
+                (0..=pv)
+                    .flat_map(|jb| v.vals[l0..l1].iter().map(move |n| n[jb]))
+                    .collect()
+            })
+            .collect();
         Self {
             u: GridBasis::new(s.knots_u(), cu),
-            v: GridBasis::new(s.knots_v(), cv),
+            v,
             pu: s.degree_u(),
-            pv: s.degree_v(),
+            pv,
             threads,
+            v_runs,
+            v_vals_t,
         }
     }
 
