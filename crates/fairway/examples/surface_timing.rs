@@ -88,7 +88,11 @@ fn main() {
     // SIZES=30,50 runs only those net sizes
     let sizes: Vec<usize> = std::env::var("SIZES").map_or_else(
         |_| vec![10, 20, 30, 50, 70, 100],
-        |s| s.split(',').map(|x| x.trim().parse().expect("SIZES: comma-separated net sizes")).collect(),
+        |s| {
+            s.split(',')
+                .map(|x| x.trim().parse().expect("SIZES: comma-separated net sizes"))
+                .collect()
+        },
     );
     for n in sizes {
         let s = noisy_net(n);

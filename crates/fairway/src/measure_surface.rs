@@ -292,7 +292,27 @@ fn clipped_spans(bp: &[f64], a: f64, b: f64) -> Vec<(f64, f64)> {
 /// direction at uniform interior parameters of the rectangle, each sampled and integrated over its
 /// part inside the rectangle only (knot spans clipped to it). Over the domain it equals [`iso_stats`].
 pub fn iso_stats_in(s: &BSplineSurface, rect: ((f64, f64), (f64, f64)), n_iso: usize, delta: f64) -> IsoStats {
+    iso_stats_impl(s, rect, n_iso, delta, true)
+}
+
+/// [`iso_stats_in`] without the curvature variation (`e_var_u`, `e_var_v` are 0): the extrema counts and
+/// `max_abs_kappa`, bit for bit those of [`iso_stats_in`], at about half its cost (for ranking candidates).
+pub fn iso_extrema_in(s: &BSplineSurface, rect: ((f64, f64), (f64, f64)), n_iso: usize, delta: f64) -> IsoStats {
+    iso_stats_impl(s, rect, n_iso, delta, false)
+}
+
+/// [`iso_stats_in`], with the curvature variation if `e_var`. On a polynomial surface the κ samples of a
+/// span are evaluated together ([`CellDerivs`], bit-identical to [`BSplineSurface::derivs`]).
+fn iso_stats_impl(
+    s: &BSplineSurface,
+    rect: ((f64, f64), (f64, f64)),
+    n_iso: usize,
+    delta: f64,
+    e_var: bool,
+) -> IsoStats {
     let mut st = IsoStats::default();
+    let mut cell = CellDerivs::default();
+    let mut ts = Vec::with_capacity(16);
     let ((u0, u1), (v0, v1)) = rect;
     let su = clipped_spans(&s.knots_u().breakpoints(), u0, u1);
     let sv = clipped_spans(&s.knots_v().breakpoints(), v0, v1);
@@ -307,9 +327,19 @@ pub fn iso_stats_in(s: &BSplineSurface, rect: ((f64, f64), (f64, f64)), n_iso: u
             buf.clear();
             let mut e = 0.0;
             for &(a, b) in spans.iter() {
-                for k in 0..16 {
-                    let t = a + (b - a) * k as f64 / 16.0;
-                    buf.push(iso_kappa(&at(t), dir_u));
+                ts.clear();
+                ts.extend((0..16).map(|k| a + (b - a) * k as f64 / 16.0));
+                if s.is_rational() {
+                    buf.extend(ts.iter().map(|&t| iso_kappa(&at(t), dir_u)));
+                } else if dir_u {
+                    cell.prepare(s, &ts, &[fixed]);
+                    buf.extend((0..ts.len()).map(|k| iso_kappa(&cell.at(k, 0), dir_u)));
+                } else {
+                    cell.prepare(s, &[fixed], &ts);
+                    buf.extend((0..ts.len()).map(|k| iso_kappa(&cell.at(0, k), dir_u)));
+                }
+                if !e_var {
+                    continue;
                 }
                 let h = 1e-5 * (b - a);
                 let gl = gl5();

@@ -4,7 +4,7 @@
 use super::{CHECK_PER_SPAN, CheckGrid};
 use crate::error::{Error, Result};
 use crate::fit_surface::{GridFit, PlateFit};
-use crate::measure_surface::{iso_stats_in, mean_curvature_variation_rule};
+use crate::measure_surface::{iso_extrema_in, mean_curvature_variation_rule};
 use crate::quadrature::GaussLegendre;
 use crate::surface::BSplineSurface;
 use glam::DVec3;
@@ -226,7 +226,7 @@ pub(super) struct Rank(pub(super) usize, pub(super) f64);
 
 impl Ranker {
     pub(super) fn new(s: &BSplineSurface, rect: ((f64, f64), (f64, f64))) -> Self {
-        let delta = 0.01 * iso_stats_in(s, rect, RANK_ISO, 0.0).max_abs_kappa;
+        let delta = 0.01 * iso_extrema_in(s, rect, RANK_ISO, 0.0).max_abs_kappa;
         Self {
             rect,
             delta,
@@ -235,7 +235,7 @@ impl Ranker {
     }
 
     pub(super) fn rank(&self, f: &BSplineSurface) -> Rank {
-        let st = iso_stats_in(f, self.rect, RANK_ISO, self.delta);
+        let st = iso_extrema_in(f, self.rect, RANK_ISO, self.delta);
         let e = mean_curvature_variation_rule(f, self.rect, &self.gl);
         Rank(
             st.extrema_u + st.extrema_v,
