@@ -4,7 +4,7 @@
 use super::{CHECK_PER_SPAN, CheckGrid};
 use crate::error::{Error, Result};
 use crate::fit_surface::{GridFit, PlateFit};
-use crate::measure_surface::{iso_extrema_in, mean_curvature_variation_rule};
+use crate::measure_surface::{iso_extrema_in, mean_curvature_variation_grad};
 use crate::quadrature::GaussLegendre;
 use crate::surface::BSplineSurface;
 use glam::DVec3;
@@ -236,7 +236,7 @@ impl Ranker {
 
     pub(super) fn rank(&self, f: &BSplineSurface) -> Rank {
         let st = iso_extrema_in(f, self.rect, RANK_ISO, self.delta);
-        let e = mean_curvature_variation_rule(f, self.rect, &self.gl);
+        let e = mean_curvature_variation_grad(f, self.rect, &self.gl);
         Rank(
             st.extrema_u + st.extrema_v,
             if e.is_finite() { e } else { f64::INFINITY },
