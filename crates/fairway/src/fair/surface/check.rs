@@ -85,7 +85,9 @@ pub(super) fn grid_points(s: &BSplineSurface, us: &[f64], vs: &[f64]) -> Vec<DVe
 impl CheckGrid {
     /// The parametric change `|S_b − S_a|` on the grid (`b` differing from `a` only in the control block
     /// `fu × fv`, evaluated separably from the change of that block): its maximum and the nodes where it
-    /// exceeds `thresh` and is no smaller than at its four grid neighbours, as `(change, u, v)`.
+    /// exceeds `thresh` and is no smaller than at its four grid neighbours, as `(change, u, v)`. As soon as
+    /// a grid row's change exceeds `stop_above`, returns that row's maximum (above `stop_above`, not the
+    /// grid's maximum) and no peaks: a proof that the band is broken.
     pub(super) fn change_peaks(
         &self,
         a: &BSplineSurface,
@@ -93,6 +95,7 @@ impl CheckGrid {
         fu: &Range<usize>,
         fv: &Range<usize>,
         thresh: f64,
+        stop_above: f64,
     ) -> (f64, Vec<(f64, f64, f64)>) {
         let nv = a.nv();
         let nfv = fv.len();
@@ -144,6 +147,10 @@ impl CheckGrid {
                 for (((o, &x), &y), &z) in out.iter_mut().zip(xs).zip(ys).zip(zs) {
                     *o = (x * x + y * y + z * z).sqrt();
                 }
+            }
+            let row_max = d[k * mv..(k + 1) * mv].iter().fold(0.0f64, |m, &x| m.max(x));
+            if row_max > stop_above {
+                return (row_max, Vec::new());
             }
         }
         let max = d.iter().fold(0.0f64, |m, &x| m.max(x));

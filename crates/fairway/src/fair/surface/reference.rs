@@ -83,7 +83,8 @@ impl Bands<'_> {
         // on the fine grid the parametric change |S_f − S| itself (no projection sharpening): it bounds both
         // one-sided distances at every sample, and it varies little between samples this dense, where a
         // projected distance can exceed m between nodes at which it did not
-        let (mut dev, mut peaks) = (self.fine).change_peaks(s, f, self.free_u, self.free_v, PEAK_FRACTION * self.m);
+        let (mut dev, mut peaks) =
+            (self.fine).change_peaks(s, f, self.free_u, self.free_v, PEAK_FRACTION * self.m, self.m);
         if dev > self.m {
             return None;
         }
