@@ -178,7 +178,7 @@ pub use options::{Combine, SurfaceFairingOptions, SurfaceFairingResult, SurfaceM
 use parallel::par_map;
 pub use reference::REFERENCE_LOG_STRENGTH;
 use reference::{BLENDS, FINE_CHECK_PER_SPAN, REFERENCE_ORDER, SEARCH_CANDIDATES};
-use reference::{Bands, Rank, Ranker, plate_fit, plate_search};
+use reference::{Bands, PlateFactors, Rank, Ranker, plate_fit, plate_search};
 use rounds::isocurve_rounds;
 
 /// Smoothing strengths tried, largest first, with `auto_smoothing` (see [`SurfaceSmoothing`]).
@@ -730,7 +730,7 @@ fn smoothing_only(g: &Grids<'_>, mut tm: SurfaceTimings) -> Result<SurfaceFairin
     let plate = plate_fit(s, &grid_fit, &g.us, &g.vs, REFERENCE_ORDER)?;
     let rhs = grid_fit.project(&g.orig)?;
     let bands = g.bands(&fine);
-    let (pts, dev, strength) = plate_search(s, &plate, &rhs, &bands)?
+    let (pts, dev, strength) = plate_search(s, &plate, &PlateFactors::new(&plate), &rhs, &bands)?
         .pop()
         .unwrap_or_else(|| (s.points().to_vec(), 0.0, 0.0));
     tm.reference += t0.elapsed();

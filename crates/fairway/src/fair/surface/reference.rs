@@ -3,12 +3,13 @@
 
 use super::{CHECK_PER_SPAN, CheckGrid};
 use crate::error::{Error, Result};
-use crate::fit_surface::{GridFit, PlateFit};
+use crate::fit_surface::{GridFit, PlateFactor, PlateFit};
 use crate::measure_surface::{iso_extrema_in, mean_curvature_variation_grad};
 use crate::quadrature::GaussLegendre;
 use crate::surface::BSplineSurface;
 use glam::DVec3;
 use std::ops::Range;
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// Check samples per knot span and direction of the step-8 candidates (module docs, step 8).
 pub(crate) const FINE_CHECK_PER_SPAN: usize = 4 * CHECK_PER_SPAN;
@@ -178,12 +179,13 @@ fn local_max_change(a: &BSplineSurface, b: &BSplineSurface, uv: (f64, f64)) -> f
 pub(super) fn plate_search(
     s: &BSplineSurface,
     plate: &PlateFit<'_, '_>,
+    factors: &PlateFactors<'_, '_, '_>,
     rhs: &[DVec3],
     bands: &Bands<'_>,
 ) -> Result<Vec<(Vec<DVec3>, f64, f64)>> {
     let attempt = |log_st: f64| -> Result<Option<(Vec<DVec3>, f64, f64)>> {
         let st = 10f64.powf(log_st);
-        let pts = match plate.solve(rhs, st) {
+        let pts = match factors.get(st).and_then(|k| plate.solve_factored(&k, rhs)) {
             Ok(p) => p,
             // a strength too large for the factorization's pivots counts as not holding
             Err(Error::Solve(_)) => return Ok(None),
@@ -211,6 +213,42 @@ pub(super) fn plate_search(
         }
     }
     Ok(found)
+}
+
+/// The factored systems of one [`PlateFit`] by strength, shared by the searches on different data (they
+/// visit the same strengths until their answers part): each factored once, the second search waiting for
+/// a factorization under way rather than repeating it. [`PlateFit::solve`] is `factor` then
+/// `solve_factored`, so the searches' results are those of separate solves, bit for bit.
+pub(super) struct PlateFactors<'p, 'g, 'a> {
+    plate: &'p PlateFit<'g, 'a>,
+    #[allow(clippy::type_complexity)]
+    done: Mutex<Vec<(u64, Arc<OnceLock<Result<Arc<PlateFactor>>>>)>>,
+}
+
+impl<'p, 'g, 'a> PlateFactors<'p, 'g, 'a> {
+    pub(super) fn new(plate: &'p PlateFit<'g, 'a>) -> Self {
+        Self {
+            plate,
+            done: Mutex::new(Vec::new()),
+        }
+    }
+
+    /// The system at `strength`, factored on first use.
+    fn get(&self, strength: f64) -> Result<Arc<PlateFactor>> {
+        let cell = {
+            let mut done = self.done.lock().unwrap_or_else(|e| e.into_inner());
+            let key = strength.to_bits();
+            match done.iter().find(|(k, _)| *k == key) {
+                Some((_, c)) => Arc::clone(c),
+                None => {
+                    let c = Arc::new(OnceLock::new());
+                    done.push((key, Arc::clone(&c)));
+                    c
+                }
+            }
+        };
+        cell.get_or_init(|| self.plate.factor(strength).map(Arc::new)).clone()
+    }
 }
 
 /// The step-8 ranking over the moving rectangle: (isocurve curvature extrema with the 1 % dead band of
