@@ -145,19 +145,31 @@ impl CheckGrid {
                 let [xs, ys, zs] = &xyz;
                 let out = &mut d[k * mv + l0..k * mv + l1];
                 for (((o, &x), &y), &z) in out.iter_mut().zip(xs).zip(ys).zip(zs) {
-                    *o = (x * x + y * y + z * z).sqrt();
+                    *o = x * x + y * y + z * z;
                 }
             }
-            let row_max = d[k * mv..(k + 1) * mv].iter().fold(0.0f64, |m, &x| m.max(x));
+            // d holds the squared changes: √ is monotone and correctly rounded, so the largest √ is the √
+            // of the largest square, and the square roots are taken only where they are compared
+            let row_max = d[k * mv..(k + 1) * mv].iter().fold(0.0f64, |m, &x| m.max(x)).sqrt();
             if row_max > stop_above {
                 return (row_max, Vec::new());
             }
         }
-        let max = d.iter().fold(0.0f64, |m, &x| m.max(x));
+        let max = d.iter().fold(0.0f64, |m, &x| m.max(x)).sqrt();
+        // a square at most thresh²·(1 − 1e-12) has its √ at most thresh: only larger ones are looked at
+        let below = thresh * thresh * (1.0 - 1e-12);
+        let below = if below.is_finite() && thresh > 0.0 {
+            below
+        } else {
+            f64::NEG_INFINITY
+        };
         let mut out = Vec::new();
         for k in 0..mu {
             for l in 0..mv {
-                let x = d[k * mv + l];
+                if d[k * mv + l] <= below {
+                    continue;
+                }
+                let x = d[k * mv + l].sqrt();
                 if !(x > thresh) {
                     continue;
                 }
@@ -167,7 +179,7 @@ impl CheckGrid {
                     (l > 0).then(|| d[k * mv + l - 1]),
                     (l + 1 < mv).then(|| d[k * mv + l + 1]),
                 ];
-                if nb.iter().flatten().all(|&y| y <= x) {
+                if nb.iter().flatten().all(|&y| y.sqrt() <= x) {
                     out.push((x, self.u.params[k], self.v.params[l]));
                 }
             }
