@@ -505,9 +505,13 @@ pub fn mean_curvature_variation_grad(
             for (d, wx) in du.iter().zip(&gl.weights) {
                 for (r, wy) in rows.iter().zip(&gl.weights) {
                     // acc[k][l] = ∂^{k+l} S / ∂u^k ∂v^l, k + l ≤ 3
+                    // (the point itself, k = l = 0, is not needed)
                     let mut acc = [[DVec3::ZERO; 4]; 4];
                     for (ia, row) in r.iter().enumerate().take(pu + 1) {
-                        for k in 0..4 {
+                        for l in 1..4 {
+                            acc[0][l] += row[l] * d[0][ia];
+                        }
+                        for k in 1..4 {
                             for l in 0..4 - k {
                                 acc[k][l] += row[l] * d[k][ia];
                             }
@@ -529,23 +533,25 @@ fn grad_mean_sq_area(acc: &[[DVec3; 4]; 4]) -> f64 {
     let (suu, suv, svv) = (acc[2][0], acc[1][1], acc[0][2]);
     let (suuu, suuv, suvv, svvv) = (acc[3][0], acc[2][1], acc[1][2], acc[0][3]);
     let nn = su.cross(sv);
-    let w = nn.length();
-    let nrm = nn / w;
+    let inv_w = 1.0 / nn.length();
+    let nrm = nn * inv_w;
     let (e, f, g) = (su.dot(su), su.dot(sv), sv.dot(sv));
     let (l, m, nc) = (suu.dot(nrm), suv.dot(nrm), svv.dot(nrm));
     let det = e * g - f * f;
-    let h = (e * nc - 2.0 * f * m + g * l) / (2.0 * det);
+    let num = e * nc - 2.0 * f * m + g * l;
     // derivatives of the unit normal
     let nn_u = suu.cross(sv) + su.cross(suv);
     let nn_v = suv.cross(sv) + su.cross(svv);
-    let n_u = (nn_u - nrm * nrm.dot(nn_u)) / w;
-    let n_v = (nn_v - nrm * nrm.dot(nn_v)) / w;
-    let grad = |e_d: f64, f_d: f64, g_d: f64, l_d: f64, m_d: f64, n_d: f64| {
+    let n_u = (nn_u - nrm * nrm.dot(nn_u)) * inv_w;
+    let n_v = (nn_v - nrm * nrm.dot(nn_v)) * inv_w;
+    // 2 det H_u = num_u − num det_u / det: both partials times 2 det
+    let grad2 = |e_d: f64, f_d: f64, g_d: f64, l_d: f64, m_d: f64, n_d: f64| {
         let num_d = e_d * nc + e * n_d - 2.0 * (f_d * m + f * m_d) + g_d * l + g * l_d;
         let det_d = e_d * g + e * g_d - 2.0 * f * f_d;
-        (num_d - 2.0 * h * det_d) / (2.0 * det)
+        num_d * det - num * det_d
     };
-    let h_u = grad(
+    // (2 det² H_u), (2 det² H_v)
+    let h_u = grad2(
         2.0 * su.dot(suu),
         suu.dot(sv) + su.dot(suv),
         2.0 * sv.dot(suv),
@@ -553,7 +559,7 @@ fn grad_mean_sq_area(acc: &[[DVec3; 4]; 4]) -> f64 {
         suuv.dot(nrm) + suv.dot(n_u),
         suvv.dot(nrm) + svv.dot(n_u),
     );
-    let h_v = grad(
+    let h_v = grad2(
         2.0 * su.dot(suv),
         suv.dot(sv) + su.dot(svv),
         2.0 * sv.dot(svv),
@@ -561,7 +567,10 @@ fn grad_mean_sq_area(acc: &[[DVec3; 4]; 4]) -> f64 {
         suvv.dot(nrm) + suv.dot(n_v),
         svvv.dot(nrm) + svv.dot(n_v),
     );
-    (g * h_u * h_u - 2.0 * f * h_u * h_v + e * h_v * h_v) / det * det.sqrt()
+    // |∇H|² √det = (G H_u² − 2F H_u H_v + E H_v²) / √det
+    let inv = 1.0 / (2.0 * det * det);
+    let (h_u, h_v) = (h_u * inv, h_v * inv);
+    (g * h_u * h_u - 2.0 * f * h_u * h_v + e * h_v * h_v) / det.sqrt()
 }
 
 /// Derivatives of a polynomial surface on a parameter grid `us × vs` inside one knot cell, evaluated
