@@ -119,9 +119,9 @@ impl CheckGrid {
         // |Σ_jb T[k][j] M_jb(v_l)| over the free j, a run of one knot span at a time and each coordinate
         // over the run's parameters: per coordinate the same sums in the same order (jb ascending, from
         // 0) as a DVec3 accumulation, and the length as `DVec3::length` ((x² + y²) + z², then √)
-        let mut d = vec![0.0f64; mu * mv];
+        // the squared changes of grid row k into `d` (mv values)
         let mut xyz = [Vec::new(), Vec::new(), Vec::new()];
-        for k in 0..mu {
+        let mut row_sq = |k: usize, d: &mut [f64]| {
             let trow = &tmp[k * nfv..(k + 1) * nfv];
             for (&(sp, l0, l1), wt) in self.v_runs.iter().zip(&self.v_vals_t) {
                 let len = l1 - l0;
@@ -143,47 +143,64 @@ impl CheckGrid {
                     }
                 }
                 let [xs, ys, zs] = &xyz;
-                let out = &mut d[k * mv + l0..k * mv + l1];
-                for (((o, &x), &y), &z) in out.iter_mut().zip(xs).zip(ys).zip(zs) {
+                for (((o, &x), &y), &z) in d[l0..l1].iter_mut().zip(xs).zip(ys).zip(zs) {
                     *o = x * x + y * y + z * z;
                 }
             }
-            // d holds the squared changes: √ is monotone and correctly rounded, so the largest √ is the √
-            // of the largest square, and the square roots are taken only where they are compared
-            let row_max = d[k * mv..(k + 1) * mv].iter().fold(0.0f64, |m, &x| m.max(x)).sqrt();
-            if row_max > stop_above {
-                return (row_max, Vec::new());
-            }
-        }
-        let max = d.iter().fold(0.0f64, |m, &x| m.max(x)).sqrt();
-        // a square at most thresh²·(1 − 1e-12) has its √ at most thresh: only larger ones are looked at
+        };
+        // the rows hold squared changes: √ is monotone and correctly rounded, so the largest √ is the √ of
+        // the largest square, and the square roots are taken only where they are compared. A square at
+        // most thresh²·(1 − 1e-12) has its √ at most thresh: only larger ones are looked at as peaks.
         let below = thresh * thresh * (1.0 - 1e-12);
         let below = if below.is_finite() && thresh > 0.0 {
             below
         } else {
             f64::NEG_INFINITY
         };
+        // rows k − 1, k, k + 1 in a rolling window (the grid's rows in order, the peaks of row k once row
+        // k + 1 is known: as from the whole grid, without its memory)
+        let (mut prev, mut cur, mut next) = (vec![0.0f64; mv], vec![0.0f64; mv], vec![0.0f64; mv]);
+        let mut max_sq = 0.0f64;
         let mut out = Vec::new();
         for k in 0..mu {
+            if k == 0 {
+                row_sq(0, &mut cur);
+                let row_max = cur.iter().fold(0.0f64, |m, &x| m.max(x)).sqrt();
+                if row_max > stop_above {
+                    return (row_max, Vec::new());
+                }
+                max_sq = cur.iter().fold(max_sq, |m, &x| m.max(x));
+            }
+            if k + 1 < mu {
+                row_sq(k + 1, &mut next);
+                let row_max = next.iter().fold(0.0f64, |m, &x| m.max(x)).sqrt();
+                if row_max > stop_above {
+                    return (row_max, Vec::new());
+                }
+                max_sq = next.iter().fold(max_sq, |m, &x| m.max(x));
+            }
             for l in 0..mv {
-                if d[k * mv + l] <= below {
+                if cur[l] <= below {
                     continue;
                 }
-                let x = d[k * mv + l].sqrt();
+                let x = cur[l].sqrt();
                 if !(x > thresh) {
                     continue;
                 }
                 let nb = [
-                    (k > 0).then(|| d[(k - 1) * mv + l]),
-                    (k + 1 < mu).then(|| d[(k + 1) * mv + l]),
-                    (l > 0).then(|| d[k * mv + l - 1]),
-                    (l + 1 < mv).then(|| d[k * mv + l + 1]),
+                    (k > 0).then(|| prev[l]),
+                    (k + 1 < mu).then(|| next[l]),
+                    (l > 0).then(|| cur[l - 1]),
+                    (l + 1 < mv).then(|| cur[l + 1]),
                 ];
                 if nb.iter().flatten().all(|&y| y.sqrt() <= x) {
                     out.push((x, self.u.params[k], self.v.params[l]));
                 }
             }
+            std::mem::swap(&mut prev, &mut cur);
+            std::mem::swap(&mut cur, &mut next);
         }
+        let max = max_sq.sqrt();
         (max, out)
     }
 
