@@ -34,7 +34,8 @@
 //!   H_u, H_v by central differences of H inside each span cell (step
 //!   1e-5·cell width; truncation O(h²), rounding ≈ 1e-11 relative), 10×10
 //!   Gauss–Legendre per cell (H is rational, so the rule is not exact; 1e-3
-//!   relative on the closed-form test). Analytic H_u would need third partials.
+//!   relative on the closed-form test). [`mean_curvature_variation_grad`] takes H_u, H_v from the
+//!   third partials instead (one evaluation per node; the ranking of `fair_surface`'s candidates).
 //! * **n_isophote_inflections**: isophote waviness ([`isophote_waviness`]): the
 //!   isophotes of the light `L = (1, 1, 1)/√3` every 2° (level lines of n·L,
 //!   traced by marching squares on a uv grid of 8 nodes per knot span, at
