@@ -11,9 +11,13 @@
 //! SIZES=30,50 cargo run --release -p fairway --example surface_timing      # only these net sizes
 //! ```
 //!
+//! The last column is an FNV-1a hash of the result's control-point bits, to check that a speed-up
+//! leaves the result bit-identical.
+//!
 //! The isocurves are faired on all cores unless `RAYON_NUM_THREADS` says
-//! otherwise; `cpu_ms` is the CPU time of the calling thread, so it is the
-//! whole work only with `RAYON_NUM_THREADS=1`.
+//! otherwise; `cpu_ms` is the CPU time of the calling thread, so it is
+//! the whole work only when nothing runs on rayon's pool; `proc_cpu_ms` is the CPU time of the
+//! whole process (all its threads).
 
 use std::time::{Duration, Instant};
 
@@ -48,6 +52,30 @@ fn thread_cpu_ns() -> u64 {
         .unwrap_or(0)
 }
 
+/// FNV-1a over the bits of every coordinate of `pts`.
+fn points_hash(pts: &[DVec3]) -> u64 {
+    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    for c in pts.iter().flat_map(|p| p.to_array()) {
+        for b in c.to_bits().to_le_bytes() {
+            h = (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    h
+}
+
+/// CPU time of the whole process in ns: the sum over its live threads (rayon's workers included,
+/// which `thread_cpu_ns` misses: with `RAYON_NUM_THREADS=1` the parallel maps run on the pool's
+/// one worker, not on the calling thread); 0 if unavailable.
+fn process_cpu_ns() -> u64 {
+    let Ok(dir) = std::fs::read_dir("/proc/self/task") else {
+        return 0;
+    };
+    dir.filter_map(|e| e.ok())
+        .filter_map(|e| std::fs::read_to_string(e.path().join("schedstat")).ok())
+        .filter_map(|s| s.split_whitespace().next().and_then(|x| x.parse::<u64>().ok()))
+        .sum()
+}
+
 fn ms(d: Duration) -> f64 {
     d.as_secs_f64() * 1e3
 }
@@ -55,7 +83,7 @@ fn ms(d: Duration) -> f64 {
 fn main() {
     let repeats: usize = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(5);
     println!(
-        "n\tpoints\tcpu_ms\twall_ms\tiso_ms\tcombine_ms\tfit_ms\tverify_ms\trounds\tm_iso/m\tstrength\talpha\tdev"
+        "n\tpoints\tcpu_ms\twall_ms\tiso_ms\tcombine_ms\tfit_ms\tverify_ms\trounds\tm_iso/m\tstrength\talpha\tdev\tref_ms\tproc_cpu_ms\thash"
     );
     // SIZES=30,50 runs only those net sizes
     let sizes: Vec<usize> = std::env::var("SIZES").map_or_else(
@@ -79,21 +107,22 @@ fn main() {
             )
             .refair_levels(std::env::var("REFAIR_LEVELS").is_ok());
         // best wall time of `repeats` (least disturbed by other load on the machine), with its thread CPU time
-        let mut best: Option<(Duration, f64, fairway::fair::SurfaceFairingResult)> = None;
+        let mut best: Option<(Duration, f64, f64, fairway::fair::SurfaceFairingResult)> = None;
         for _ in 0..repeats {
-            let c0 = thread_cpu_ns();
+            let (c0, p0) = (thread_cpu_ns(), process_cpu_ns());
             let t = Instant::now();
             let r = fair_surface(&s, opts).unwrap();
             let e = t.elapsed();
             let cpu = (thread_cpu_ns() - c0) as f64 * 1e-6;
+            let pcpu = process_cpu_ns().saturating_sub(p0) as f64 * 1e-6;
             if best.as_ref().is_none_or(|b| e < b.0) {
-                best = Some((e, cpu, r));
+                best = Some((e, cpu, pcpu, r));
             }
         }
-        let (e, cpu, r) = best.unwrap();
+        let (e, cpu, pcpu, r) = best.unwrap();
         let t = r.timings;
         println!(
-            "{n}\t{}\t{cpu:.2}\t{:.2}\t{:.2}\t{:.2}\t{:.2}\t{:.2}\t{}\t{:.3}\t{}\t{:.3}\t{:.2e}",
+            "{n}\t{}\t{cpu:.2}\t{:.2}\t{:.2}\t{:.2}\t{:.2}\t{:.2}\t{}\t{:.3}\t{}\t{:.3}\t{:.2e}\t{:.2}\t{pcpu:.2}\t{:016x}",
             n * n,
             ms(e),
             ms(t.isocurves),
@@ -104,7 +133,9 @@ fn main() {
             r.iso_tolerance / opts.tolerance,
             r.smoothing.strength_u,
             r.alpha,
-            r.max_deviation
+            r.max_deviation,
+            ms(t.reference),
+            points_hash(r.surface.points())
         );
     }
 }

@@ -522,25 +522,43 @@ impl<'g, 'a> PlateFit<'g, 'a> {
     /// Solve for the free block with the dimensionless `strength` (≥ 0), given the data term `rhs` of
     /// [`GridFit::project`]; returns the full row-major control net (held points bit-for-bit unchanged).
     pub fn solve(&self, rhs: &[DVec3], strength: f64) -> Result<Vec<DVec3>> {
+        self.check_strength(strength)?;
+        if self.grid.free_block(rhs, "surface smoothing data term")?.is_none() {
+            return Ok(self.grid.base.points().to_vec());
+        }
+        self.solve_factored(&self.factor(strength)?, rhs)
+    }
+
+    fn check_strength(&self, strength: f64) -> Result<()> {
         if !(strength.is_finite() && strength >= 0.0) {
             return Err(Error::InvalidInput(format!(
                 "surface smoothing: strength {strength} (expected a finite value ≥ 0)"
             )));
         }
+        Ok(())
+    }
+
+    /// The weighted terms of the system at `strength`: the data term, then the energy's if λ > 0.
+    fn weighted_terms(&self, strength: f64) -> Vec<(f64, &BandedSpd, &BandedSpd)> {
         let g = self.grid;
-        let base = g.base;
-        let (nu, nv) = (base.nu(), base.nv());
-        let (free_u, free_v) = (&g.free_u, &g.free_v);
-        let mut out = base.points().to_vec();
-        let Some((nfu, nfv)) = g.free_block(rhs, "surface smoothing data term")? else {
-            return Ok(out);
-        };
-        let (pu, pv) = (g.bu.p, g.bv.p);
         let lambda = strength * self.norm;
         let mut terms: Vec<(f64, &BandedSpd, &BandedSpd)> = vec![(1.0, &g.ata_u, &g.ata_v)];
         if lambda > 0.0 {
             terms.extend(self.terms.iter().map(|(w, a, b)| (lambda * w, a, b)));
         }
+        terms
+    }
+
+    /// The factored system of the free block at the dimensionless `strength` (≥ 0), for
+    /// [`Self::solve_factored`]: the matrix does not depend on the data, so one factorization serves every
+    /// data set at that strength ([`Self::solve`] = `factor` then `solve_factored`, bit for bit).
+    pub fn factor(&self, strength: f64) -> Result<PlateFactor> {
+        self.check_strength(strength)?;
+        let g = self.grid;
+        let (free_u, free_v) = (&g.free_u, &g.free_v);
+        let (nfu, nfv) = (free_u.len(), free_v.len());
+        let (pu, pv) = (g.bu.p, g.bv.p);
+        let terms = self.weighted_terms(strength);
         // unknown index of free point (ii, jj): along the shorter side, for the smaller bandwidth
         let u_major = nfv <= nfu;
         let idx = |ii: usize, jj: usize| if u_major { ii * nfv + jj } else { jj * nfu + ii };
@@ -568,6 +586,37 @@ impl<'g, 'a> PlateFit<'g, 'a> {
                 }
             }
         }
+        k.factor().map_err(|_| {
+            Error::Solve(
+                "surface smoothing: the system is singular (too few data points in the support of some free \
+                 control points and no smoothing)"
+                    .into(),
+            )
+        })?;
+        Ok(PlateFactor { strength, k })
+    }
+
+    /// [`Self::solve`] with the system `f` of [`Self::factor`] (of this fit).
+    pub fn solve_factored(&self, f: &PlateFactor, rhs: &[DVec3]) -> Result<Vec<DVec3>> {
+        let g = self.grid;
+        let base = g.base;
+        let (nu, nv) = (base.nu(), base.nv());
+        let (free_u, free_v) = (&g.free_u, &g.free_v);
+        let mut out = base.points().to_vec();
+        let Some((nfu, nfv)) = g.free_block(rhs, "surface smoothing data term")? else {
+            return Ok(out);
+        };
+        let terms = self.weighted_terms(f.strength);
+        let u_major = nfv <= nfu;
+        let idx = |ii: usize, jj: usize| if u_major { ii * nfv + jj } else { jj * nfu + ii };
+        let n = nfu * nfv;
+        if f.k.n() != n {
+            return Err(Error::LengthMismatch {
+                field: "surface smoothing factor".into(),
+                count: f.k.n(),
+                expected: n,
+            });
+        }
         // right-hand side: the data term minus the held points' part, Σ w [X D_b Y]_ff
         let mut db = base.points().to_vec();
         for i in free_u.clone() {
@@ -585,20 +634,20 @@ impl<'g, 'a> PlateFit<'g, 'a> {
                 b[idx(ii, jj)] -= held[ii * nfv + jj] * *w;
             }
         }
-        k.factor().map_err(|_| {
-            Error::Solve(
-                "surface smoothing: the system is singular (too few data points in the support of some free \
-                 control points and no smoothing)"
-                    .into(),
-            )
-        })?;
-        k.solve_in_place(&mut b);
+        f.k.solve_in_place(&mut b);
         debug_assert_eq!(out.len(), nu * nv);
         for (ii, jj) in (0..nfu).flat_map(|ii| (0..nfv).map(move |jj| (ii, jj))) {
             out[(free_u.start + ii) * nv + free_v.start + jj] = b[idx(ii, jj)];
         }
         Ok(out)
     }
+}
+
+/// The factored system of a [`PlateFit`] at one strength ([`PlateFit::factor`]).
+#[derive(Debug, Clone)]
+pub struct PlateFactor {
+    strength: f64,
+    k: BandedSpd,
 }
 
 #[cfg(test)]
@@ -746,6 +795,15 @@ mod tests {
             }
             // held points bit for bit, and smoothing lowers the data fit's wiggle: the fitted z varies less
             let p = plate.solve(&rhs, 10.0).unwrap();
+            // one factorization serves other data at the same strength, bit for bit as separate solves
+            let k = plate.factor(10.0).unwrap();
+            let rhs2 = g.project(&data_of(&|u, v| u * u - v)).unwrap();
+            assert_eq!(plate.solve_factored(&k, &rhs).unwrap(), p);
+            assert_eq!(
+                plate.solve_factored(&k, &rhs2).unwrap(),
+                plate.solve(&rhs2, 10.0).unwrap()
+            );
+            assert!(plate.factor(-1.0).is_err() && plate.solve_factored(&k, &rhs2[1..]).is_err());
             for i in 0..9 {
                 for j in 0..8 {
                     if !(fu.contains(&i) && fv.contains(&j)) {

@@ -62,7 +62,8 @@ fn smoother_candidates(
     // strength) and on the isocurve result's: independent searches
     let iso_grid = grid_points(&result.surface, &g.us, &g.vs);
     let rhs = [grid_fit.project(&g.orig)?, grid_fit.project(&iso_grid)?];
-    let searches = par_map(&rhs, threads, |r| plate_search(s, plate, r, bands));
+    let factors = PlateFactors::new(plate);
+    let searches = par_map(&rhs, threads, |r| plate_search(s, plate, &factors, r, bands));
     let [reference, combined]: [_; 2] = (searches.into_iter().collect::<Result<Vec<_>>>()?)
         .try_into()
         .map_err(|_| Error::Solve("surface smoothing: one search per data set".into()))?;

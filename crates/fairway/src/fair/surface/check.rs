@@ -44,6 +44,12 @@ pub(super) struct CheckGrid {
     pu: usize,
     pv: usize,
     threads: Option<usize>,
+    /// The v-parameters in runs of one knot span, for [`Self::change_peaks`]: `(span, first, end)`.
+    v_runs: Vec<(usize, usize, usize)>,
+    /// The v-basis values transposed per run: for run `r`, `v_vals_t[r]` holds `pv + 1` rows of its
+    /// parameters' values (row `jb`: `M_{span − pv + jb}` at each parameter of the run), so that the
+    /// change along a grid row is evaluated a run at a time, each coordinate over contiguous memory.
+    v_vals_t: Vec<Vec<f64>>,
 }
 
 /// Rows of a check grid per unit of parallel work (fixed, so the result does not depend on the threads).
@@ -79,7 +85,9 @@ pub(super) fn grid_points(s: &BSplineSurface, us: &[f64], vs: &[f64]) -> Vec<DVe
 impl CheckGrid {
     /// The parametric change `|S_b − S_a|` on the grid (`b` differing from `a` only in the control block
     /// `fu × fv`, evaluated separably from the change of that block): its maximum and the nodes where it
-    /// exceeds `thresh` and is no smaller than at its four grid neighbours, as `(change, u, v)`.
+    /// exceeds `thresh` and is no smaller than at its four grid neighbours, as `(change, u, v)`. As soon as
+    /// a grid row's change exceeds `stop_above`, returns that row's maximum (above `stop_above`, not the
+    /// grid's maximum) and no peaks: a proof that the band is broken.
     pub(super) fn change_peaks(
         &self,
         a: &BSplineSurface,
@@ -87,6 +95,7 @@ impl CheckGrid {
         fu: &Range<usize>,
         fv: &Range<usize>,
         thresh: f64,
+        stop_above: f64,
     ) -> (f64, Vec<(f64, f64, f64)>) {
         let nv = a.nv();
         let nfv = fv.len();
@@ -107,49 +116,120 @@ impl CheckGrid {
                 }
             }
         }
-        let mut d = vec![0.0f64; mu * mv];
-        for k in 0..mu {
-            for l in 0..mv {
-                let sp = self.v.spans[l];
-                let mut x = DVec3::ZERO;
+        // |Σ_jb T[k][j] M_jb(v_l)| over the free j, a run of one knot span at a time and each coordinate
+        // over the run's parameters: per coordinate the same sums in the same order (jb ascending, from
+        // 0) as a DVec3 accumulation, and the length as `DVec3::length` ((x² + y²) + z², then √)
+        // the squared changes of grid row k into `d` (mv values)
+        let mut xyz = [Vec::new(), Vec::new(), Vec::new()];
+        let mut row_sq = |k: usize, d: &mut [f64]| {
+            let trow = &tmp[k * nfv..(k + 1) * nfv];
+            for (&(sp, l0, l1), wt) in self.v_runs.iter().zip(&self.v_vals_t) {
+                let len = l1 - l0;
+                for x in &mut xyz {
+                    x.clear();
+                    x.resize(len, 0.0);
+                }
                 for jb in 0..=self.pv {
                     let j = sp - self.pv + jb;
-                    if fv.contains(&j) {
-                        x += tmp[k * nfv + j - fv.start] * self.v.vals[l][jb];
+                    if !fv.contains(&j) {
+                        continue;
+                    }
+                    let t = trow[j - fv.start].to_array();
+                    let w = &wt[jb * len..(jb + 1) * len];
+                    for (x, tc) in xyz.iter_mut().zip(t) {
+                        for (xl, &wl) in x.iter_mut().zip(w) {
+                            *xl += tc * wl;
+                        }
                     }
                 }
-                d[k * mv + l] = x.length();
+                let [xs, ys, zs] = &xyz;
+                for (((o, &x), &y), &z) in d[l0..l1].iter_mut().zip(xs).zip(ys).zip(zs) {
+                    *o = x * x + y * y + z * z;
+                }
             }
-        }
-        let max = d.iter().fold(0.0f64, |m, &x| m.max(x));
+        };
+        // the rows hold squared changes: √ is monotone and correctly rounded, so the largest √ is the √ of
+        // the largest square, and the square roots are taken only where they are compared. A square at
+        // most thresh²·(1 − 1e-12) has its √ at most thresh: only larger ones are looked at as peaks.
+        let below = thresh * thresh * (1.0 - 1e-12);
+        let below = if below.is_finite() && thresh > 0.0 {
+            below
+        } else {
+            f64::NEG_INFINITY
+        };
+        // rows k − 1, k, k + 1 in a rolling window (the grid's rows in order, the peaks of row k once row
+        // k + 1 is known: as from the whole grid, without its memory)
+        let (mut prev, mut cur, mut next) = (vec![0.0f64; mv], vec![0.0f64; mv], vec![0.0f64; mv]);
+        let mut max_sq = 0.0f64;
         let mut out = Vec::new();
         for k in 0..mu {
+            if k == 0 {
+                row_sq(0, &mut cur);
+                let row_max = cur.iter().fold(0.0f64, |m, &x| m.max(x)).sqrt();
+                if row_max > stop_above {
+                    return (row_max, Vec::new());
+                }
+                max_sq = cur.iter().fold(max_sq, |m, &x| m.max(x));
+            }
+            if k + 1 < mu {
+                row_sq(k + 1, &mut next);
+                let row_max = next.iter().fold(0.0f64, |m, &x| m.max(x)).sqrt();
+                if row_max > stop_above {
+                    return (row_max, Vec::new());
+                }
+                max_sq = next.iter().fold(max_sq, |m, &x| m.max(x));
+            }
             for l in 0..mv {
-                let x = d[k * mv + l];
+                if cur[l] <= below {
+                    continue;
+                }
+                let x = cur[l].sqrt();
                 if !(x > thresh) {
                     continue;
                 }
                 let nb = [
-                    (k > 0).then(|| d[(k - 1) * mv + l]),
-                    (k + 1 < mu).then(|| d[(k + 1) * mv + l]),
-                    (l > 0).then(|| d[k * mv + l - 1]),
-                    (l + 1 < mv).then(|| d[k * mv + l + 1]),
+                    (k > 0).then(|| prev[l]),
+                    (k + 1 < mu).then(|| next[l]),
+                    (l > 0).then(|| cur[l - 1]),
+                    (l + 1 < mv).then(|| cur[l + 1]),
                 ];
-                if nb.iter().flatten().all(|&y| y <= x) {
+                if nb.iter().flatten().all(|&y| y.sqrt() <= x) {
                     out.push((x, self.u.params[k], self.v.params[l]));
                 }
             }
+            std::mem::swap(&mut prev, &mut cur);
+            std::mem::swap(&mut cur, &mut next);
         }
+        let max = max_sq.sqrt();
         (max, out)
     }
 
     pub(super) fn new(s: &BSplineSurface, cu: &[f64], cv: &[f64], threads: Option<usize>) -> Self {
+        let v = GridBasis::new(s.knots_v(), cv);
+        let pv = s.degree_v();
+        let mut v_runs = Vec::new();
+        let mut l0 = 0;
+        while l0 < v.spans.len() {
+            let sp = v.spans[l0];
+            let l1 = l0 + v.spans[l0..].iter().take_while(|&&x| x == sp).count();
+            v_runs.push((sp, l0, l1));
+            l0 = l1;
+        }
+        let v_vals_t = (v_runs.iter())
+            .map(|&(_, l0, l1)| {
+                (0..=pv)
+                    .flat_map(|jb| v.vals[l0..l1].iter().map(move |n| n[jb]))
+                    .collect()
+            })
+            .collect();
         Self {
             u: GridBasis::new(s.knots_u(), cu),
-            v: GridBasis::new(s.knots_v(), cv),
+            v,
             pu: s.degree_u(),
-            pv: s.degree_v(),
+            pv,
             threads,
+            v_runs,
+            v_vals_t,
         }
     }
 

@@ -3,12 +3,13 @@
 
 use super::{CHECK_PER_SPAN, CheckGrid};
 use crate::error::{Error, Result};
-use crate::fit_surface::{GridFit, PlateFit};
-use crate::measure_surface::{iso_stats_in, mean_curvature_variation_rule};
+use crate::fit_surface::{GridFit, PlateFactor, PlateFit};
+use crate::measure_surface::{iso_extrema_in, mean_curvature_variation_grad};
 use crate::quadrature::GaussLegendre;
 use crate::surface::BSplineSurface;
 use glam::DVec3;
 use std::ops::Range;
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// Check samples per knot span and direction of the step-8 candidates (module docs, step 8).
 pub(crate) const FINE_CHECK_PER_SPAN: usize = 4 * CHECK_PER_SPAN;
@@ -83,7 +84,8 @@ impl Bands<'_> {
         // on the fine grid the parametric change |S_f − S| itself (no projection sharpening): it bounds both
         // one-sided distances at every sample, and it varies little between samples this dense, where a
         // projected distance can exceed m between nodes at which it did not
-        let (mut dev, mut peaks) = (self.fine).change_peaks(s, f, self.free_u, self.free_v, PEAK_FRACTION * self.m);
+        let (mut dev, mut peaks) =
+            (self.fine).change_peaks(s, f, self.free_u, self.free_v, PEAK_FRACTION * self.m, self.m);
         if dev > self.m {
             return None;
         }
@@ -177,12 +179,13 @@ fn local_max_change(a: &BSplineSurface, b: &BSplineSurface, uv: (f64, f64)) -> f
 pub(super) fn plate_search(
     s: &BSplineSurface,
     plate: &PlateFit<'_, '_>,
+    factors: &PlateFactors<'_, '_, '_>,
     rhs: &[DVec3],
     bands: &Bands<'_>,
 ) -> Result<Vec<(Vec<DVec3>, f64, f64)>> {
     let attempt = |log_st: f64| -> Result<Option<(Vec<DVec3>, f64, f64)>> {
         let st = 10f64.powf(log_st);
-        let pts = match plate.solve(rhs, st) {
+        let pts = match factors.get(st).and_then(|k| plate.solve_factored(&k, rhs)) {
             Ok(p) => p,
             // a strength too large for the factorization's pivots counts as not holding
             Err(Error::Solve(_)) => return Ok(None),
@@ -212,6 +215,42 @@ pub(super) fn plate_search(
     Ok(found)
 }
 
+/// The factored systems of one [`PlateFit`] by strength, shared by the searches on different data (they
+/// visit the same strengths until their answers part): each factored once, the second search waiting for
+/// a factorization under way rather than repeating it. [`PlateFit::solve`] is `factor` then
+/// `solve_factored`, so the searches' results are those of separate solves, bit for bit.
+pub(super) struct PlateFactors<'p, 'g, 'a> {
+    plate: &'p PlateFit<'g, 'a>,
+    #[allow(clippy::type_complexity)]
+    done: Mutex<Vec<(u64, Arc<OnceLock<Result<Arc<PlateFactor>>>>)>>,
+}
+
+impl<'p, 'g, 'a> PlateFactors<'p, 'g, 'a> {
+    pub(super) fn new(plate: &'p PlateFit<'g, 'a>) -> Self {
+        Self {
+            plate,
+            done: Mutex::new(Vec::new()),
+        }
+    }
+
+    /// The system at `strength`, factored on first use.
+    fn get(&self, strength: f64) -> Result<Arc<PlateFactor>> {
+        let cell = {
+            let mut done = self.done.lock().unwrap_or_else(|e| e.into_inner());
+            let key = strength.to_bits();
+            match done.iter().find(|(k, _)| *k == key) {
+                Some((_, c)) => Arc::clone(c),
+                None => {
+                    let c = Arc::new(OnceLock::new());
+                    done.push((key, Arc::clone(&c)));
+                    c
+                }
+            }
+        };
+        cell.get_or_init(|| self.plate.factor(strength).map(Arc::new)).clone()
+    }
+}
+
 /// The step-8 ranking over the moving rectangle: (isocurve curvature extrema with the 1 % dead band of
 /// the original's max |κ_n|, `∫∫|∇H|² dA`), compared lexicographically — the measures of
 /// [`crate::measure_surface`].
@@ -226,7 +265,7 @@ pub(super) struct Rank(pub(super) usize, pub(super) f64);
 
 impl Ranker {
     pub(super) fn new(s: &BSplineSurface, rect: ((f64, f64), (f64, f64))) -> Self {
-        let delta = 0.01 * iso_stats_in(s, rect, RANK_ISO, 0.0).max_abs_kappa;
+        let delta = 0.01 * iso_extrema_in(s, rect, RANK_ISO, 0.0).max_abs_kappa;
         Self {
             rect,
             delta,
@@ -235,8 +274,8 @@ impl Ranker {
     }
 
     pub(super) fn rank(&self, f: &BSplineSurface) -> Rank {
-        let st = iso_stats_in(f, self.rect, RANK_ISO, self.delta);
-        let e = mean_curvature_variation_rule(f, self.rect, &self.gl);
+        let st = iso_extrema_in(f, self.rect, RANK_ISO, self.delta);
+        let e = mean_curvature_variation_grad(f, self.rect, &self.gl);
         Rank(
             st.extrema_u + st.extrema_v,
             if e.is_finite() { e } else { f64::INFINITY },
