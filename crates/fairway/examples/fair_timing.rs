@@ -171,4 +171,20 @@ fn main() {
             n,
         );
     }
+    // the same at the 100-point curve's spacing (a longer wave, not a denser one: `noisy_long_curve`)
+    for n in [1000usize, 10_000, 100_000] {
+        if n > max_points {
+            break;
+        }
+        let cv = common::noisy_long_curve(n);
+        let o = opts(10 * n);
+        let name = format!("full fair, {n} control points at the 100-point spacing");
+        report(
+            &name,
+            time(secs_for(&name), || {
+                black_box(FairingSetup::new(&cv, o).unwrap().fair().unwrap());
+            }),
+            n,
+        );
+    }
 }

@@ -20,6 +20,28 @@ pub fn noisy_curve(n: usize) -> BSplineCurve {
     BSplineCurve::new_2d(3, KnotVector::uniform(3, n).unwrap().values().to_vec(), &pts).unwrap()
 }
 
+/// The bench cubic made longer instead of denser: `n` control points at the 100-point curve's spacing
+/// (the sine wave continued over `n / 100` times the length, the same noise), so that a curve of `n`
+/// points is `n / 100` bench cubics end to end — the scaling of the engine, where [`noisy_curve`] at 10,000
+/// points puts noise of 12× the control point spacing (loops in the polygon). `noisy_long_curve(100)` is
+/// `noisy_curve(100)`.
+#[allow(dead_code)]
+pub fn noisy_long_curve(n: usize) -> BSplineCurve {
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let stretch = n as f64 / 100.0;
+    let pts: Vec<DVec2> = (0..n)
+        .map(|i| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let noise = ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.01;
+            let t = stretch * (i as f64 / (n - 1) as f64);
+            DVec2::new(4.0 * t, 0.5 * (3.0 * t).sin() + noise)
+        })
+        .collect();
+    BSplineCurve::new_2d(3, KnotVector::uniform(3, n).unwrap().values().to_vec(), &pts).unwrap()
+}
+
 /// The bench's options: m = 2e-3, `samples` fairing samples.
 pub fn opts(samples: usize) -> FairingOptions {
     FairingOptions::default().tolerance(2e-3).samples(Some(samples))
