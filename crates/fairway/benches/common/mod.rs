@@ -6,18 +6,7 @@ use fairway::{BSplineCurve, DVec2, KnotVector};
 
 /// A cubic with `n` control points through a sine wave, with deterministic noise of ~1 % of the amplitude.
 pub fn noisy_curve(n: usize) -> BSplineCurve {
-    let mut state = 0x9E37_79B9_7F4A_7C15u64;
-    let pts: Vec<DVec2> = (0..n)
-        .map(|i| {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let noise = ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.01;
-            let t = i as f64 / (n - 1) as f64;
-            DVec2::new(4.0 * t, 0.5 * (3.0 * t).sin() + noise)
-        })
-        .collect();
-    BSplineCurve::new_2d(3, KnotVector::uniform(3, n).unwrap().values().to_vec(), &pts).unwrap()
+    noisy_wave(n, 1.0)
 }
 
 /// The bench cubic made longer instead of denser: `n` control points at the 100-point curve's spacing
@@ -27,8 +16,12 @@ pub fn noisy_curve(n: usize) -> BSplineCurve {
 /// `noisy_curve(100)`.
 #[allow(dead_code)]
 pub fn noisy_long_curve(n: usize) -> BSplineCurve {
+    noisy_wave(n, n as f64 / 100.0)
+}
+
+/// `n` control points on the sine wave over `stretch` times the bench cubic's length, with its noise.
+fn noisy_wave(n: usize, stretch: f64) -> BSplineCurve {
     let mut state = 0x9E37_79B9_7F4A_7C15u64;
-    let stretch = n as f64 / 100.0;
     let pts: Vec<DVec2> = (0..n)
         .map(|i| {
             state = state
