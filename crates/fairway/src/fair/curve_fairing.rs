@@ -453,8 +453,24 @@ impl CurveFairing {
     /// returned as it was, with a note. A hand-edited target is followed as edited, and a region end
     /// inside the curve given G0 or G1 may add the curvature step (and extrema) it asks for.
     pub fn fair(&mut self, pass: Pass) -> Result<CurveFair> {
-        let mut f = self.fair_routed(pass)?;
-        if pass != Pass::Full || self.edited || self.asks_for_curvature_steps() {
+        let guarded = pass == Pass::Full && !self.edited && !self.asks_for_curvature_steps();
+        let mut f = if guarded && self.original_extrema.is_none() {
+            // the input's count does not depend on the fair: on the first full fair it is taken beside it
+            // (on a second core; the result is the same)
+            let input = self.input.clone();
+            let (f, known) = rayon::join(
+                || self.fair_routed(pass),
+                || {
+                    let delta = crate::measure::extrema_threshold(&input);
+                    (delta, extrema_count(&input, delta))
+                },
+            );
+            self.original_extrema = Some(known);
+            f?
+        } else {
+            self.fair_routed(pass)?
+        };
+        if !guarded {
             return Ok(f);
         }
         // (counts the fair's own judged check made on the same curve at the same dead band are taken as
