@@ -8,6 +8,7 @@
 //! ISO_LEVELS=1 cargo run --release -p fairway --example surface_timing   # one isocurve tolerance only
 //! COMBINE=weighted cargo run --release -p fairway --example surface_timing   # the default combination
 //! REFAIR_LEVELS=1 cargo run --release -p fairway --example surface_timing   # isocurves re-faired per level
+//! METHOD=isocurves ISO_LEVELS=1 cargo run …   # the editor's draft preview (isocurves alone, one level)
 //! SIZES=30,50 cargo run --release -p fairway --example surface_timing      # only these net sizes
 //! ```
 //!
@@ -21,7 +22,7 @@
 
 use std::time::{Duration, Instant};
 
-use fairway::fair::{Combine, SurfaceFairingOptions, fair_surface};
+use fairway::fair::{Combine, SurfaceFairingOptions, SurfaceMethod, fair_surface};
 use fairway::{BSplineSurface, DVec3, KnotVector};
 
 /// `n × n` bicubic net over [0,1]² with uniform knots: a smooth wave with
@@ -105,7 +106,8 @@ fn main() {
                     .and_then(|x| x.parse().ok())
                     .unwrap_or(3),
             )
-            .refair_levels(std::env::var("REFAIR_LEVELS").is_ok());
+            .refair_levels(std::env::var("REFAIR_LEVELS").is_ok())
+            .method(std::env::var("METHOD").map_or(SurfaceMethod::Fairway, |m| m.parse().expect("method")));
         // best wall time of `repeats` (least disturbed by other load on the machine), with its thread CPU time
         let mut best: Option<(Duration, f64, f64, fairway::fair::SurfaceFairingResult)> = None;
         for _ in 0..repeats {
