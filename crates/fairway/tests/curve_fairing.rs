@@ -273,3 +273,37 @@ fn a_target_saved_at_parameters_is_resampled_onto_other_samples() {
     a2.set_target(None, &[]);
     assert_eq!(other.target().values(), a2.target().values());
 }
+
+/// A setup made without the polish builds the polish's rows (curvature variation, extrema probes, the
+/// smoother's penalty) only when a fair asks for them: turning the polish on, or the smoother's mode, on
+/// such a setup gives what a setup made with them gives, bit for bit — a planar curve, a region with G1
+/// ends, and a non-planar 3D curve (its torsion rows).
+#[test]
+fn the_polish_rows_built_later_give_the_same_fair() {
+    let m = 2e-3;
+    let planar = noisy_curve(KNOWN_SHAPES[2], 40, 1e-3, 11);
+    let helix: Vec<DVec3> = (0..36)
+        .map(|i| {
+            let t = i as f64 * 0.3;
+            DVec3::new(t.cos(), t.sin(), 0.15 * t + 1e-3 * ((i * 7 % 5) as f64 - 2.0))
+        })
+        .collect();
+    let knots = fairway::KnotVector::uniform(3, helix.len()).unwrap();
+    let space = BSplineCurve::try_new(3, knots.values().to_vec(), helix, None, 3).unwrap();
+    let region = opts(m).region(Some((0.2, 0.8))).ends(EndCondition::G1);
+    for (c, o) in [(&planar, opts(m)), (&planar, region), (&space, opts(m))] {
+        let eager = FairingSetup::new(c, o).unwrap().fair().unwrap();
+        let mut lazy = FairingSetup::new(c, o.polish(false)).unwrap();
+        let draft = lazy.fair().unwrap();
+        lazy.set_polish(true);
+        let later = lazy.fair().unwrap();
+        assert!(same(&later.curve, &eager.curve), "the polish on a draft's setup");
+        assert!(!same(&later.curve, &draft.curve), "the polish ran");
+        let smooth = |polish: bool| {
+            let mut s = FairingSetup::new(c, o.polish(polish)).unwrap();
+            s.set_mode(fairway::fair::FitMode::Smoothing);
+            s.fair().unwrap().curve
+        };
+        assert!(same(&smooth(false), &smooth(true)), "the smoother on a draft's setup");
+    }
+}

@@ -207,6 +207,9 @@ pub struct FairingSetup {
     smoothing_system: bool,
     /// λ / μ of the smoother ([`Self::lambda_scale`]).
     a3_scale: f64,
+    /// `var`, `probes`, `a3`, `rhs3` and `a3_scale` are built (`setup::variation_rows`: only for a fair
+    /// that reads them).
+    var_rows_built: bool,
     /// μ of the last smoother search (its warm start).
     last_mu_smooth: Option<f64>,
     /// The variation polish's start candidates that do not depend on the target, kept for the next fair
@@ -443,6 +446,7 @@ impl FairingSetup {
 
     /// [`Self::fair`] without the final band bound: one run at the current tolerance.
     fn fair_pass(&mut self) -> Result<FairingResult> {
+        self.ensure_variation_rows();
         let m = self.opts.tolerance;
         if self.opts.mode == FitMode::Smoothing {
             return self.fair_smoothing();

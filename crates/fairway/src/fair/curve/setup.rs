@@ -207,6 +207,7 @@ impl FairingSetup {
             probes: VarRows::default(),
             smoothing_system: false,
             a3_scale: 1.0,
+            var_rows_built: false,
             last_mu_smooth: None,
             polish_cache: Default::default(),
             chk_u: vec![],
@@ -477,32 +478,10 @@ impl FairingSetup {
     /// The variation's quadrature rows (and the torsion's on a non-planar 3D curve), the curvature
     /// probes, the smoother's penalty, and the normal matrices `A0`, `A2` of the fit.
     fn normal_matrices(&mut self) {
-        let (p, nf, ns, range, i0) = (self.work.degree(), self.nf, self.params.len(), self.range, self.i0);
-        let dim = self.work.dim();
-        let opts = self.opts;
-        self.var = VarRows::new(&self.work, range, i0, nf);
-        if dim == 3 && self.plane.is_none() {
-            self.var.twist = torsion::TwistRows::new(
-                &self.work,
-                range,
-                i0,
-                nf,
-                opts.torsion_weight.max(0.0),
-                self.var.eps * 1e3,
-            );
-            let e_var = self.variation_parts(&[]).0;
-            self.var
-                .twist
-                .cap_to(p + 1, torsion::TWIST_CAP * opts.torsion_weight.max(0.0) * e_var);
+        let (p, nf, ns) = (self.work.degree(), self.nf, self.params.len());
+        if self.needs_variation_rows() {
+            self.variation_rows();
         }
-        // the extrema count also looks one knot span past each end of the moving stretch: a G1 / G0 end
-        // may leave a curvature step there, which `measure` counts on the whole curve (proptest seed 822:
-        // 3 → 5 extrema with the stretch's own count unchanged)
-        let bps = self.work.knots().breakpoints();
-        let before = bps.iter().rev().find(|&&k| k < range.0).copied().unwrap_or(range.0);
-        let after = bps.iter().find(|&&k| k > range.1).copied().unwrap_or(range.1);
-        self.probes = VarRows::probes(&self.work, (before, after), i0, nf);
-        (self.a3, self.rhs3) = self.var.penalty_gram(p, nf);
         // normal matrices
         for k in 0..ns {
             let f = self.first[k];
@@ -529,7 +508,64 @@ impl FairingSetup {
                 }
             }
         }
-        let (t0, t3) = (0..nf).fold((0.0, 0.0), |(x, y), i| (x + self.a0.get(i, i), y + self.a3.get(i, i)));
+        if self.var_rows_built {
+            self.smoother_scale();
+        }
+    }
+
+    /// Whether a fair with the current options reads the variation rows, the extrema probes and the
+    /// smoother's penalty (the variation polish and the reference smoother do; the fit alone — a draft,
+    /// a surface's isocurves — does not, and a third of its setup was building them).
+    pub(super) fn needs_variation_rows(&self) -> bool {
+        self.opts.polish || self.opts.mode == crate::fair::FitMode::Smoothing
+    }
+
+    /// Build them if a fair needs them and they are not built yet (the same rows as at the setup: they
+    /// depend only on the working curve and the stretch).
+    pub(super) fn ensure_variation_rows(&mut self) {
+        if !self.var_rows_built && self.needs_variation_rows() {
+            let delta = self.var.delta;
+            self.variation_rows();
+            self.var.delta = delta;
+            self.smoother_scale();
+        }
+    }
+
+    /// The curvature-variation rows (and the torsion rows of a non-planar 3D curve), the extrema probes
+    /// and the smoother's penalty Gram matrix.
+    fn variation_rows(&mut self) {
+        let (p, nf, range, i0) = (self.work.degree(), self.nf, self.range, self.i0);
+        let dim = self.work.dim();
+        let opts = self.opts;
+        self.var = VarRows::new(&self.work, range, i0, nf);
+        if dim == 3 && self.plane.is_none() {
+            self.var.twist = torsion::TwistRows::new(
+                &self.work,
+                range,
+                i0,
+                nf,
+                opts.torsion_weight.max(0.0),
+                self.var.eps * 1e3,
+            );
+            let e_var = self.variation_parts(&[]).0;
+            self.var
+                .twist
+                .cap_to(p + 1, torsion::TWIST_CAP * opts.torsion_weight.max(0.0) * e_var);
+        }
+        // the extrema count also looks one knot span past each end of the moving stretch: a G1 / G0 end
+        // may leave a curvature step there, which `measure` counts on the whole curve (proptest seed 822:
+        // 3 → 5 extrema with the stretch's own count unchanged)
+        let bps = self.work.knots().breakpoints();
+        let before = bps.iter().rev().find(|&&k| k < range.0).copied().unwrap_or(range.0);
+        let after = bps.iter().find(|&&k| k > range.1).copied().unwrap_or(range.1);
+        self.probes = VarRows::probes(&self.work, (before, after), i0, nf);
+        (self.a3, self.rhs3) = self.var.penalty_gram(p, nf);
+        self.var_rows_built = true;
+    }
+
+    /// λ / μ of the smoother from the diagonals of `A0` and `A3`.
+    fn smoother_scale(&mut self) {
+        let (t0, t3) = (0..self.nf).fold((0.0, 0.0), |(x, y), i| (x + self.a0.get(i, i), y + self.a3.get(i, i)));
         self.a3_scale = if t3 > 0.0 && t0 > 0.0 { t0 / t3 } else { 1.0 };
     }
 
