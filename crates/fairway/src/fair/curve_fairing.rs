@@ -473,24 +473,16 @@ impl CurveFairing {
         if !guarded {
             return Ok(f);
         }
-        // (counts the fair's own judged check made on the same curve at the same dead band are taken as
-        // they are: the same function of the same curve)
-        let counted = |setups: &[&FairingSetup], c: &BSplineCurve, delta: f64| -> usize {
-            setups
-                .iter()
-                .find_map(|s| s.counted_extrema(c, delta))
-                .unwrap_or_else(|| extrema_count(c, delta))
+        let Some((delta, before)) = self.original_extrema else {
+            return Ok(f);
         };
-        let (delta, before) = match self.original_extrema {
-            Some(known) => known,
-            None => {
-                let delta = crate::measure::extrema_threshold(&self.input);
-                let known = (delta, counted(&self.setups(), &self.input, delta));
-                self.original_extrema = Some(known);
-                known
-            }
-        };
-        let after = counted(&self.setups(), &f.result.curve, delta);
+        // (a count the fair's own judged check made of the result at the same dead band is taken as it is:
+        // the same function of the same curve)
+        let after = self
+            .setups()
+            .iter()
+            .find_map(|s| s.counted_extrema(&f.result.curve, delta))
+            .unwrap_or_else(|| extrema_count(&f.result.curve, delta));
         if after > before {
             let r = &mut f.result;
             r.notes.push(format!(

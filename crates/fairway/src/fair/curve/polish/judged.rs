@@ -94,17 +94,12 @@ impl FairingSetup {
     }
 
     /// The curvature extrema of `c` with dead band `delta` as `measure` counts them, where this setup has
-    /// counted them already (the working curve, or the last curve judged, at `measure`'s dead band of the
-    /// working curve): the final guard of [`crate::fair::CurveFairing::fair`] counts the input and the
-    /// result, which a close call here has just counted.
+    /// counted them already (the last curve judged, at `measure`'s dead band of the working curve): the
+    /// final guard of [`crate::fair::CurveFairing::fair`] counts the result, which a close call here has
+    /// usually just counted.
     pub(crate) fn counted_extrema(&self, c: &BSplineCurve, delta: f64) -> Option<usize> {
         if self.polish_cache.judged_delta.get()?.to_bits() != delta.to_bits() {
             return None;
-        }
-        if *c == self.work
-            && let Some(e) = self.polish_cache.judged_orig.extrema
-        {
-            return Some(e);
         }
         match &*self.polish_cache.last_judged.borrow() {
             Some((last, e)) if last == c => Some(*e),
