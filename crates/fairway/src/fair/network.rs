@@ -270,6 +270,30 @@ impl Net<'_> {
         });
         (m, note)
     }
+
+    /// The surface options of the objects `group` faired as one, at their [`Self::band`], and its note.
+    pub(crate) fn surface_options(&self, group: &[usize]) -> (SurfaceFairingOptions, Option<String>) {
+        let (tolerance, note) = self.band(group);
+        (
+            SurfaceFairingOptions {
+                tolerance,
+                ..self.opts.surface
+            },
+            note,
+        )
+    }
+
+    /// The curve options of the objects `group` faired as one, at their [`Self::band`], and its note.
+    pub(crate) fn curve_options(&self, group: &[usize]) -> (FairingOptions, Option<String>) {
+        let (tolerance, note) = self.band(group);
+        (
+            FairingOptions {
+                tolerance,
+                ..self.opts.curve
+            },
+            note,
+        )
+    }
 }
 
 /// The joins `before` measured again on `objects` (the same ends and edges).
@@ -286,6 +310,29 @@ pub fn remeasure(before: &Joins, objects: &[Geometry]) -> Joins {
         s.continuity = crate::network::surface_join_continuity(objects, s);
     }
     j
+}
+
+/// The knot `at` (of multiplicity `mult` in every curve of `rows`) removed from all of them at once, one
+/// at a time while every one allows it within `tol` and down to multiplicity `floor`: the rows and the
+/// multiplicity left (a curve's join is `rows` of one; a surface's edge or seam, its control rows).
+pub(crate) fn remove_knot_rows(
+    mut rows: Vec<BSplineCurve>,
+    at: f64,
+    tol: f64,
+    mut mult: usize,
+    floor: usize,
+) -> (Vec<BSplineCurve>, usize) {
+    while mult > floor {
+        let Ok(next) = rows
+            .iter()
+            .map(|c| c.remove_knot(at, 1, tol))
+            .collect::<Result<Vec<_>>>()
+        else {
+            break;
+        };
+        (rows, mult) = (next, mult - 1);
+    }
+    (rows, mult)
 }
 
 /// The knot-removal tolerance of a concatenation: 1e-9 × the control net's size.
@@ -384,17 +431,10 @@ pub(crate) fn concatenate_as(
     let tol = removal_tolerance(&c);
     let mut err = 0.5 * gap + moved;
     if let Link::Smooth(k) = link {
-        let mut mult = p;
-        while mult > 0 {
-            match c.remove_knot(y, 1, tol) {
-                Ok(x) => {
-                    c = x;
-                    mult -= 1;
-                    err += tol;
-                }
-                Err(_) => break,
-            }
-        }
+        let (rows, mult) = remove_knot_rows(vec![c], y, tol, p, 0);
+        c = rows.into_iter().next().expect("one row");
+        // (one tolerance per knot removed, added as the removals were)
+        (mult..p).for_each(|_| err += tol);
         if mult + k > p {
             return Err(Error::InvalidInput(format!(
                 "not parametrically C{k} after a linear rescale (C{} at most)",

@@ -296,11 +296,7 @@ pub(crate) struct ChainFair {
 /// Fair one chain (module docs of [`super`]).
 pub(crate) fn fair_chain(objects: &[Geometry], chain: &Chain, net: &Net<'_>) -> ChainFair {
     let group: Vec<usize> = chain.pieces.iter().map(|p| p.0).collect();
-    let (tolerance, band_note) = net.band(&group);
-    let opts = FairingOptions {
-        tolerance,
-        ..net.opts.curve
-    };
+    let (opts, band_note) = net.curve_options(&group);
     let result = if chain.pieces.len() == 1 && !chain.closed {
         let i = group[0];
         fair_one_curve(curve(objects, i), opts, chain.needs).map(|r| vec![(r.curve, r.max_deviation, r.notes)])

@@ -214,7 +214,7 @@ fn concatenate_at(p: &Pair, k: usize, len: f64) -> Result<(BSplineSurface, f64, 
     let y = p.a.domain().1.1;
     let (lo, hi) = crate::curve::point_bounds(p.a.points());
     let tol = 1e-9 * (hi - lo).length();
-    let mut rows: Vec<BSplineCurve> = ra
+    let rows: Vec<BSplineCurve> = ra
         .iter()
         .zip(&rb)
         .map(|(x, z)| join(x, &rescaled(z, y, len)?))
@@ -222,17 +222,10 @@ fn concatenate_at(p: &Pair, k: usize, len: f64) -> Result<(BSplineSurface, f64, 
     let gap = (0..p.a.nu())
         .map(|i| p.a.point_at(i, p.a.nv() - 1).distance(p.b.point_at(i, 0)))
         .fold(0.0, f64::max);
-    let (pv, mut mult, mut err) = (p.a.degree_v(), p.a.degree_v(), 0.5 * gap);
-    while mult > 0 {
-        let Ok(next) = rows
-            .iter()
-            .map(|c| c.remove_knot(y, 1, tol))
-            .collect::<Result<Vec<_>>>()
-        else {
-            break;
-        };
-        (rows, mult, err) = (next, mult - 1, err + tol);
-    }
+    let pv = p.a.degree_v();
+    let (rows, mult) = super::remove_knot_rows(rows, y, tol, pv, 0);
+    let mut err = 0.5 * gap;
+    (mult..pv).for_each(|_| err += tol);
     if mult + k > pv {
         return Err(Error::InvalidInput(format!(
             "not parametrically C{k} across the edge after a linear rescale (C{} at most)",
@@ -569,11 +562,7 @@ fn fair_grids(
     let mut in_grid = vec![false; ok.len()];
     for g in grid::grids(&joins.surfaces, ok, objects.len()) {
         let members = g.objects();
-        let (tolerance, band_note) = net.band(&members);
-        let opts = SurfaceFairingOptions {
-            tolerance,
-            ..net.opts.surface
-        };
+        let (opts, band_note) = net.surface_options(&members);
         g.edges.iter().for_each(|&k| in_grid[k] = true);
         match grid::fair_grid(objects, &g, &joins.surfaces, &opts, joins.tolerance) {
             Ok(patches) => record(patches, &members, band_note.as_ref(), Route::Grid, out, outcome, done),
@@ -631,11 +620,7 @@ fn fair_cylinders(
         if members.iter().any(|&i| done[i]) {
             continue;
         }
-        let (tolerance, band_note) = net.band(&members);
-        let opts = SurfaceFairingOptions {
-            tolerance,
-            ..net.opts.surface
-        };
+        let (opts, band_note) = net.surface_options(&members);
         let edges: Vec<usize> = cy.grid.edges.iter().chain(&cy.wrap).copied().collect();
         edges.iter().for_each(|&k| in_cylinder[k] = true);
         match grid::fair_cylinder(objects, &cy, &joins.surfaces, &opts, joins.tolerance) {
@@ -667,11 +652,7 @@ fn fair_layouts(
         if lay.members.iter().any(|&i| done[i]) {
             continue;
         }
-        let (tolerance, band_note) = net.band(&lay.members);
-        let opts = SurfaceFairingOptions {
-            tolerance,
-            ..net.opts.surface
-        };
+        let (opts, band_note) = net.surface_options(&lay.members);
         match layout::fair_layout(objects, &lay, &joins.surfaces, &opts, joins.tolerance) {
             Ok(patches) => {
                 lay.edges.iter().for_each(|&k| in_layout[k] = true);
@@ -737,11 +718,7 @@ pub(crate) fn fair_surfaces(
             continue;
         }
         let list: Vec<&SurfaceJoin> = edges.iter().map(|&k| &joins.surfaces[k]).collect();
-        let (tolerance, band_note) = net.band(&order_);
-        let opts = SurfaceFairingOptions {
-            tolerance,
-            ..net.opts.surface
-        };
+        let (opts, band_note) = net.surface_options(&order_);
         let (fair, route) = match closing {
             Some(c) => (
                 ring::fair_ring(objects, &order_, &list, &joins.surfaces[c], &opts, joins.tolerance),

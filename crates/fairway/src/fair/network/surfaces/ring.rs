@@ -156,18 +156,8 @@ fn reseam(rows: &[BSplineCurve], j: &BSplineSurface, mid: f64, k: usize) -> Resu
     let seam = j.domain().1.1;
     let p = j.degree_v();
     let tol = removal_tolerance(j);
-    let mut rot: Vec<BSplineCurve> = rows.iter().map(|r| rotate(r, mid)).collect::<Result<_>>()?;
-    let mut mult = p;
-    while mult > 1 {
-        let Ok(next) = rot
-            .iter()
-            .map(|c| c.remove_knot(seam, 1, tol))
-            .collect::<Result<Vec<_>>>()
-        else {
-            break;
-        };
-        (rot, mult) = (next, mult - 1);
-    }
+    let rot: Vec<BSplineCurve> = rows.iter().map(|r| rotate(r, mid)).collect::<Result<_>>()?;
+    let (rot, mult) = crate::fair::network::remove_knot_rows(rot, seam, tol, p, 1);
     if mult + k > p {
         return Err(Error::InvalidInput(format!(
             "the closing edge is not parametrically C{k} with the rescales of the other edges (C{} at most)",
