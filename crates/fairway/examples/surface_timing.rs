@@ -10,6 +10,7 @@
 //! REFAIR_LEVELS=1 cargo run --release -p fairway --example surface_timing   # isocurves re-faired per level
 //! METHOD=isocurves ISO_LEVELS=1 cargo run …   # the editor's draft preview (isocurves alone, one level)
 //! SIZES=30,50 cargo run --release -p fairway --example surface_timing      # only these net sizes
+//! SPS=2 … / NOAUTO=1 …   # 2 grid isocurves per knot span (default 3) / no auto smoothing (the options' own)
 //! ```
 //!
 //! The last column is an FNV-1a hash of the result's control-point bits, to check that a speed-up
@@ -107,6 +108,8 @@ fn main() {
                     .unwrap_or(3),
             )
             .refair_levels(std::env::var("REFAIR_LEVELS").is_ok())
+            .samples_per_span(std::env::var("SPS").map_or(3, |x| x.parse().unwrap()))
+            .auto_smoothing(std::env::var("NOAUTO").is_err())
             .method(std::env::var("METHOD").map_or(SurfaceMethod::Fairway, |m| m.parse().expect("method")));
         // best wall time of `repeats` (least disturbed by other load on the machine), with its thread CPU time
         let mut best: Option<(Duration, f64, f64, fairway::fair::SurfaceFairingResult)> = None;

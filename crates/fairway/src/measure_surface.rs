@@ -459,71 +459,170 @@ pub fn mean_curvature_variation_grad(
     if s.is_rational() {
         return mean_curvature_variation_rule(s, rect, gl);
     }
-    let ((u0, u1), (v0, v1)) = rect;
-    let su = clipped_spans(&s.knots_u().breakpoints(), u0, u1);
-    let sv = clipped_spans(&s.knots_v().breakpoints(), v0, v1);
-    let (ku, kv) = (s.knots_u(), s.knots_v());
-    let (pu, pv, nv) = (s.degree_u(), s.degree_v(), s.nv());
-    let pts = s.points();
-    let n = gl.nodes.len();
-    // per span of a direction: its knot span and the basis derivatives 0..=3 at its nodes
-    let bases =
-        |k: &crate::knots::KnotVector, p: usize, spans: &[(f64, f64)]| -> Vec<(usize, Vec<[[f64; MAX_ORDER]; 4]>)> {
-            spans
-                .iter()
-                .map(|&(a, b)| {
-                    let ts: Vec<f64> = gl.nodes.iter().map(|&x| 0.5 * (a + b) + 0.5 * (b - a) * x).collect();
-                    let ds = ts
-                        .iter()
-                        .map(|&t| {
-                            let mut d = [[0.0; MAX_ORDER]; 4];
-                            crate::basis::ders_basis_funs::<4>(k.values(), k.find_span(t), k.clamp(t), p, &mut d);
-                            d
-                        })
-                        .collect();
-                    (k.find_span(ts[0]), ds)
-                })
-                .collect()
-        };
-    let (bu, bv) = (bases(ku, pu, &su), bases(kv, pv, &sv));
-    let mut rows = vec![[[DVec3::ZERO; 4]; MAX_ORDER]; n];
-    let mut total = 0.0;
-    for (&(a0, a1), (span_u, du)) in su.iter().zip(&bu) {
-        for (&(b0, b1), (span_v, dv)) in sv.iter().zip(&bv) {
-            // per v-node and control row of the cell: T_l = Σ_j M_j^{(l)}(v) P_ij, l = 0..=3
-            for (r, d) in rows.iter_mut().zip(dv) {
-                for (ia, row) in r.iter_mut().enumerate().take(pu + 1) {
-                    *row = [DVec3::ZERO; 4];
-                    for jb in 0..=pv {
-                        let q = pts[(span_u - pu + ia) * nv + span_v - pv + jb];
-                        for (l, t) in row.iter_mut().enumerate() {
-                            *t += q * d[l][jb];
-                        }
-                    }
-                }
+    GradCells::new(s, rect, &[gl]).total(|cell| cell.integral(0))
+}
+
+/// [`mean_curvature_variation_grad`] with `gl` taken only on the span cells where a cheap pair of rules
+/// disagree: on each cell the 4- and 5-point Gauss–Legendre rules (41 nodes against `gl`'s 100 for the
+/// 10-point rule); where they agree to `rel` of the cell's value the 5-point value is kept (its own error
+/// is then a small fraction of `rel`: with `rel` = 1e-7 the total is within 1.4e-10 of `gl`'s on the
+/// test's nets), elsewhere the cell takes `gl`. Near a point where H is singular (a collapsed row) the
+/// cheap rules disagree and `gl` decides, as before. For the ranking of `fair_surface`'s step 8: on the
+/// 30 × 30 bench net 94 % of the cells keep the 5-point value.
+pub fn mean_curvature_variation_adaptive(
+    s: &BSplineSurface,
+    rect: ((f64, f64), (f64, f64)),
+    gl: &crate::quadrature::GaussLegendre,
+    rel: f64,
+) -> f64 {
+    if s.is_rational() {
+        return mean_curvature_variation_rule(s, rect, gl);
+    }
+    let (g4, g5) = (
+        crate::quadrature::GaussLegendre::new(4),
+        crate::quadrature::GaussLegendre::new(5),
+    );
+    GradCells::new(s, rect, &[&g4, &g5, gl]).total(|cell| {
+        let (e4, e5) = (cell.integral(0), cell.integral(1));
+        if (e5 - e4).abs() <= rel * e5.abs() {
+            e5
+        } else {
+            cell.integral(2)
+        }
+    })
+}
+
+/// Per knot span of each direction: its span index and the basis derivatives 0..=3 at a rule's nodes.
+type SpanBases = Vec<(usize, Vec<[[f64; MAX_ORDER]; 4]>)>;
+
+/// The span cells of a rectangle with the basis tables of one or more Gauss–Legendre rules
+/// ([`mean_curvature_variation_grad`], [`mean_curvature_variation_adaptive`]).
+struct GradCells<'a> {
+    s: &'a BSplineSurface,
+    rules: Vec<&'a crate::quadrature::GaussLegendre>,
+    su: Vec<(f64, f64)>,
+    sv: Vec<(f64, f64)>,
+    /// per rule: the u and v tables
+    bases: Vec<(SpanBases, SpanBases)>,
+}
+
+/// One span cell of [`GradCells`], integrated on demand by rule.
+struct GradCell<'c, 'a> {
+    cells: &'c GradCells<'a>,
+    iu: usize,
+    iv: usize,
+    rows: &'c mut Vec<[[DVec3; 4]; MAX_ORDER]>,
+}
+
+impl<'a> GradCells<'a> {
+    fn new(
+        s: &'a BSplineSurface,
+        rect: ((f64, f64), (f64, f64)),
+        rules: &[&'a crate::quadrature::GaussLegendre],
+    ) -> Self {
+        let ((u0, u1), (v0, v1)) = rect;
+        let su = clipped_spans(&s.knots_u().breakpoints(), u0, u1);
+        let sv = clipped_spans(&s.knots_v().breakpoints(), v0, v1);
+        let bases_of =
+            |gl: &crate::quadrature::GaussLegendre, k: &crate::knots::KnotVector, p: usize, spans: &[(f64, f64)]| {
+                spans
+                    .iter()
+                    .map(|&(a, b)| {
+                        let ts: Vec<f64> = gl.nodes.iter().map(|&x| 0.5 * (a + b) + 0.5 * (b - a) * x).collect();
+                        let ds = ts
+                            .iter()
+                            .map(|&t| {
+                                let mut d = [[0.0; MAX_ORDER]; 4];
+                                crate::basis::ders_basis_funs::<4>(k.values(), k.find_span(t), k.clamp(t), p, &mut d);
+                                d
+                            })
+                            .collect();
+                        (k.find_span(ts[0]), ds)
+                    })
+                    .collect::<SpanBases>()
+            };
+        let bases = rules
+            .iter()
+            .map(|gl| {
+                (
+                    bases_of(gl, s.knots_u(), s.degree_u(), &su),
+                    bases_of(gl, s.knots_v(), s.degree_v(), &sv),
+                )
+            })
+            .collect();
+        Self {
+            s,
+            rules: rules.to_vec(),
+            su,
+            sv,
+            bases,
+        }
+    }
+
+    /// Σ over the cells of `cell_value` (which integrates the cell by one of the rules).
+    fn total(&self, mut cell_value: impl FnMut(&mut GradCell<'_, 'a>) -> f64) -> f64 {
+        let n = self.rules.iter().map(|r| r.nodes.len()).max().unwrap_or(0);
+        let mut rows = vec![[[DVec3::ZERO; 4]; MAX_ORDER]; n];
+        let mut total = 0.0;
+        for iu in 0..self.su.len() {
+            for iv in 0..self.sv.len() {
+                total += cell_value(&mut GradCell {
+                    cells: self,
+                    iu,
+                    iv,
+                    rows: &mut rows,
+                });
             }
-            let jac0 = 0.25 * (a1 - a0) * (b1 - b0);
-            for (d, wx) in du.iter().zip(&gl.weights) {
-                for (r, wy) in rows.iter().zip(&gl.weights) {
-                    // acc[k][l] = ∂^{k+l} S / ∂u^k ∂v^l, k + l ≤ 3
-                    // (the point itself, k = l = 0, is not needed)
-                    let mut acc = [[DVec3::ZERO; 4]; 4];
-                    for (ia, row) in r.iter().enumerate().take(pu + 1) {
-                        for l in 1..4 {
-                            acc[0][l] += row[l] * d[0][ia];
-                        }
-                        for k in 1..4 {
-                            for l in 0..4 - k {
-                                acc[k][l] += row[l] * d[k][ia];
-                            }
-                        }
+        }
+        total
+    }
+}
+
+impl GradCell<'_, '_> {
+    /// `∫∫ |∇H|² dA` over this cell by rule `r` of the cells' rules.
+    fn integral(&mut self, r: usize) -> f64 {
+        let c = self.cells;
+        let s = c.s;
+        let (pu, pv, nv) = (s.degree_u(), s.degree_v(), s.nv());
+        let pts = s.points();
+        let gl = c.rules[r];
+        let ((a0, a1), (b0, b1)) = (c.su[self.iu], c.sv[self.iv]);
+        let (span_u, du) = &c.bases[r].0[self.iu];
+        let (span_v, dv) = &c.bases[r].1[self.iv];
+        // per v-node and control row of the cell: T_l = Σ_j M_j^{(l)}(v) P_ij, l = 0..=3
+        for (row_set, d) in self.rows.iter_mut().zip(dv) {
+            for (ia, row) in row_set.iter_mut().enumerate().take(pu + 1) {
+                *row = [DVec3::ZERO; 4];
+                for jb in 0..=pv {
+                    let q = pts[(span_u - pu + ia) * nv + span_v - pv + jb];
+                    for (l, t) in row.iter_mut().enumerate() {
+                        *t += q * d[l][jb];
                     }
-                    total += grad_mean_sq_area(&acc) * jac0 * wx * wy;
                 }
             }
         }
+        let jac0 = 0.25 * (a1 - a0) * (b1 - b0);
+        let mut total = 0.0;
+        for (d, wx) in du.iter().zip(&gl.weights) {
+            for (row_set, wy) in self.rows.iter().zip(&gl.weights) {
+                // acc[k][l] = ∂^{k+l} S / ∂u^k ∂v^l, k + l ≤ 3
+                // (the point itself, k = l = 0, is not needed)
+                let mut acc = [[DVec3::ZERO; 4]; 4];
+                for (ia, row) in row_set.iter().enumerate().take(pu + 1) {
+                    for l in 1..4 {
+                        acc[0][l] += row[l] * d[0][ia];
+                    }
+                    for k in 1..4 {
+                        for l in 0..4 - k {
+                            acc[k][l] += row[l] * d[k][ia];
+                        }
+                    }
+                }
+                total += grad_mean_sq_area(&acc) * jac0 * wx * wy;
+            }
+        }
+        total
     }
-    total
 }
 
 /// `|∇H|² √(EG − F²)` from the partials `acc[k][l] = ∂^{k+l} S / ∂u^k ∂v^l` (k + l ≤ 3), see

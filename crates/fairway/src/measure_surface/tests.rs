@@ -370,3 +370,48 @@ fn analytic_gradient_agrees_with_the_difference_rule() {
     assert!((an - fd).abs() < 1e-8 * fd, "{an} vs {fd}");
     assert!(mean_curvature_variation_grad(&cubic_cylinder(0.0), c.domain(), &gl).abs() < 1e-12);
 }
+
+#[test]
+fn adaptive_rule_agrees_with_the_ten_point_rule() {
+    // the step-8 ranking's ∫∫|∇H|² (4- and 5-point rules per cell, 10 points where they disagree) against
+    // the 10-point rule everywhere: a smooth wavy net, the same with noise of 1e-3 (the bench surfaces),
+    // a clipped rectangle, and a net with a collapsed row (H singular at the pole: both cheap rules are far
+    // off there, so those cells must take the 10-point rule)
+    let gl = crate::quadrature::GaussLegendre::new(10);
+    let wavy = crate::fit_surface::fit_graph(12, |u, v| (3.0 * u).sin() * (2.0 * v).cos() + 0.3 * u * v * v).unwrap();
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let noisy = wavy
+        .with_points(
+            wavy.points()
+                .iter()
+                .map(|p| {
+                    state = state
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
+                    *p + DVec3::Z * (((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 3.4e-3)
+                })
+                .collect(),
+        )
+        .unwrap();
+    // a dome whose first row collapses to its apex
+    let nv = wavy.nv();
+    let dome = wavy
+        .with_points(
+            (wavy.points().iter().enumerate())
+                .map(|(k, p)| if k < nv { DVec3::new(0.0, 0.5, 1.0) } else { *p })
+                .collect(),
+        )
+        .unwrap();
+    let mut worst_five = 0.0f64;
+    for s in [&wavy, &noisy, &dome] {
+        for rect in [s.domain(), ((0.13, 0.91), (0.05, 0.77))] {
+            let full = mean_curvature_variation_grad(s, rect, &gl);
+            let cheap = mean_curvature_variation_adaptive(s, rect, &gl, 1e-7);
+            assert!(full > 0.0 && (cheap - full).abs() <= 1e-9 * full, "{cheap} vs {full}");
+            // the 5-point rule alone is not that close: the test sees a fallback that does not happen
+            let five = mean_curvature_variation_grad(s, rect, &crate::quadrature::GaussLegendre::new(5));
+            worst_five = worst_five.max((five - full).abs() / full);
+        }
+    }
+    assert!(worst_five > 1e-6, "{worst_five}");
+}
