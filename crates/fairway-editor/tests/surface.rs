@@ -71,17 +71,26 @@ fn region_in_uv_view_tolerance_accept_undo() {
     );
     assert_eq!(said.starts_with("band certified everywhere"), bound <= tol, "{said}");
     assert!(h.query_by_label_contains(&said).is_some(), "the panel lacks “{said}”");
-    // during a drag the preview is a one-level draft; the release recomputes it at full quality
+    // during a drag the preview is a one-level draft; the release recomputes it at full quality (in
+    // the background: the draft stays meanwhile, and Accept waits for the full fair)
     let final_points = p.surface.points().to_vec();
     let doc = h.state().doc.clone();
     let ws = h.state_mut().surface.as_mut().unwrap();
     ws.preview = None;
-    ws.update_preview(&doc, true);
+    ws.update_preview(&doc, true, None);
     let draft = ws.preview.as_ref().expect("a draft preview");
     assert!(draft.draft && draft.max_deviation <= tol);
-    ws.update_preview(&doc, false);
+    assert!(!ws.is_fairing() && !ws.can_accept(&doc));
+    ws.update_preview(&doc, false, None);
+    assert!(ws.is_fairing(), "the release starts the full fair");
+    assert!(
+        ws.preview.as_ref().is_some_and(|p| p.draft),
+        "the draft stays meanwhile"
+    );
+    assert!(!ws.can_accept(&doc), "Accept waits for the full fair");
+    ws.finish_job(&doc);
     let full = ws.preview.as_ref().expect("the full preview");
-    assert!(!full.draft);
+    assert!(!full.draft && !ws.is_fairing() && ws.can_accept(&doc));
     assert_eq!(
         full.surface.points(),
         &final_points[..],
