@@ -571,13 +571,15 @@ impl App {
             return;
         };
         if !x.started {
-            x.frames += 1;
             if computing {
                 // the preview's full fair (or a network fair) runs in the background: the export waits
-                // for it (its end asks for a frame), without spinning frames that take its CPU
+                // for it (its end asks for a frame), without spinning frames that take its CPU, then
+                // lets the layout settle again (the measures change the side panel's width)
+                x.frames = 0;
                 ctx.request_repaint_after(std::time::Duration::from_millis(200));
                 return;
             }
+            x.frames += 1;
             ctx.request_repaint();
             if x.frames >= EXPORT_SETTLE_FRAMES {
                 x.started = true;
