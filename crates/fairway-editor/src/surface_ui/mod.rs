@@ -70,7 +70,7 @@ pub struct SurfacePreview {
     /// What the fair did besides the plain method (`SurfaceFairingResult::notes`: C0 knot lines kept,
     /// tiles held).
     pub notes: Vec<String>,
-    /// Measures against the original (computed when the pointer is up).
+    /// Measures against the original (computed with the full fair, in the background; none for a draft).
     pub measures: Option<SurfaceMeasures>,
     /// Computed while a drag was in progress with one isocurve tolerance level (`iso_levels: 1`,
     /// about 3× faster); the full fair runs when the pointer is released (in the background; the draft
