@@ -43,10 +43,11 @@ pub enum Command {
     AcceptSurface,
     /// Make object `k` of the document the active one (the one edited and faired).
     Select(usize),
-    /// Fair every object of the document together, keeping their joins (the core's network fair).
+    /// Fair every object of the document together, keeping their joins (the core's network fair). It
+    /// runs in the background; its result is one undo step when it arrives ([`App::fair_objects`]).
     FairAll,
     /// Fair these objects of the document together (the others stay as they are; their joins with the
-    /// faired ones are held), keeping the joins.
+    /// faired ones are held), keeping the joins; in the background, as [`Command::FairAll`].
     FairSet(Vec<usize>),
     /// Draw 3D curves on this plane of the 2D canvas (saved with the document).
     SetViewPlane(ViewPlane),
@@ -95,12 +96,9 @@ impl Command {
             Command::SetTolerance(_) => Gesture::Tolerance,
             Command::SetTarget { .. } => Gesture::Target,
             Command::SetFairOptions(_) | Command::SetEnds(_) => Gesture::Options,
-            Command::ReplaceCurve(_)
-            | Command::AcceptSurface
-            | Command::Select(_)
-            | Command::FairAll
-            | Command::FairSet(_)
-            | Command::SetViewPlane(_) => Gesture::Single,
+            Command::ReplaceCurve(_) | Command::AcceptSurface | Command::Select(_) | Command::SetViewPlane(_) => {
+                Gesture::Single
+            }
             _ => return None,
         })
     }
@@ -170,6 +168,8 @@ impl App {
             Command::FitView => self.workspace().fit_view(),
             Command::ToggleBeforeAfter => self.workspace().toggle_before_after(),
             Command::ToggleHelp => self.show_help = !self.show_help,
+            Command::FairAll => self.fair_all(),
+            Command::FairSet(ks) => self.fair_objects(&ks, "Fair checked"),
             _ => unreachable!("document edits are applied above"),
         }
     }
@@ -199,8 +199,6 @@ impl App {
         };
         let changed = match c {
             Command::Select(k) => self.select_object(*k),
-            Command::FairAll => self.fair_all(),
-            Command::FairSet(ks) => self.fair_objects(ks, "Fair checked"),
             Command::SetViewPlane(p) => self.set_view_plane(*p),
             _ => {
                 let ws: &mut dyn crate::Workspace = match self.surface.as_deref_mut() {

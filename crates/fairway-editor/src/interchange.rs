@@ -566,10 +566,19 @@ impl App {
     }
 
     fn drive_export_then_quit(&mut self, ctx: &egui::Context) {
+        let computing = self.is_computing();
         let Some(x) = self.export_then_quit.as_mut() else {
             return;
         };
         if !x.started {
+            if computing {
+                // the preview's full fair (or a network fair) runs in the background: the export waits
+                // for it (its end asks for a frame), without spinning frames that take its CPU, then
+                // lets the layout settle again (the measures change the side panel's width)
+                x.frames = 0;
+                ctx.request_repaint_after(std::time::Duration::from_millis(200));
+                return;
+            }
             x.frames += 1;
             ctx.request_repaint();
             if x.frames >= EXPORT_SETTLE_FRAMES {

@@ -20,6 +20,7 @@ pub mod fairing;
 pub mod guard;
 pub mod history;
 pub mod interchange;
+pub mod jobs;
 pub mod measures_ui;
 pub mod plot;
 pub mod prefs;

@@ -28,6 +28,29 @@ pub fn parse_tolerance(text: &str, unit: Option<Unit>) -> Result<f64, String> {
     }
 }
 
+/// A busy indicator for a background job: a turning arc and `text` ("Fairing… 1.2 s"). It repaints ten
+/// times a second (not every frame as egui's `Spinner` does), so a long fair keeps its CPU.
+pub fn busy_ui(ui: &mut egui::Ui, text: impl Into<egui::WidgetText>) -> egui::Response {
+    ui.horizontal(|ui| {
+        let size = ui.style().spacing.interact_size.y;
+        let (rect, resp) = ui.allocate_exact_size(egui::vec2(size, size), egui::Sense::hover());
+        resp.widget_info(|| egui::WidgetInfo::new(egui::Role::ProgressIndicator));
+        let (c, r) = (rect.center(), 0.5 * size - 3.0);
+        let start = ui.input(|i| i.time) * std::f64::consts::TAU;
+        let arc: Vec<egui::Pos2> = (0..=20)
+            .map(|k| {
+                let a = start + k as f64 / 20.0 * 1.5 * std::f64::consts::PI;
+                c + r * egui::vec2(a.cos() as f32, a.sin() as f32)
+            })
+            .collect();
+        let color = ui.visuals().strong_text_color();
+        ui.painter().add(egui::Shape::line(arc, egui::Stroke::new(2.5, color)));
+        ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
+        ui.label(text)
+    })
+    .inner
+}
+
 impl<W> Cx<'_, W> {
     /// The "Tolerance" heading and controls of a workspace: a log slider over [1e-6, 0.05] × the model
     /// diagonal `diag` and an exact field taking typed units (both labelled "Tolerance…" for

@@ -7,14 +7,15 @@ mod common;
 
 use std::path::PathBuf;
 
-use common::harness;
+use common::{harness, harness_without_waiting};
 use eframe::egui;
 use egui_kittest::kittest::{NodeT, Queryable};
+use fairway::fair::network::fair_network_at;
 use fairway::io::{DocumentSettings, Scene, SceneObject};
 use fairway::network::{Continuity, find_joins};
 use fairway::{BSplineCurve, DVec2, DVec3, Geometry};
-use fairway_editor::App;
 use fairway_editor::scene_view::ViewPlane;
+use fairway_editor::{App, Command};
 
 fn temp_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("fairway-network-{name}-{}", std::process::id()));
@@ -724,5 +725,102 @@ fn fair_checked_fairs_the_checked_objects_together_and_leaves_the_others() {
     h.run();
     assert_eq!(h.state().objects_now(), original);
     assert!(!h.state().history.can_undo());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// "Fair all" runs in the background: the command returns at once with the status saying so and the
+/// document untouched; another network fair is refused meanwhile; the result waits for a frame to take
+/// it, is the synchronous `fair_network_at` result on the same input, and is one undo step.
+#[test]
+fn fair_all_runs_as_a_background_job_with_the_synchronous_result_in_one_undo_step() {
+    let dir = temp_dir("job");
+    let path = write_network(&dir);
+    let mut h = harness_without_waiting(App::default());
+    h.state_mut().open_now(&path);
+    h.step();
+    let original = h.state().objects_now();
+    let all: Vec<usize> = (0..original.len()).collect();
+    let input = h.state().network_input(&all).unwrap();
+    let sync = fair_network_at(&input.geometries(), &input.which, &input.options, &input.tolerances).unwrap();
+    h.get_by_label("Fair all (keep joins)").click();
+    h.step();
+    let app = h.state();
+    assert!(app.is_computing(), "{}", app.status);
+    assert_eq!(app.network_fair_running().map(|(what, _)| what), Some("Fair all"));
+    assert!(app.status.starts_with("Fair all: fairing 5 objects"), "{}", app.status);
+    assert_eq!(app.objects_now(), original, "applied before the job finished");
+    assert!(!app.history.can_undo());
+    // a second network fair is refused while this one runs
+    h.state_mut().apply(Command::FairSet(vec![0, 1]));
+    assert!(
+        h.state().status.starts_with("Fair checked: Fair all is still running"),
+        "{}",
+        h.state().status
+    );
+    h.step();
+    assert!(
+        h.query_by_label_contains("Fair all: fairing…").is_some(),
+        "no busy state in the status bar"
+    );
+    assert!(
+        h.get_by_label("Fair all (keep joins)").accesskit_node().is_disabled(),
+        "Fair all is offered while it runs"
+    );
+    // finished, but not yet taken by a frame
+    h.state_mut().wait_for_jobs();
+    assert_eq!(h.state().objects_now(), original);
+    h.step();
+    let app = h.state();
+    assert!(!app.is_computing());
+    assert!(
+        app.status.starts_with("Fair all: 3 of 5 objects changed"),
+        "{}",
+        app.status
+    );
+    let after: Vec<Geometry> = app.objects_now().into_iter().map(|o| o.geometry).collect();
+    assert_eq!(after, sync.objects, "the job's fair differs from fair_network_at");
+    assert_eq!(app.doc.geometry, sync.objects[app.active]);
+    // one undo step restores the original
+    h.state_mut().apply(Command::Undo);
+    h.step();
+    assert_eq!(h.state().objects_now(), original);
+    assert!(!h.state().history.can_undo());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// An edit while "Fair all" runs makes its result stale: it is discarded with a note, the edit stays
+/// (and is the only undo step); a running fair can be cancelled.
+#[test]
+fn a_fair_all_result_is_discarded_when_the_objects_changed_meanwhile_and_can_be_cancelled() {
+    let dir = temp_dir("job-stale");
+    let path = write_network(&dir);
+    let mut h = harness_without_waiting(App::default());
+    h.state_mut().open_now(&path);
+    h.step();
+    let original = h.state().objects_now();
+    h.state_mut().apply(Command::FairAll);
+    assert!(h.state().is_computing());
+    let t = h.state().tolerance() * 2.0;
+    h.state_mut().apply(Command::SetTolerance(t));
+    let edited = h.state().objects_now();
+    assert_ne!(edited, original);
+    h.state_mut().wait_for_jobs();
+    h.step();
+    let app = h.state();
+    assert!(!app.is_computing());
+    assert_eq!(app.status, "Fair all: the objects changed while fairing; run it again");
+    assert_eq!(app.objects_now(), edited, "a stale network fair was applied");
+    h.state_mut().apply(Command::Undo);
+    h.step();
+    assert_eq!(h.state().objects_now(), original);
+    assert!(!h.state().history.can_undo(), "the discarded fair left an undo step");
+    // cancel: the result is dropped, nothing changes
+    h.state_mut().apply(Command::FairAll);
+    assert!(h.state().is_computing());
+    h.state_mut().cancel_network_fair();
+    assert!(!h.state().is_computing());
+    assert_eq!(h.state().status, "Fair all: cancelled; the document is unchanged");
+    h.step();
+    assert_eq!(h.state().objects_now(), original);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -5,12 +5,13 @@
 use eframe::egui;
 use egui::{Pos2, Role};
 use egui_kittest::kittest::Queryable;
+use fairway::fair::surface::{SurfaceFairingOptions, SurfaceFairingResult, fair_surface};
 use fairway::measure_surface::deviation;
 use fairway::{BSplineSurface, Geometry};
-use fairway_editor::App;
+use fairway_editor::{App, Command};
 
 mod common;
-use common::{asset, drag, harness};
+use common::{asset, drag, harness, harness_without_waiting};
 
 fn surface(app: &App) -> BSplineSurface {
     assert!(app.surface.is_some(), "surface workspace");
@@ -71,17 +72,26 @@ fn region_in_uv_view_tolerance_accept_undo() {
     );
     assert_eq!(said.starts_with("band certified everywhere"), bound <= tol, "{said}");
     assert!(h.query_by_label_contains(&said).is_some(), "the panel lacks “{said}”");
-    // during a drag the preview is a one-level draft; the release recomputes it at full quality
+    // during a drag the preview is a one-level draft; the release recomputes it at full quality (in
+    // the background: the draft stays meanwhile, and Accept waits for the full fair)
     let final_points = p.surface.points().to_vec();
     let doc = h.state().doc.clone();
     let ws = h.state_mut().surface.as_mut().unwrap();
     ws.preview = None;
-    ws.update_preview(&doc, true);
+    ws.update_preview(&doc, true, None);
     let draft = ws.preview.as_ref().expect("a draft preview");
     assert!(draft.draft && draft.max_deviation <= tol);
-    ws.update_preview(&doc, false);
+    assert!(!ws.is_fairing() && !ws.can_accept(&doc));
+    ws.update_preview(&doc, false, None);
+    assert!(ws.is_fairing(), "the release starts the full fair");
+    assert!(
+        ws.preview.as_ref().is_some_and(|p| p.draft),
+        "the draft stays meanwhile"
+    );
+    assert!(!ws.can_accept(&doc), "Accept waits for the full fair");
+    ws.finish_job(&doc);
     let full = ws.preview.as_ref().expect("the full preview");
-    assert!(!full.draft);
+    assert!(!full.draft && !ws.is_fairing() && ws.can_accept(&doc));
     assert_eq!(
         full.surface.points(),
         &final_points[..],
@@ -223,4 +233,140 @@ fn the_preview_notes_are_shown_in_the_measures_panel() {
         .unwrap_or_else(|| panic!("no C0 note in {:?}", p.notes))
         .clone();
     assert!(h.query_by_label(&note).is_some(), "the panel lacks “{note}”");
+}
+
+/// The points of `s` as bits (a bit-for-bit comparison).
+fn bits(s: &BSplineSurface) -> Vec<[u64; 3]> {
+    s.points()
+        .iter()
+        .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
+        .collect()
+}
+
+/// The full fair the preview asks for, computed here on the test's thread.
+fn fair_now(s: &BSplineSurface, region: fairway_editor::surface_ui::UvRect, tol: f64) -> SurfaceFairingResult {
+    fair_surface(s, SurfaceFairingOptions::default().region(Some(region)).tolerance(tol)).unwrap()
+}
+
+/// The full fair of the preview runs as a background job: the frame that starts it returns with the
+/// workspace "computing" and no preview; the result is not taken until a frame polls it (here after the
+/// test waited for the job); then it is the synchronous `fair_surface` result bit for bit, with its
+/// measures, and Accept takes it.
+#[test]
+fn the_full_surface_fair_arrives_through_the_job_equal_to_the_synchronous_fair() {
+    let mut h = harness_without_waiting(App::open_or_demo(Some(&asset("bumpy_surface.json"))));
+    let s0 = surface(h.state());
+    let (region, tol) = (((0.2, 0.8), (0.25, 0.75)), 3e-3);
+    h.state_mut().apply(Command::SetRegionUv(Some(region)));
+    h.state_mut().apply(Command::SetTolerance(tol));
+    assert!(!h.state().is_computing(), "commands start nothing before the frame");
+    h.step();
+    // the frame returned with the fair running: no preview yet (no drag, so no draft), Accept off
+    let ws = h.state().surface.as_ref().unwrap();
+    assert!(ws.is_fairing() && h.state().is_computing());
+    let key = ws.preview_key(&h.state().doc).unwrap();
+    assert_eq!(ws.fairing_key(), Some(key));
+    assert!(ws.preview.is_none());
+    assert!(!ws.can_accept(&h.state().doc));
+    // the next frame draws the computing state (it polls after drawing the panels)
+    h.step();
+    assert!(
+        h.query_by_label_contains("Fairing…").is_some(),
+        "the panel shows no computing state"
+    );
+    // the result waits for a frame to take it
+    h.state_mut().wait_for_jobs();
+    assert!(
+        h.state().surface.as_ref().unwrap().preview.is_none(),
+        "taken before a frame polled it"
+    );
+    h.step();
+    let ws = h.state().surface.as_ref().unwrap();
+    assert!(!ws.is_fairing() && !h.state().is_computing());
+    let p = ws.preview.as_ref().expect("the job's result is the preview");
+    assert!(!p.draft && p.key() == key && p.measures.is_some());
+    assert!(ws.measures_before.is_some_and(|(rev, _)| rev == key.0));
+    let sync = fair_now(&s0, region, tol);
+    assert_eq!(
+        bits(&p.surface),
+        bits(&sync.surface),
+        "the job's fair differs from fair_surface"
+    );
+    assert_eq!(p.max_deviation.to_bits(), sync.max_deviation.to_bits());
+    assert_eq!(p.band_bound.map(f64::to_bits), sync.band_bound.map(f64::to_bits));
+    assert_eq!((p.rounds, &p.notes), (sync.rounds, &sync.notes));
+    assert!(ws.can_accept(&h.state().doc));
+    h.state_mut().apply(Command::AcceptSurface);
+    assert_eq!(bits(&surface(h.state())), bits(&sync.surface));
+}
+
+/// A job whose key no longer matches is dropped: the tolerance changes while the fair of the old one
+/// runs, and even when that fair has finished before the next frame, its result is not shown; the fair
+/// of the new tolerance replaces it and is the synchronous result.
+#[test]
+fn a_stale_job_result_is_dropped_after_an_edit_that_changed_the_key() {
+    let mut h = harness_without_waiting(App::open_or_demo(Some(&asset("bumpy_surface.json"))));
+    let s0 = surface(h.state());
+    let region = ((0.2, 0.8), (0.25, 0.75));
+    let (t1, t2) = (3e-3, 1.5e-3);
+    h.state_mut().apply(Command::SetRegionUv(Some(region)));
+    h.state_mut().apply(Command::SetTolerance(t1));
+    h.step();
+    let k1 = h
+        .state()
+        .surface
+        .as_ref()
+        .unwrap()
+        .fairing_key()
+        .expect("the fair of t1 runs");
+    // the fair of t1 finishes, then the tolerance changes before a frame took its result
+    h.state_mut().wait_for_jobs();
+    h.state_mut().apply(Command::SetTolerance(t2));
+    h.step();
+    let ws = h.state().surface.as_ref().unwrap();
+    let k2 = ws.preview_key(&h.state().doc).unwrap();
+    assert_ne!(k1, k2);
+    assert!(ws.preview.is_none(), "the stale result of t1 was shown");
+    assert_eq!(ws.fairing_key(), Some(k2), "the fair of t2 was not started");
+    h.state_mut().wait_for_jobs();
+    h.step();
+    let ws = h.state().surface.as_ref().unwrap();
+    let p = ws.preview.as_ref().expect("the fair of t2");
+    assert_eq!(p.key(), k2);
+    assert_eq!(bits(&p.surface), bits(&fair_now(&s0, region, t2).surface));
+    assert_ne!(bits(&p.surface), bits(&fair_now(&s0, region, t1).surface));
+}
+
+/// An edit while a fair runs supersedes it at the next frame (the old result is discarded whenever it
+/// comes); an error of the background fair is the same message as the synchronous call's.
+#[test]
+fn a_new_edit_supersedes_a_running_fair_and_errors_read_as_before() {
+    let mut h = harness_without_waiting(App::open_or_demo(Some(&asset("bumpy_surface.json"))));
+    let s0 = surface(h.state());
+    h.state_mut()
+        .apply(Command::SetRegionUv(Some(((0.2, 0.8), (0.25, 0.75)))));
+    h.step();
+    let k1 = h.state().surface.as_ref().unwrap().fairing_key().unwrap();
+    // a region inside one knot span leaves no control point free: the core refuses it
+    let tiny = ((0.5, 0.5001), (0.5, 0.5001));
+    let tol = h.state().tolerance();
+    let want = fair_surface(&s0, SurfaceFairingOptions::default().region(Some(tiny)).tolerance(tol))
+        .expect_err("the core fairs a region inside one knot span")
+        .to_string();
+    h.state_mut().apply(Command::SetRegionUv(Some(tiny)));
+    h.step();
+    let ws = h.state().surface.as_ref().unwrap();
+    let k2 = ws.fairing_key().expect("the new region's fair runs");
+    assert_ne!(k1, k2, "the old fair was not superseded");
+    h.state_mut().wait_for_jobs();
+    h.step();
+    let ws = h.state().surface.as_ref().unwrap();
+    assert!(ws.preview.is_none() && !ws.is_fairing());
+    assert_eq!(ws.preview_error.as_deref(), Some(want.as_str()));
+    // not tried again until the key changes
+    h.step();
+    assert!(
+        !h.state().surface.as_ref().unwrap().is_fairing(),
+        "a failed fair is retried"
+    );
 }

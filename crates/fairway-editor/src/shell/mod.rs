@@ -11,11 +11,13 @@ mod ui;
 use std::path::{Path, PathBuf};
 
 use eframe::egui;
+use fairway::fair::network::NetworkFair;
 use fairway::io::{Document, SceneObject};
 use fairway::{BSplineCurve, Geometry};
 
 use crate::curve_ws::CurveWorkspace;
 use crate::history::History;
+use crate::jobs::Job;
 use crate::scene_view::ViewPlane;
 use crate::surface_ui::SurfaceWorkspace;
 use crate::workspace::{ShellCx, Workspace};
@@ -23,7 +25,7 @@ use crate::{Bench, Command, Pending, Prefs, interchange, view3d};
 
 pub use file::dialog_available;
 pub(crate) use file::is_plain_document;
-pub use objects::continuity_color;
+pub use objects::{NetworkInput, continuity_color};
 
 /// The editor.
 pub struct App {
@@ -89,6 +91,10 @@ pub struct App {
     pub view_rect: egui::Rect,
     /// `--export-png`: export the view, then quit.
     pub(crate) export_then_quit: Option<interchange::ExportThenQuit>,
+    /// "Fair all" / "Fair checked" running in the background ([`App::fair_objects`]).
+    pub(crate) network_job: Option<Job<objects::NetworkRequest, NetworkFair>>,
+    /// The egui context of the last frame: background jobs ask it for a repaint when they finish.
+    pub(crate) repaint: Option<egui::Context>,
 }
 
 impl Default for App {
@@ -138,6 +144,8 @@ impl App {
             png_export: None,
             view_rect: egui::Rect::NOTHING,
             export_then_quit: None,
+            network_job: None,
+            repaint: None,
         };
         app.refresh_scene_view();
         app
@@ -242,6 +250,10 @@ impl App {
 
     /// Draw the whole editor into `ui` and apply the frame's commands.
     pub fn show(&mut self, ui: &mut egui::Ui) {
+        self.repaint = Some(ui.ctx().clone());
+        if self.poll_network_fair() {
+            ui.ctx().request_repaint();
+        }
         self.recovery_ui(ui);
         self.object_picker_ui(ui);
         self.shortcuts(ui);
@@ -272,6 +284,35 @@ impl App {
             self.last_title = title;
         }
         self.after_frame(ui);
+    }
+
+    /// Whether a background job runs: a network fair, or the surface preview's full fair.
+    pub fn is_computing(&self) -> bool {
+        self.network_job.is_some() || self.surface.as_ref().is_some_and(|s| s.is_fairing())
+    }
+
+    /// Block until every background job has its result; the next frame takes it (as when the job
+    /// ends on its own). For tests and scripts that need a deterministic point: the UI never waits.
+    pub fn wait_for_jobs(&mut self) {
+        if let Some(j) = self.network_job.as_mut() {
+            j.wait();
+        }
+        if let Some(s) = self.surface.as_mut() {
+            s.wait_for_job();
+        }
+    }
+
+    /// [`App::wait_for_jobs`], then take the results now, as the next frame would: after a frame, the
+    /// state is then what the synchronous computation gave (the test harness calls it after each
+    /// frame).
+    pub fn finish_jobs(&mut self) {
+        if let Some(j) = self.network_job.as_mut() {
+            j.wait();
+        }
+        self.poll_network_fair();
+        if let Some(s) = self.surface.as_mut() {
+            s.finish_job(&self.doc);
+        }
     }
 
     /// Show an error in the status bar (until dismissed).

@@ -9,12 +9,13 @@ use std::path::PathBuf;
 use eframe::egui;
 use egui::{Color32, RichText};
 use fairway::Geometry;
-use fairway::fair::network::{NetworkOptions, fair_network_at};
+use fairway::fair::network::{NetworkFair, NetworkOptions, fair_network_at};
 use fairway::io::{Document, Scene, SceneObject};
 use fairway::network::Continuity;
 
 use super::{doc_curve, settings_notes};
-use crate::history::Snapshot;
+use crate::history::{Gesture, Snapshot};
+use crate::jobs::Job;
 use crate::scene_view::{SceneView, ViewPlane, object_label};
 use crate::surface_ui::SurfaceWorkspace;
 use crate::{App, Command};
@@ -27,6 +28,43 @@ pub(crate) fn unnamed(doc: Document) -> SceneObject {
         geometry: doc.geometry,
         settings: doc.settings,
     }
+}
+
+/// What a network fair is computed from ([`App::network_input`]): the key of its background job, compared
+/// with the document's state when the result arrives.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NetworkInput {
+    /// Every object of the document (the active one as it is now), with its settings.
+    pub objects: Vec<SceneObject>,
+    /// The objects faired together (the others are held).
+    pub which: Vec<usize>,
+    /// Each object's tolerance in effect.
+    pub tolerances: Vec<Option<f64>>,
+    /// The smallest tolerance of the faired objects (the curve and surface options').
+    pub tolerance: f64,
+    /// The network fair's options.
+    pub options: NetworkOptions,
+}
+
+impl NetworkInput {
+    /// The objects' geometries, in order.
+    pub fn geometries(&self) -> Vec<Geometry> {
+        self.objects.iter().map(|o| o.geometry.clone()).collect()
+    }
+
+    /// The core's network fair of this input (what the background job runs).
+    pub fn fair(&self) -> fairway::Result<NetworkFair> {
+        fair_network_at(&self.geometries(), &self.which, &self.options, &self.tolerances)
+    }
+}
+
+/// A network fair in the background: the command that asked for it and its input.
+#[derive(Debug)]
+pub(crate) struct NetworkRequest {
+    /// "Fair all" or "Fair checked" (the status line's name).
+    pub(crate) what: &'static str,
+    /// What it is computed from.
+    pub(crate) input: NetworkInput,
 }
 
 /// The colour of a join's marker and list entry: G2 green, G1 yellow, G0 red.
@@ -111,6 +149,8 @@ impl App {
         self.path_input = path.as_ref().map(|p| p.display().to_string()).unwrap_or_default();
         self.path = path;
         self.history.clear();
+        // a network fair of the document that was open is of no use any more
+        self.network_job = None;
         self.unit = scene.unit;
         self.error = settings_notes(notes);
         true
@@ -273,42 +313,107 @@ impl App {
 
     /// Fair every object of the document together keeping their joins (the core's network fair, each at
     /// its own tolerance in effect, objects faired as one at the smallest of theirs): curves joined into
-    /// chains, patches sharing edges into strips or grids; true if an object changed. Faired objects lose
-    /// their region and hand-edited target (they belong to the old geometry).
-    pub(crate) fn fair_all(&mut self) -> bool {
+    /// chains, patches sharing edges into strips or grids. It runs in the background
+    /// ([`App::fair_objects`]).
+    pub(crate) fn fair_all(&mut self) {
         let all: Vec<usize> = (0..self.objects.len()).collect();
-        self.fair_objects(&all, "Fair all")
+        self.fair_objects(&all, "Fair all");
     }
 
-    /// Fair the objects `which` together, keeping every join (`what` names the command in the status
-    /// line); the others stay bit for bit. True if any object changed.
-    pub(crate) fn fair_objects(&mut self, which: &[usize], what: &str) -> bool {
-        let mut objects = self.objects_now();
+    /// What a network fair of the objects `which` is computed from: every object as it is now, the
+    /// tolerances in effect and the options (`None` if `which` names no object).
+    pub fn network_input(&self, which: &[usize]) -> Option<NetworkInput> {
+        let objects = self.objects_now();
         let which: Vec<usize> = which.iter().copied().filter(|&k| k < objects.len()).collect();
         if which.is_empty() {
-            self.status = format!("{what}: no object to fair (check objects in the Objects panel)");
-            return false;
+            return None;
         }
-        let tols: Vec<Option<f64>> = objects
+        let tolerances: Vec<Option<f64>> = objects
             .iter()
             .enumerate()
             .map(|(k, o)| Some(self.object_tolerance(k, o)))
             .collect();
-        let tol = which.iter().filter_map(|&k| tols[k]).fold(f64::INFINITY, f64::min);
-        let opts = NetworkOptions {
-            curve: crate::fairing::curve_options(tol, &self.prefs.fair),
-            surface: fairway::fair::surface::SurfaceFairingOptions::default().tolerance(tol),
+        let tolerance = which
+            .iter()
+            .filter_map(|&k| tolerances[k])
+            .fold(f64::INFINITY, f64::min);
+        let options = NetworkOptions {
+            curve: crate::fairing::curve_options(tolerance, &self.prefs.fair),
+            surface: fairway::fair::surface::SurfaceFairingOptions::default().tolerance(tolerance),
             ..Default::default()
         };
-        let geometries: Vec<Geometry> = objects.iter().map(|o| o.geometry.clone()).collect();
-        let res = crate::guard::catch_panic("network fairing", || fair_network_at(&geometries, &which, &opts, &tols));
-        let r = match res {
-            Ok(r) => r,
-            Err(e) => {
-                self.error = Some(format!("{what}: {e}"));
-                return false;
-            }
+        Some(NetworkInput {
+            objects,
+            which,
+            tolerances,
+            tolerance,
+            options,
+        })
+    }
+
+    /// Start fairing the objects `which` together in the background, keeping every join (`what` names
+    /// the command in the status line); the others stay bit for bit. The command returns at once; the
+    /// result is applied as one undo step when it arrives ([`App::poll_network_fair`]), if the objects
+    /// did not change meanwhile. Refused while another network fair runs.
+    pub(crate) fn fair_objects(&mut self, which: &[usize], what: &'static str) {
+        if let Some(job) = &self.network_job {
+            self.status = format!(
+                "{what}: {} is still running; wait for it or cancel it in the status bar",
+                job.key().what
+            );
+            return;
+        }
+        let Some(input) = self.network_input(which) else {
+            self.status = format!("{what}: no object to fair (check objects in the Objects panel)");
+            return;
         };
+        self.status = format!("{what}: fairing {} objects…", input.which.len());
+        let run = input.clone();
+        let key = NetworkRequest { what, input };
+        self.network_job = Some(Job::spawn(key, "network fairing", self.repaint.as_ref(), move || {
+            run.fair()
+        }));
+    }
+
+    /// Whether a network fair ("Fair all", "Fair checked") runs in the background, and since when.
+    pub fn network_fair_running(&self) -> Option<(&'static str, std::time::Duration)> {
+        self.network_job.as_ref().map(|j| (j.key().what, j.elapsed()))
+    }
+
+    /// Drop the running network fair: its result, when it comes, is discarded (the computation itself
+    /// runs to its end).
+    pub fn cancel_network_fair(&mut self) {
+        if let Some(job) = self.network_job.take() {
+            self.status = format!("{}: cancelled; the document is unchanged", job.key().what);
+        }
+    }
+
+    /// Take the network fair's result if it has finished: applied as one undo step if the objects
+    /// (and the tolerances and options they are faired with) are still those it was started from, else
+    /// discarded with a note in the status line. True if it finished.
+    pub(crate) fn poll_network_fair(&mut self) -> bool {
+        let Some(res) = self.network_job.as_mut().and_then(Job::poll) else {
+            return false;
+        };
+        let Some(job) = self.network_job.take() else {
+            return false;
+        };
+        let NetworkRequest { what, input } = job.into_key();
+        match res {
+            Err(e) => self.error = Some(format!("{what}: {e}")),
+            Ok(_) if self.network_input(&input.which).as_ref() != Some(&input) => {
+                self.status = format!("{what}: the objects changed while fairing; run it again");
+            }
+            Ok(r) => self.apply_network_fair(what, input, &r),
+        }
+        true
+    }
+
+    /// Apply the network fair `r` of `input` (the document's state now) as one undo step. Faired
+    /// objects lose their region and hand-edited target (they belong to the old geometry).
+    fn apply_network_fair(&mut self, what: &str, input: NetworkInput, r: &NetworkFair) {
+        let before = self.snapshot();
+        let mut objects = input.objects;
         let mut changed = 0;
         for (k, (o, g)) in objects.iter_mut().zip(r.objects.iter().cloned()).enumerate() {
             if o.geometry != g {
@@ -324,15 +429,15 @@ impl App {
                 }
             }
         }
-        self.status = fair_summary(what, &r, changed, which.len(), tol);
+        self.status = fair_summary(what, r, changed, input.which.len(), input.tolerance);
         if changed == 0 {
-            return false;
+            return;
         }
         self.objects = objects;
         let (ws, sh) = self.split();
         ws.document_changed(sh.doc, true);
         self.refresh_scene_view();
-        true
+        self.history.record(before, Gesture::Single);
     }
 
     /// The objects panel (left; documents with several objects): the objects (a click selects), "Fair
@@ -383,8 +488,11 @@ impl App {
             }
         }
         ui.add_space(4.0);
+        let idle = self.network_job.is_none();
+        let busy = "A network fair is running: wait for it or cancel it in the status bar";
         if ui
-            .button("Fair all (keep joins)")
+            .add_enabled(idle, egui::Button::new("Fair all (keep joins)"))
+            .on_disabled_hover_text(busy)
             .on_hover_text(
                 "Fair every object together: curves meeting with G1/G2, and patches sharing G1/G2 edges in a strip \
                  or a grid, are faired as one and split back, so each join keeps its continuity; each object \
@@ -402,14 +510,18 @@ impl App {
             .collect();
         if ui
             .add_enabled(
-                !set.is_empty(),
+                idle && !set.is_empty(),
                 egui::Button::new(format!("Fair checked ({}, keep joins)", set.len())),
             )
             .on_hover_text(
                 "Fair the checked objects together, as Fair all does; the others stay as they are and their joins \
                  with the checked ones are held (one undo step)",
             )
-            .on_disabled_hover_text("Check objects in the list to fair them together")
+            .on_disabled_hover_text(if idle {
+                "Check objects in the list to fair them together"
+            } else {
+                busy
+            })
             .clicked()
         {
             self.push(Command::FairSet(set));

@@ -162,6 +162,20 @@ impl App {
                     .on_hover_text("CPU time of the last frame's UI code (including any re-fair)");
             }
             ui.separator();
+            if let Some((what, t)) = self.network_fair_running() {
+                crate::widgets::busy_ui(ui, format!("{what}: fairing… {:.1} s", t.as_secs_f64())).on_hover_text(
+                    "The network fair runs in the background; the result is applied as one undo step if the \
+                     objects are unchanged when it ends (an edit meanwhile discards it)",
+                );
+                if ui
+                    .small_button("Cancel")
+                    .on_hover_text("Discard this fair's result (the document stays as it is)")
+                    .clicked()
+                {
+                    self.cancel_network_fair();
+                }
+                ui.separator();
+            }
             let (ws, mut sh) = self.split();
             ws.status_ui(ui, &mut sh);
             let hint = ws.hint();

@@ -11,7 +11,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use eframe::egui;
-use fairway::fair::surface::{SurfaceFairingOptions, SurfaceMethod, fair_surface};
+use fairway::fair::surface::{SurfaceFairingOptions, SurfaceFairingResult, SurfaceMethod, fair_surface};
 use fairway::io::Document;
 use fairway::measure_surface::{SurfaceMeasures, surface_measures};
 use fairway::mesh::SurfaceMesh;
@@ -20,6 +20,7 @@ use fairway::{BSplineSurface, DVec2, DVec3, Geometry};
 use crate::Command;
 use crate::commands::set_tolerance;
 use crate::fairing::FairOptions;
+use crate::jobs::Job;
 use crate::view3d::{self, ShadeMode, Shading, View3d};
 use crate::workspace::{Cx, ShellCx, Workspace};
 
@@ -69,15 +70,66 @@ pub struct SurfacePreview {
     /// What the fair did besides the plain method (`SurfaceFairingResult::notes`: C0 knot lines kept,
     /// tiles held).
     pub notes: Vec<String>,
-    /// Measures against the original (computed when the pointer is up).
+    /// Measures against the original (computed with the full fair, in the background; none for a draft).
     pub measures: Option<SurfaceMeasures>,
     /// Computed while a drag was in progress with one isocurve tolerance level (`iso_levels: 1`,
-    /// about 3× faster); recomputed with the default levels when the pointer is released.
+    /// about 3× faster); the full fair runs when the pointer is released (in the background; the draft
+    /// is shown meanwhile, marked provisional).
     pub draft: bool,
     key: PreviewKey,
 }
 
-type PreviewKey = (u64, Option<UvRect>, u64, usize);
+/// What a preview was computed for: (the surface's revision, the region, the tolerance's bits, the mesh
+/// density).
+pub type PreviewKey = (u64, Option<UvRect>, u64, usize);
+
+impl SurfacePreview {
+    /// The preview of the fair `r` of `key` (tessellated at the key's density), `fair_ms` its time.
+    fn new(r: SurfaceFairingResult, fair_ms: f64, key: PreviewKey, draft: bool) -> fairway::Result<Self> {
+        let n = key.3;
+        let mesh = SurfaceMesh::tessellate(&r.surface, n, n)?;
+        Ok(Self {
+            surface: r.surface,
+            mesh,
+            max_deviation: r.max_deviation,
+            band_bound: r.band_bound,
+            rounds: r.rounds,
+            alpha: r.alpha,
+            fair_ms,
+            notes: r.notes,
+            measures: None,
+            draft,
+            key,
+        })
+    }
+
+    /// The key it was computed for.
+    pub fn key(&self) -> PreviewKey {
+        self.key
+    }
+}
+
+/// The fairing options of a preview of `key`: a draft while dragging (one isocurve tolerance level,
+/// the isocurves alone), else the defaults.
+fn preview_options(key: PreviewKey, draft: bool) -> SurfaceFairingOptions {
+    let defaults = SurfaceFairingOptions::default();
+    defaults
+        .region(key.1)
+        .tolerance(f64::from_bits(key.2))
+        .iso_levels(if draft { 1 } else { defaults.iso_levels })
+        .method(if draft {
+            SurfaceMethod::Isocurves
+        } else {
+            defaults.method
+        })
+}
+
+/// What the background full fair hands back.
+struct FullFair {
+    preview: SurfacePreview,
+    /// The original measured against itself, if it was not yet for this revision.
+    measures_before: Option<SurfaceMeasures>,
+}
 
 /// Cached scene of one view.
 pub(crate) struct SceneCache {
@@ -102,6 +154,11 @@ pub struct SurfaceWorkspace {
     pub preview: Option<SurfacePreview>,
     /// Why the last preview failed.
     pub preview_error: Option<String>,
+    /// The full fair of the preview, running in the background (keyed like the preview).
+    job: Option<Job<PreviewKey, FullFair>>,
+    /// The key of the last fair that failed and whether it was a draft: not tried again until the key
+    /// changes (a failed draft still lets the full fair run on release).
+    failed: Option<(PreviewKey, bool)>,
     /// Compare settings.
     pub compare: SurfCompare,
     /// Measures of the original (against itself), per `rev`.
@@ -170,6 +227,8 @@ impl SurfaceWorkspace {
             live: true,
             preview: None,
             preview_error: None,
+            job: None,
+            failed: None,
             compare: SurfCompare::default(),
             measures_before: None,
             uv_drag: None,
@@ -239,6 +298,7 @@ impl SurfaceWorkspace {
     fn set_surface_changed(&mut self, surface: &BSplineSurface) -> anyhow::Result<()> {
         self.rev += 1;
         self.preview = None;
+        self.job = None;
         self.mesh = SurfaceMesh::tessellate(surface, self.shading.density, self.shading.density)
             .map_err(|e| anyhow::anyhow!("tessellation failed: {e}"))?;
         let b = self.scene_bbox();
@@ -246,84 +306,161 @@ impl SurfaceWorkspace {
         Ok(())
     }
 
-    /// Bring the preview up to date; true if it was recomputed.
-    pub fn update_preview(&mut self, doc: &Document, pointer_down: bool) -> bool {
+    /// The key of the preview the document asks for: the surface's revision, the region, the
+    /// tolerance in effect and the mesh density (`None` without a region).
+    pub fn preview_key(&self, doc: &Document) -> Option<PreviewKey> {
+        surface_of(doc)?;
+        let region = doc.settings.region_uv?;
+        let tol = doc.settings.tolerance.unwrap_or(self.default_tolerance());
+        Some((self.rev, Some(region), tol.to_bits(), self.shading.density))
+    }
+
+    /// Bring the preview up to date; true if it changed (the caller repaints). While the pointer is
+    /// down (a drag) a missing preview is computed at once as a draft; with the pointer up the full
+    /// fair runs in the background ([`Job`]), the draft (if any) staying as the provisional preview,
+    /// and a later call takes its result if its key still matches. A new key supersedes a running
+    /// fair (its result is dropped). `repaint` is asked for a frame when the background fair ends.
+    pub fn update_preview(&mut self, doc: &Document, pointer_down: bool, repaint: Option<&egui::Context>) -> bool {
         let Some(surface) = surface_of(doc) else { return false };
-        let Some(region) = doc.settings.region_uv else {
-            self.preview = None;
-            self.preview_error = None;
-            return false;
+        let Some(key) = self.preview_key(doc) else {
+            let changed = self.preview.is_some() || self.preview_error.is_some() || self.job.is_some();
+            (self.preview, self.preview_error, self.job) = (None, None, None);
+            return changed;
         };
         if !self.live {
+            self.job = None;
             return false;
         }
-        let tol = doc.settings.tolerance.unwrap_or(self.default_tolerance());
-        let key = (self.rev, Some(region), tol.to_bits(), self.shading.density);
-        let mut changed = false;
-        let stale = match self.preview.as_ref() {
-            Some(p) => p.key != key || (p.draft && !pointer_down),
-            None => true,
-        };
-        if stale {
-            changed = true;
-            let draft = pointer_down;
-            // while dragging: one isocurve tolerance level (the live-preview setting of the core) and the
-            // isocurve fairing alone (the step-8 choice among the reference smoother's candidates costs
-            // 8-15 × as much); on release the defaults
-            let defaults = SurfaceFairingOptions::default();
-            let opts = defaults
-                .region(Some(region))
-                .tolerance(tol)
-                .iso_levels(if draft { 1 } else { defaults.iso_levels })
-                .method(if draft {
-                    SurfaceMethod::Isocurves
-                } else {
-                    defaults.method
-                });
-            let t0 = Instant::now();
-            // a panic in the engine becomes an error message; the document is untouched
-            let res = crate::guard::catch_panic("surface fairing", || fair_surface(surface, opts));
-            let fair_ms = t0.elapsed().as_secs_f64() * 1e3;
-            match res.and_then(|r| {
-                let n = self.shading.density;
-                SurfaceMesh::tessellate(&r.surface, n, n).map(|m| (r, m))
-            }) {
-                Ok((r, mesh)) => {
-                    self.preview = Some(SurfacePreview {
-                        surface: r.surface,
-                        mesh,
-                        max_deviation: r.max_deviation,
-                        band_bound: r.band_bound,
-                        rounds: r.rounds,
-                        alpha: r.alpha,
-                        fair_ms,
-                        notes: r.notes,
-                        measures: None,
-                        key,
-                        draft,
-                    });
-                    self.preview_error = None;
-                }
-                Err(e) => {
-                    self.preview = None;
-                    self.preview_error = Some(e.to_string());
-                }
-            }
+        let mut changed = self.take_job_result(key);
+        let current = self.preview.as_ref().filter(|p| p.key == key);
+        if current.is_some_and(|p| !p.draft) || self.job.is_some() || self.failed == Some((key, false)) {
+            return changed;
         }
-        if !pointer_down {
-            if let Some(p) = self.preview.as_mut()
-                && p.measures.is_none()
-            {
-                p.measures = Some(surface_measures(surface, &p.surface));
+        if pointer_down {
+            if current.is_none() && self.failed != Some((key, true)) {
+                self.draft(surface, key);
                 changed = true;
             }
-            if self.measures_before.as_ref().map(|m| m.0) != Some(self.rev) {
-                let m = surface_measures(surface, surface);
-                self.measures_before = Some((self.rev, m));
-                changed = true;
+        } else {
+            // the draft of this key stays as the provisional preview; any other one is outdated
+            if current.is_none() {
+                self.preview = None;
             }
+            self.job = Some(self.full_fair_job(surface, key, repaint));
+            changed = true;
         }
         changed
+    }
+
+    /// Whether the full fair of the preview runs in the background.
+    pub fn is_fairing(&self) -> bool {
+        self.job.is_some()
+    }
+
+    /// How long the background fair has been running.
+    pub fn fairing_time(&self) -> Option<std::time::Duration> {
+        self.job.as_ref().map(Job::elapsed)
+    }
+
+    /// The key the background fair was started for.
+    pub fn fairing_key(&self) -> Option<PreviewKey> {
+        self.job.as_ref().map(|j| *j.key())
+    }
+
+    /// Block until the background fair (if any) has its result, which the next
+    /// [`SurfaceWorkspace::update_preview`] takes (tests and scripts; the UI never waits).
+    pub fn wait_for_job(&mut self) {
+        if let Some(j) = self.job.as_mut() {
+            j.wait();
+        }
+    }
+
+    /// [`SurfaceWorkspace::wait_for_job`], then take the result as the next frame would (used only
+    /// if its key matches `doc`); true if the preview changed.
+    pub fn finish_job(&mut self, doc: &Document) -> bool {
+        self.wait_for_job();
+        self.preview_key(doc).is_some_and(|key| self.take_job_result(key))
+    }
+
+    /// The background fair's result, if it has finished: used if it was started for `key`, else
+    /// dropped (a job for another key is dropped even while it runs). True if the preview changed.
+    fn take_job_result(&mut self, key: PreviewKey) -> bool {
+        let Some(job) = self.job.as_mut() else { return false };
+        if *job.key() != key {
+            // superseded by an edit: its result, whenever it comes, is discarded
+            self.job = None;
+            return false;
+        }
+        let Some(res) = job.poll() else { return false };
+        self.job = None;
+        match res {
+            Ok(full) => {
+                if let Some(m) = full.measures_before {
+                    self.measures_before = Some((key.0, m));
+                }
+                self.preview = Some(full.preview);
+                self.preview_error = None;
+                self.failed = None;
+            }
+            Err(e) => {
+                self.preview = None;
+                self.preview_error = Some(e.to_string());
+                self.failed = Some((key, false));
+            }
+        }
+        true
+    }
+
+    /// The draft preview of `key`, computed now: one isocurve tolerance level (the live-preview setting
+    /// of the core) and the isocurve fairing alone (the step-8 choice among the reference smoother's
+    /// candidates costs 8-15 × as much).
+    fn draft(&mut self, surface: &BSplineSurface, key: PreviewKey) {
+        let opts = preview_options(key, true);
+        let t0 = Instant::now();
+        // a panic in the engine becomes an error message; the document is untouched
+        let res = crate::guard::catch_panic("surface fairing", || fair_surface(surface, opts));
+        let fair_ms = t0.elapsed().as_secs_f64() * 1e3;
+        match res.and_then(|r| SurfacePreview::new(r, fair_ms, key, true)) {
+            Ok(p) => {
+                self.preview = Some(p);
+                self.preview_error = None;
+            }
+            Err(e) => {
+                self.preview = None;
+                self.preview_error = Some(e.to_string());
+                self.failed = Some((key, true));
+            }
+        }
+    }
+
+    /// The full fair of `key` as a background job: the fair, its tessellation and its measures against
+    /// the original (and the original's own, if not yet measured for this revision).
+    fn full_fair_job(
+        &self,
+        surface: &BSplineSurface,
+        key: PreviewKey,
+        repaint: Option<&egui::Context>,
+    ) -> Job<PreviewKey, FullFair> {
+        let surface = surface.clone();
+        let measure_before = self.measures_before.as_ref().map(|m| m.0) != Some(key.0);
+        Job::spawn(key, "surface fairing", repaint, move || {
+            let t0 = Instant::now();
+            let r = fair_surface(&surface, preview_options(key, false))?;
+            let fair_ms = t0.elapsed().as_secs_f64() * 1e3;
+            let mut preview = SurfacePreview::new(r, fair_ms, key, false)?;
+            preview.measures = Some(surface_measures(&surface, &preview.surface));
+            let measures_before = measure_before.then(|| surface_measures(&surface, &surface));
+            Ok(FullFair {
+                preview,
+                measures_before,
+            })
+        })
+    }
+
+    /// Whether Accept may take the preview: the full fair (not a draft) of the document's current key.
+    pub fn can_accept(&self, doc: &Document) -> bool {
+        let key = self.preview_key(doc);
+        self.preview.as_ref().is_some_and(|p| !p.draft && Some(p.key) == key)
     }
 
     fn value_name(&self) -> &'static str {
@@ -435,6 +572,10 @@ impl Workspace for SurfaceWorkspace {
             }
             Command::SetTolerance(t) => set_tolerance(doc, *t),
             Command::AcceptSurface => {
+                // the full fair of the current key only: not a draft, not a preview of an older state
+                if !self.can_accept(doc) {
+                    return false;
+                }
                 let Some(p) = self.preview.take() else { return false };
                 doc.geometry = Geometry::Surface(p.surface);
                 doc.settings.region_uv = None;
@@ -463,7 +604,7 @@ impl Workspace for SurfaceWorkspace {
             *sh.error = Some(e);
         }
         let down = ui.input(|i| i.pointer.any_down());
-        if self.update_preview(sh.doc, down) {
+        if self.update_preview(sh.doc, down, Some(ui.ctx())) {
             ui.ctx().request_repaint();
         }
     }

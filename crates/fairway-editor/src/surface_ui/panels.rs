@@ -10,6 +10,9 @@ use crate::Command;
 use crate::view3d::scene::{effective_range, mode_values};
 use crate::view3d::{self, ShadeMode};
 
+/// The colour of the marks of a draft preview.
+pub(super) const DRAFT_COLOR: Color32 = Color32::from_rgb(240, 200, 60);
+
 impl SurfaceCx<'_> {
     pub(super) fn controls_ui(&mut self, ui: &mut egui::Ui) {
         self.display_ui(ui);
@@ -162,12 +165,29 @@ impl SurfaceCx<'_> {
             .on_hover_text("Blend the control points original (0) -> faired (1)");
         ui.checkbox(&mut self.ws.compare.side_by_side, "Side by side")
             .on_hover_text("Before and after in two views with one camera");
+        if let Some(t) = self.ws.fairing_time() {
+            let meanwhile = if self.ws.preview.as_ref().is_some_and(|p| p.draft) {
+                "the draft shows meanwhile, marked provisional"
+            } else {
+                "the original shows meanwhile"
+            };
+            crate::widgets::busy_ui(ui, format!("Fairing… {:.1} s", t.as_secs_f64())).on_hover_text(format!(
+                "The full fair runs in the background ({meanwhile}); the editor stays usable and a new edit \
+                 restarts it. Untick Live preview to stop it."
+            ));
+        }
         if let Some(e) = &self.ws.preview_error {
             ui.label(RichText::new(format!("! {e}")).color(Color32::from_rgb(230, 80, 60)));
         }
+        let why_not = if self.ws.is_fairing() {
+            "Accept takes the full fair: wait until it has finished"
+        } else {
+            "Select a region to fair first"
+        };
         if ui
-            .add_enabled(self.ws.preview.is_some(), egui::Button::new("Accept"))
+            .add_enabled(self.ws.can_accept(self.doc), egui::Button::new("Accept"))
             .on_hover_text("Replace the surface by the faired preview (one undo step)")
+            .on_disabled_hover_text(why_not)
             .clicked()
         {
             self.push(Command::AcceptSurface);
@@ -177,9 +197,17 @@ impl SurfaceCx<'_> {
     fn measures_ui(&mut self, ui: &mut egui::Ui) {
         ui.heading("Measures");
         let Some(p) = &self.ws.preview else {
-            ui.weak("Select a region to see the faired preview's measures.");
+            if self.ws.is_fairing() {
+                ui.weak("The measures follow with the full fair.");
+            } else {
+                ui.weak("Select a region to see the faired preview's measures.");
+            }
             return;
         };
+        if p.draft {
+            ui.label(RichText::new("Draft (provisional): one isocurve level, isocurves alone").color(DRAFT_COLOR))
+                .on_hover_text("Computed during the drag; the full fair replaces it when it has finished");
+        }
         ui.label(format!(
             "fair: {:.1} ms, rounds {}, α = {:.2}, verified max deviation {:.3e} (tolerance {:.3e})",
             p.fair_ms,
@@ -193,7 +221,7 @@ impl SurfaceCx<'_> {
             ui.label(egui::RichText::new(n).small());
         }
         let (Some(a), Some((_, b))) = (&p.measures, &self.ws.measures_before) else {
-            ui.weak("(measures follow when the pointer is released)");
+            ui.weak("(the measures follow with the full fair)");
             return;
         };
         egui::Grid::new("surf_measures").striped(true).show(ui, |ui| {

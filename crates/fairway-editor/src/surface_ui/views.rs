@@ -94,18 +94,36 @@ impl SurfaceCx<'_> {
         } else {
             None
         };
+        // a draft (computed during a drag) is provisional while the full fair runs
+        let fairing = self.ws.is_fairing();
+        let draft = self.ws.preview.as_ref().is_some_and(|p| p.draft);
+        let after_name = match (draft, fairing) {
+            (false, _) => "After",
+            (true, true) => "After (draft, provisional; fairing…)",
+            (true, false) => "After (draft, provisional)",
+        };
         let mut panes: Vec<(Rect, &str, u64, BSplineSurface, SurfaceMesh, usize)> = vec![];
         if self.ws.compare.side_by_side {
             let (l, r) = full.split_left_right_at_fraction(0.5);
             panes.push((l.shrink(1.0), "Before", 0, orig.clone(), orig_mesh.clone(), 0));
+            let none = if fairing {
+                "After (fairing…)"
+            } else {
+                "After (no preview)"
+            };
             match after {
-                Some((id, s, m)) => panes.push((r.shrink(1.0), "After", id, s, m, 1)),
-                None => panes.push((r.shrink(1.0), "After (no preview)", 0, orig, orig_mesh, 1)),
+                Some((id, s, m)) => panes.push((r.shrink(1.0), after_name, id, s, m, 1)),
+                None => panes.push((r.shrink(1.0), none, 0, orig, orig_mesh, 1)),
             }
         } else {
+            let none = if fairing && self.ws.compare.show_after {
+                "Before (fairing…)"
+            } else {
+                "Before"
+            };
             match after {
-                Some((id, s, m)) => panes.push((full, "After", id, s, m, 1)),
-                None => panes.push((full, "Before", 0, orig, orig_mesh, 0)),
+                Some((id, s, m)) => panes.push((full, after_name, id, s, m, 1)),
+                None => panes.push((full, none, 0, orig, orig_mesh, 0)),
             }
         }
         let origin = 0.5 * (self.ws.view.bbox.0 + self.ws.view.bbox.1);
@@ -174,12 +192,18 @@ impl SurfaceCx<'_> {
             );
             view3d::marks::marks_ui(ui, &self.ws.view, rect, &self.ws.marks, k);
             let painter = ui.painter_at(rect);
+            // a draft, or the original standing in while the full fair runs, is named in the draft colour
+            let provisional = (draft || fairing) && name != "Before";
             painter.text(
                 rect.left_top() + egui::vec2(8.0, 6.0),
                 egui::Align2::LEFT_TOP,
                 name,
                 egui::FontId::proportional(15.0),
-                Color32::WHITE,
+                if provisional {
+                    super::panels::DRAFT_COLOR
+                } else {
+                    Color32::WHITE
+                },
             );
             if self.ws.shading.mode.is_curvature() {
                 let values = mode_values(&self.ws.mesh, self.ws.shading.mode).unwrap_or(&[]);

@@ -15,12 +15,30 @@ use fairway_editor::App;
 /// Window size of every GUI test (large enough for all panels).
 pub const SIZE: egui::Vec2 = egui::vec2(1400.0, 900.0);
 
-/// A harness that shows `app` in a 1400×900 window, run once (first layout done).
+/// A harness that shows `app` in a 1400×900 window, run once (first layout done). After each frame it
+/// finishes the background jobs the frame started ([`App::finish_jobs`]: the surface preview's full
+/// fair, "Fair all"), so a test sees their results after the frame, deterministically; tests of the
+/// jobs themselves use [`harness_without_waiting`].
 pub fn harness(app: App) -> Harness<'static, App> {
+    let mut h = Harness::builder().with_size(SIZE).build_ui_state(
+        |ui, app: &mut App| {
+            app.show(ui);
+            app.finish_jobs();
+        },
+        app,
+    );
+    h.run();
+    h
+}
+
+/// A harness that shows `app` as the editor does: background jobs run on while frames go on, and a
+/// frame takes a job's result only once it has finished. Stepped by hand (`h.step()`); a test waits
+/// for the jobs with [`App::wait_for_jobs`].
+pub fn harness_without_waiting(app: App) -> Harness<'static, App> {
     let mut h = Harness::builder()
         .with_size(SIZE)
         .build_ui_state(|ui, app: &mut App| app.show(ui), app);
-    h.run();
+    h.step();
     h
 }
 
