@@ -21,7 +21,15 @@ pub(super) fn fairest_candidate(g: &Grids<'_>, mut result: SurfaceFairingResult)
     let ranker = Ranker::new(s, g.rect);
     let mut cands = smoother_candidates(g, &result, &grid_fit, &plate, &bands, &ranker)?;
     blend_candidates(g, &mut cands, &bands, &ranker)?;
-    let (_, kind, f, dev, st) = pick_fairest(cands);
+    let (_, kind, f, mut dev, st) = pick_fairest(cands);
+    if matches!(
+        kind,
+        SurfacePick::Reference | SurfacePick::Combined | SurfacePick::Blend
+    ) {
+        // the candidates were accepted by the quick check (same verdict, a bound that is not the fine
+        // grid's maximum): the pick's figure from the full check
+        dev = bands.holds(s, &f).unwrap_or(dev);
+    }
     if kind != SurfacePick::Isocurves {
         result.surface = f;
         result.max_deviation = dev;
@@ -109,7 +117,7 @@ fn blend_candidates(g: &Grids<'_>, cands: &mut Vec<Cand>, bands: &Bands<'_>, ran
                     .map(|(a, b)| *a + (*b - *a) * (1.0 - w))
                     .collect();
                 let f = s.with_points(pts)?;
-                if let Some(dev) = bands.holds(s, &f) {
+                if let Some(dev) = bands.holds_quick(s, &f) {
                     blends.push((f, dev));
                 }
             }

@@ -52,6 +52,30 @@ pub(super) struct CheckGrid {
     v_vals_t: Vec<Vec<f64>>,
 }
 
+/// A flag per (u, v) index pair of a net (control points or knot spans).
+struct SpanMask {
+    nv: usize,
+    bits: Vec<bool>,
+}
+
+impl SpanMask {
+    fn new(nu: usize, nv: usize) -> Self {
+        Self {
+            nv,
+            bits: vec![false; nu * nv],
+        }
+    }
+
+    fn set(&mut self, i: usize, j: usize) {
+        self.bits[i * self.nv + j] = true;
+    }
+
+    /// False outside the net.
+    fn get(&self, i: usize, j: usize) -> bool {
+        j < self.nv && self.bits.get(i * self.nv + j).copied().unwrap_or(false)
+    }
+}
+
 /// Rows of a check grid per unit of parallel work (fixed, so the result does not depend on the threads).
 const CHECK_ROWS_PER_TASK: usize = 16;
 
@@ -88,6 +112,17 @@ impl CheckGrid {
     /// exceeds `thresh` and is no smaller than at its four grid neighbours, as `(change, u, v)`. As soon as
     /// a grid row's change exceeds `stop_above`, returns that row's maximum (above `stop_above`, not the
     /// grid's maximum) and no peaks: a proof that the band is broken.
+    ///
+    /// With `every_node` false, the nodes of a knot-span cell whose control points all moved by at most
+    /// `thresh` (less 1e-9 of it, against rounding) are not evaluated: the change there is a convex
+    /// combination of those moves (the B-spline basis is non-negative and sums to one), so no such node can
+    /// exceed `thresh`, be a peak or break the band, and as a neighbour it cannot hide a peak (see
+    /// `hot_cells`). The peaks
+    /// and the verdict are then those of the whole grid, bit for bit (each evaluated node's sums are the
+    /// same, in the same order), but the maximum returned is over the evaluated nodes only — the grid's
+    /// maximum where that is above `thresh`, a figure ≤ `thresh` otherwise. On the smoother's nets of
+    /// step 8 this skips all but 0–5 of the 729 cells of a 30 × 30 net.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn change_peaks(
         &self,
         a: &BSplineSurface,
@@ -96,13 +131,29 @@ impl CheckGrid {
         fv: &Range<usize>,
         thresh: f64,
         stop_above: f64,
+        every_node: bool,
     ) -> (f64, Vec<(f64, f64, f64)>) {
         let nv = a.nv();
         let nfv = fv.len();
         let (mu, mv) = (self.u.params.len(), self.v.params.len());
         let (pa, pb) = (a.points(), b.points());
+        let hot = if every_node {
+            None
+        } else {
+            match self.hot_cells(a, b, fu, fv, thresh) {
+                Some(h) => Some(h),
+                // no cell can reach thresh: no peak, the band holds on the grid
+                None => return (0.0, Vec::new()),
+            }
+        };
+        // whether the nodes of u-span `su` and v-span `sv` are evaluated
+        let needed = |su: usize, sv: usize| hot.as_ref().is_none_or(|h| h.get(su, sv));
+        let row_needed = |k: usize| self.v_runs.iter().any(|&(sv, _, _)| needed(self.u.spans[k], sv));
         let mut tmp = vec![DVec3::ZERO; mu * nfv];
         for k in 0..mu {
+            if !row_needed(k) {
+                continue;
+            }
             let sp = self.u.spans[k];
             for ia in 0..=self.pu {
                 let i = sp - self.pu + ia;
@@ -121,9 +172,14 @@ impl CheckGrid {
         // 0) as a DVec3 accumulation, and the length as `DVec3::length` ((x² + y²) + z², then √)
         // the squared changes of grid row k into `d` (mv values)
         let mut xyz = [Vec::new(), Vec::new(), Vec::new()];
+        // (a node not evaluated reads 0: no larger than any peak it neighbours)
         let mut row_sq = |k: usize, d: &mut [f64]| {
             let trow = &tmp[k * nfv..(k + 1) * nfv];
             for (&(sp, l0, l1), wt) in self.v_runs.iter().zip(&self.v_vals_t) {
+                if !needed(self.u.spans[k], sp) {
+                    d[l0..l1].fill(0.0);
+                    continue;
+                }
                 let len = l1 - l0;
                 for x in &mut xyz {
                     x.clear();
@@ -202,6 +258,54 @@ impl CheckGrid {
         }
         let max = max_sq.sqrt();
         (max, out)
+    }
+
+    /// The knot-span cells (by span indices) whose nodes [`Self::change_peaks`] must evaluate: those with
+    /// a control point of the free block `fu × fv` that moved by more than `thresh · (1 − 1e-9)` among the
+    /// (pu + 1)(pv + 1) that a node of the cell is evaluated from (a node's span is the one its basis
+    /// values were computed in, so its change is a convex combination of exactly those moves). `None` if
+    /// there is no such cell.
+    fn hot_cells(
+        &self,
+        a: &BSplineSurface,
+        b: &BSplineSurface,
+        fu: &Range<usize>,
+        fv: &Range<usize>,
+        thresh: f64,
+    ) -> Option<SpanMask> {
+        let (nu, nv) = (a.nu(), a.nv());
+        let (pu, pv) = (self.pu, self.pv);
+        let (pa, pb) = (a.points(), b.points());
+        let limit = thresh * (1.0 - 1e-9);
+        // moved[i][j]: control point (i, j) of the free block moved by more than `limit` (NaN-safe)
+        let mut moved = SpanMask::new(nu, nv);
+        let mut any = false;
+        for i in fu.clone() {
+            for j in fv.clone() {
+                let d = (pb[i * nv + j] - pa[i * nv + j]).length();
+                if !(d <= limit) {
+                    moved.set(i, j);
+                    any = true;
+                }
+            }
+        }
+        if !any {
+            return None;
+        }
+        // a cell (span su, sv) is evaluated from the control points su − pu ..= su, sv − pv ..= sv
+        let mut hot = SpanMask::new(nu, nv);
+        for i in fu.clone() {
+            for j in fv.clone() {
+                if moved.get(i, j) {
+                    for su in i..(i + pu + 1).min(nu) {
+                        for sv in j..(j + pv + 1).min(nv) {
+                            hot.set(su, sv);
+                        }
+                    }
+                }
+            }
+        }
+        Some(hot)
     }
 
     pub(super) fn new(s: &BSplineSurface, cu: &[f64], cv: &[f64], threads: Option<usize>) -> Self {

@@ -79,8 +79,20 @@ pub(super) struct Bands<'a> {
 }
 
 impl Bands<'_> {
+    /// Whether `f` is within the band of `s`, with a deviation bound that is **not** the one to report:
+    /// the fine grid's nodes far from m are skipped ([`CheckGrid::change_peaks`]), so where no node comes
+    /// near m the bound is at most m but not the fine grid's maximum. The verdict is [`Self::holds`]'s, bit
+    /// for bit; the candidate that is kept takes its figure from [`Self::holds`].
+    pub(super) fn holds_quick(&self, s: &BSplineSurface, f: &BSplineSurface) -> Option<f64> {
+        self.check(s, f, false)
+    }
+
     /// The verified deviation bound of `f` from `s` if it is within the band.
     pub(super) fn holds(&self, s: &BSplineSurface, f: &BSplineSurface) -> Option<f64> {
+        self.check(s, f, true)
+    }
+
+    fn check(&self, s: &BSplineSurface, f: &BSplineSurface, every_node: bool) -> Option<f64> {
         if self.coarse.deviation(s, f, self.free_u, self.free_v, self.m, true) > self.m {
             return None;
         }
@@ -90,8 +102,15 @@ impl Bands<'_> {
         // on the fine grid the parametric change |S_f − S| itself (no projection sharpening): it bounds both
         // one-sided distances at every sample, and it varies little between samples this dense, where a
         // projected distance can exceed m between nodes at which it did not
-        let (mut dev, mut peaks) =
-            (self.fine).change_peaks(s, f, self.free_u, self.free_v, PEAK_FRACTION * self.m, self.m);
+        let (mut dev, mut peaks) = (self.fine).change_peaks(
+            s,
+            f,
+            self.free_u,
+            self.free_v,
+            PEAK_FRACTION * self.m,
+            self.m,
+            every_node,
+        );
         if dev > self.m {
             return None;
         }
@@ -198,7 +217,7 @@ pub(super) fn plate_search(
             Err(e) => return Err(e),
         };
         let f = s.with_points(pts)?;
-        Ok(bands.holds(s, &f).map(|dev| (f.points().to_vec(), dev, st)))
+        Ok(bands.holds_quick(s, &f).map(|dev| (f.points().to_vec(), dev, st)))
     };
     let (mut lo, mut hi) = REFERENCE_LOG_STRENGTH;
     if let Some(r) = attempt(hi)? {

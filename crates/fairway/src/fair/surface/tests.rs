@@ -955,3 +955,75 @@ fn a_closed_surface_stays_closed_at_its_seam() {
         assert!(e1 < 0.6 * e0, "{name}: curvature error {e0} -> {e1}");
     }
 }
+
+/// The fine check's skipping of cells whose control points moved by less than the peak threshold
+/// (`CheckGrid::change_peaks` with `every_node` false) gives the peaks of the whole grid bit for bit, the
+/// grid's maximum where it is above the threshold, and the same early stop: on nets with a double interior
+/// knot (empty spans), free blocks that do and do not reach the border, and moves from all-below to
+/// many-above the threshold.
+#[test]
+fn skipping_quiet_cells_keeps_the_fine_checks_peaks() {
+    let mut knots = vec![0.0; 4];
+    knots.extend([0.1, 0.25, 0.4, 0.4, 0.55, 0.7, 0.85]);
+    knots.extend([1.0; 4]);
+    let n = knots.len() - 4;
+    let mut r = Rng(0x1234_5678_9abc_def1);
+    let pts: Vec<DVec3> = (0..n * n)
+        .map(|k| DVec3::new((k / n) as f64, (k % n) as f64, r.uniform()) * 0.1)
+        .collect();
+    let a = BSplineSurface::try_new(3, 3, knots.clone(), knots, n, n, pts, None).unwrap();
+    let (us, vs) = (
+        span_grid(a.knots_u(), 0.0, 1.0, 24),
+        span_grid(a.knots_v(), 0.0, 1.0, 24),
+    );
+    let grid = check::CheckGrid::new(&a, &us, &vs, Some(1));
+    let thresh = 1e-3;
+    let mut seen = [0usize; 3];
+    for (fu, fv) in [(0..n, 0..n), (2..n - 3, 3..n - 1)] {
+        for big in [0usize, 1, 3, 12, 60] {
+            for seed in 0..4u64 {
+                let mut r = Rng(seed * 7919 + big as u64 + 1);
+                let mut pts = a.points().to_vec();
+                for i in fu.clone() {
+                    for j in fv.clone() {
+                        // most points move by less than the threshold; `big` random ones by up to 2.5×
+                        let d = DVec3::new(r.normal(), r.normal(), r.normal()).normalize() * thresh * 0.9 * r.uniform();
+                        pts[i * n + j] += d;
+                    }
+                }
+                for _ in 0..big {
+                    let (i, j) = (
+                        fu.start + (r.uniform() * fu.len() as f64) as usize % fu.len(),
+                        fv.start + (r.uniform() * fv.len() as f64) as usize % fv.len(),
+                    );
+                    pts[i * n + j] += DVec3::new(0.0, 0.0, thresh * (0.5 + 2.0 * r.uniform()));
+                }
+                // a coherent bump just above the threshold over a 4 × 4 block: nodes above it in cells
+                // whose largest move is only a little larger
+                if seed % 2 == 1 {
+                    let (i0, j0) = (fu.start + seed as usize % 3, fv.end - 4 - big % 3);
+                    for i in i0..i0 + 4 {
+                        for j in j0..j0 + 4 {
+                            pts[i * n + j] = a.points()[i * n + j] + DVec3::Z * (1.02 * thresh);
+                        }
+                    }
+                }
+                let b = a.with_points(pts).unwrap();
+                for stop in [f64::INFINITY, 1.6 * thresh] {
+                    let (max_all, peaks_all) = grid.change_peaks(&a, &b, &fu, &fv, thresh, stop, true);
+                    let (max_q, peaks_q) = grid.change_peaks(&a, &b, &fu, &fv, thresh, stop, false);
+                    assert_eq!(peaks_q, peaks_all, "big {big} seed {seed} stop {stop}");
+                    if max_all > thresh {
+                        assert_eq!(max_q.to_bits(), max_all.to_bits(), "big {big} seed {seed} stop {stop}");
+                        seen[if max_all > stop { 2 } else { 1 }] += 1;
+                    } else {
+                        assert!(max_q <= thresh, "{max_q}");
+                        seen[0] += 1;
+                    }
+                }
+            }
+        }
+    }
+    // every kind of case was met: all below, peaks above the threshold, a stop
+    assert!(seen.iter().all(|&k| k > 0), "{seen:?}");
+}
