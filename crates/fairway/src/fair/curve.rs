@@ -240,6 +240,9 @@ pub struct FairingSetup {
     sol: Vec<DVec3>,
     best: Vec<DVec3>,
     m: BandedSpd,
+    /// The paper's E of the update in `best` where the band search's last step computed it
+    /// (`fit::finish_mu_fairest`), for the fit's E right after it (`fair_pass`); `None` otherwise.
+    best_energy: Option<f64>,
     // μ of the last fair (warm start of the next)
     last_mu: Option<f64>,
     pad: Vec<DVec3>,
@@ -524,7 +527,10 @@ impl FairingSetup {
                 // the polish's last; an isocurve of a surface fair pays 1–2 instead of 3)
                 let ns = self.params.len() as f64;
                 let floor = ns * (1e-10 / (self.h * (ns - 1.0))).powi(2);
-                let mut e = self.energy_of_update(&self.best);
+                let mut e = match self.best_energy.take() {
+                    Some(e) => e,
+                    None => self.energy_of_update(&self.best),
+                };
                 let e0 = self.original_energy();
                 if e > e0 + floor {
                     self.best.fill(DVec3::ZERO);

@@ -55,6 +55,7 @@ impl FairingSetup {
     /// the update of `MU_MIN` is scaled by α ∈ [0, 1] (α = 0 is the original). Leaves the accepted
     /// update in `self.best`; returns (μ, α, deviation).
     pub(super) fn search_mu(&mut self, accept: f64, solves: &mut usize) -> Result<(f64, f64, f64)> {
+        self.best_energy = None;
         let (lo, hi) = (MU_MIN.ln(), MU_MAX.ln());
         let step = MU_WARM_STEP.ln();
         // bracket [a, b]: ok at a (with its deviation), not ok at b
@@ -155,6 +156,7 @@ impl FairingSetup {
             (a, da, e_a) = (x, d, e);
             self.best.copy_from_slice(&self.sol);
         }
+        self.best_energy = Some(e_a);
         self.finish_mu(a, da)
     }
 

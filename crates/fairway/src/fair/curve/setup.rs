@@ -228,6 +228,7 @@ impl FairingSetup {
             best: vec![DVec3::ZERO; nf],
             m: BandedSpd::zeros(nf, p),
             last_mu: None,
+            best_energy: None,
             pad: Vec::new(),
             seam: Seam::Open,
             scan_from: 0,
