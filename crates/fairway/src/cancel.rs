@@ -158,45 +158,4 @@ pub(crate) fn scoped<R>(token: Option<&Cancel>, f: impl FnOnce() -> R) -> R {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_checkpoint_fires_only_inside_the_scope_of_a_set_token() {
-        assert!(check().is_ok(), "no token installed");
-        let t = Cancel::new();
-        scoped(Some(&t), || {
-            assert!(check().is_ok());
-            t.cancel();
-            assert_eq!(check(), Err(Error::Cancelled));
-            // a nested scope without a token (another fair's item on this worker) does not see it
-            scoped(None, || assert!(check().is_ok()));
-            assert_eq!(check(), Err(Error::Cancelled), "the token is restored after the nested scope");
-        });
-        assert!(check().is_ok(), "the scope ended");
-        assert_eq!(t.checkpoints(), 1);
-    }
-
-    #[test]
-    fn run_reports_a_cancel_during_the_call_even_if_the_work_swallowed_it() {
-        let t = Cancel::new();
-        let r = t.run(|| {
-            t.cancel();
-            // a fallback that ignored the cancelled inner step
-            let _ = check();
-            Ok(1)
-        });
-        assert_eq!(r, Err(Error::Cancelled));
-        let t = Cancel::new();
-        assert_eq!(t.run(|| Ok(2)), Ok(2));
-    }
-
-    #[test]
-    fn the_token_is_restored_after_a_panic() {
-        let t = Cancel::new();
-        t.cancel();
-        let r = std::panic::catch_unwind(|| scoped(Some(&t), || panic!("boom")));
-        assert!(r.is_err());
-        assert!(check().is_ok(), "the panicking scope left its token installed");
-    }
-}
+mod tests;
