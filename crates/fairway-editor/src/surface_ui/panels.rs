@@ -13,6 +13,9 @@ use crate::view3d::{self, ShadeMode};
 /// The colour of the marks of a draft preview.
 pub(super) const DRAFT_COLOR: Color32 = Color32::from_rgb(240, 200, 60);
 
+/// A background draft running this long (s) shows a busy indicator.
+const DRAFT_BUSY_AFTER_S: f64 = 0.1;
+
 impl SurfaceCx<'_> {
     pub(super) fn controls_ui(&mut self, ui: &mut egui::Ui) {
         self.display_ui(ui);
@@ -174,6 +177,19 @@ impl SurfaceCx<'_> {
             crate::widgets::busy_ui(ui, format!("Fairing… {:.1} s", t.as_secs_f64())).on_hover_text(format!(
                 "The full fair runs in the background ({meanwhile}); the editor stays usable and a new edit \
                  restarts it. Untick Live preview to stop it."
+            ));
+        }
+        // a draft that takes long enough to be seen (a large surface or region; a small one's draft
+        // arrives within a frame or two and shows no indicator, so the panel does not flicker)
+        if let Some(t) = self.ws.drafting_time().filter(|t| t.as_secs_f64() >= DRAFT_BUSY_AFTER_S) {
+            let shown = if self.ws.preview.is_some() {
+                "the last draft shows meanwhile"
+            } else {
+                "the original shows meanwhile"
+            };
+            crate::widgets::busy_ui(ui, format!("Draft… {:.1} s", t.as_secs_f64())).on_hover_text(format!(
+                "The draft of the dragged setting runs in the background ({shown}); one at a time: when it \
+                 ends, the next starts for where the drag is then. Releasing starts the full fair."
             ));
         }
         if let Some(e) = &self.ws.preview_error {
