@@ -79,7 +79,10 @@ fn region_in_uv_view_tolerance_accept_undo() {
     let ws = h.state_mut().surface.as_mut().unwrap();
     ws.preview = None;
     ws.update_preview(&doc, true, None);
-    assert!(ws.is_drafting() && ws.preview.is_none(), "the draft runs in the background");
+    assert!(
+        ws.is_drafting() && ws.preview.is_none(),
+        "the draft runs in the background"
+    );
     ws.finish_job(&doc);
     assert!(!ws.is_drafting());
     let draft = ws.preview.as_ref().expect("a draft preview");

@@ -291,8 +291,7 @@ impl App {
 
     /// Whether a background job runs: a network fair, or the surface preview's full fair or draft.
     pub fn is_computing(&self) -> bool {
-        self.network_job.is_some()
-            || (self.surface.as_ref()).is_some_and(|s| s.is_fairing() || s.is_drafting())
+        self.network_job.is_some() || (self.surface.as_ref()).is_some_and(|s| s.is_fairing() || s.is_drafting())
     }
 
     /// Tests: every background job started from now on (network fair, surface fair and draft, also in a

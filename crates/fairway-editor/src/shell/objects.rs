@@ -373,12 +373,17 @@ impl App {
         let run = input.clone();
         let key = NetworkRequest { what, input };
         let gate = self.job_gate.clone();
-        self.network_job = Some(Job::spawn(key, "network fairing", self.repaint.as_ref(), move |cancel| {
-            if let Some(g) = gate {
-                g.pass();
-            }
-            run.fair(cancel)
-        }));
+        self.network_job = Some(Job::spawn(
+            key,
+            "network fairing",
+            self.repaint.as_ref(),
+            move |cancel| {
+                if let Some(g) = gate {
+                    g.pass();
+                }
+                run.fair(cancel)
+            },
+        ));
     }
 
     /// Whether a network fair ("Fair all", "Fair checked") runs in the background, and since when.

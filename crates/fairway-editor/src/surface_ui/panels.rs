@@ -181,7 +181,11 @@ impl SurfaceCx<'_> {
         }
         // a draft that takes long enough to be seen (a large surface or region; a small one's draft
         // arrives within a frame or two and shows no indicator, so the panel does not flicker)
-        if let Some(t) = self.ws.drafting_time().filter(|t| t.as_secs_f64() >= DRAFT_BUSY_AFTER_S) {
+        if let Some(t) = self
+            .ws
+            .drafting_time()
+            .filter(|t| t.as_secs_f64() >= DRAFT_BUSY_AFTER_S)
+        {
             let shown = if self.ws.preview.is_some() {
                 "the last draft shows meanwhile"
             } else {
