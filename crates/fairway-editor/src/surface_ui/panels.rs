@@ -228,15 +228,14 @@ impl SurfaceCx<'_> {
             ui.label(RichText::new("Draft (provisional): one isocurve level, isocurves alone").color(DRAFT_COLOR))
                 .on_hover_text("Computed during the drag; the full fair replaces it when it has finished");
         }
+        // the tolerance the preview was computed for: during a drag the draft shown may be that of an
+        // earlier point of it, while the next one is computed
+        let tol = f64::from_bits(p.key().2);
         ui.label(format!(
             "fair: {:.1} ms, rounds {}, α = {:.2}, verified max deviation {:.3e} (tolerance {:.3e})",
-            p.fair_ms,
-            p.rounds,
-            p.alpha,
-            p.max_deviation,
-            self.tolerance()
+            p.fair_ms, p.rounds, p.alpha, p.max_deviation, tol
         ));
-        ui.label(band_certificate(p.band_bound, self.tolerance()));
+        ui.label(band_certificate(p.band_bound, tol));
         for n in &p.notes {
             ui.label(egui::RichText::new(n).small());
         }
