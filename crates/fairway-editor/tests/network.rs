@@ -824,3 +824,32 @@ fn a_fair_all_result_is_discarded_when_the_objects_changed_meanwhile_and_can_be_
     assert_eq!(h.state().objects_now(), original);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The status bar's Cancel stops a running "Fair all": the job's token is set, so its thread ends
+/// `Cancelled` instead of running to its end — here held at a gate before it started, so
+/// deterministically before the core passed a single checkpoint — and the document is unchanged.
+#[test]
+fn cancelling_fair_all_stops_its_thread() {
+    let dir = temp_dir("job-cancel");
+    let path = write_network(&dir);
+    let mut h = harness_without_waiting(App::default());
+    h.state_mut().open_now(&path);
+    h.step();
+    let original = h.state().objects_now();
+    let gate = fairway_editor::jobs::Gate::closed();
+    h.state_mut().set_job_gate(Some(gate.clone()));
+    h.state_mut().apply(Command::FairAll);
+    let watch = h.state().watch_network_fair().expect("Fair all runs");
+    h.step();
+    h.get_by_role_and_label(egui::accesskit::Role::Button, "Cancel").click();
+    h.step();
+    assert!(watch.is_cancelled(), "Cancel did not set the job's token");
+    assert!(!h.state().is_computing());
+    assert_eq!(h.state().status, "Fair all: cancelled; the document is unchanged");
+    gate.open();
+    assert_eq!(watch.wait_end(), fairway_editor::jobs::JobEnd::Cancelled);
+    assert_eq!(watch.checkpoints(), 0);
+    h.step();
+    assert_eq!(h.state().objects_now(), original);
+    let _ = std::fs::remove_dir_all(&dir);
+}

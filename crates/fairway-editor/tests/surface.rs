@@ -72,13 +72,19 @@ fn region_in_uv_view_tolerance_accept_undo() {
     );
     assert_eq!(said.starts_with("band certified everywhere"), bound <= tol, "{said}");
     assert!(h.query_by_label_contains(&said).is_some(), "the panel lacks “{said}”");
-    // during a drag the preview is a one-level draft; the release recomputes it at full quality (in
-    // the background: the draft stays meanwhile, and Accept waits for the full fair)
+    // during a drag the preview is a one-level draft (in the background too); the release recomputes it
+    // at full quality (in the background: the draft stays meanwhile, and Accept waits for the full fair)
     let final_points = p.surface.points().to_vec();
     let doc = h.state().doc.clone();
     let ws = h.state_mut().surface.as_mut().unwrap();
     ws.preview = None;
     ws.update_preview(&doc, true, None);
+    assert!(
+        ws.is_drafting() && ws.preview.is_none(),
+        "the draft runs in the background"
+    );
+    ws.finish_job(&doc);
+    assert!(!ws.is_drafting());
     let draft = ws.preview.as_ref().expect("a draft preview");
     assert!(draft.draft && draft.max_deviation <= tol);
     assert!(!ws.is_fairing() && !ws.can_accept(&doc));

@@ -11,6 +11,7 @@
 //! METHOD=isocurves ISO_LEVELS=1 cargo run …   # the editor's draft preview (isocurves alone, one level)
 //! SIZES=30,50 cargo run --release -p fairway --example surface_timing      # only these net sizes
 //! SPS=2 … / NOAUTO=1 …   # 2 grid isocurves per knot span (default 3) / no auto smoothing (the options' own)
+//! CANCEL_TOKEN=1 …   # through fair_surface_with and a token never set (the hash must not change)
 //! ```
 //!
 //! The last column is an FNV-1a hash of the result's control-point bits, to check that a speed-up
@@ -23,7 +24,7 @@
 
 use std::time::{Duration, Instant};
 
-use fairway::fair::{Combine, SurfaceFairingOptions, SurfaceMethod, fair_surface};
+use fairway::fair::{Combine, SurfaceFairingOptions, SurfaceMethod, fair_surface, fair_surface_with};
 use fairway::{BSplineSurface, DVec3, KnotVector};
 
 /// `n × n` bicubic net over [0,1]² with uniform knots: a smooth wave with
@@ -116,7 +117,11 @@ fn main() {
         for _ in 0..repeats {
             let (c0, p0) = (thread_cpu_ns(), process_cpu_ns());
             let t = Instant::now();
-            let r = fair_surface(&s, opts).unwrap();
+            let r = if std::env::var("CANCEL_TOKEN").is_ok() {
+                fair_surface_with(&s, opts, &fairway::Cancel::new()).unwrap()
+            } else {
+                fair_surface(&s, opts).unwrap()
+            };
             let e = t.elapsed();
             let cpu = (thread_cpu_ns() - c0) as f64 * 1e-6;
             let pcpu = process_cpu_ns().saturating_sub(p0) as f64 * 1e-6;

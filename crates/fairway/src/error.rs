@@ -324,6 +324,10 @@ pub enum Error {
         /// The tolerance (a distance).
         tolerance: f64,
     },
+    /// The caller set the fair's [`Cancel`](crate::Cancel) token: the fair stopped at a checkpoint and
+    /// returns no result (not a partial one).
+    #[error("cancelled before the fair finished (nothing was changed)")]
+    Cancelled,
 }
 
 /// Result alias of the core library.

@@ -50,6 +50,7 @@ extern crate self as fairway;
 
 pub mod arclength;
 pub mod basis;
+pub mod cancel;
 pub mod closest;
 pub mod corners;
 pub mod curve;
@@ -72,6 +73,7 @@ pub mod surface;
 pub mod trim;
 
 pub use arclength::ArcLengthTable;
+pub use cancel::Cancel;
 pub use closest::{ClosestPoint, CurveProjector};
 pub use curve::{BSplineCurve, CurveDerivs};
 pub use error::{Error, Result};

@@ -95,6 +95,8 @@ pub struct App {
     pub(crate) network_job: Option<Job<objects::NetworkRequest, NetworkFair>>,
     /// The egui context of the last frame: background jobs ask it for a repaint when they finish.
     pub(crate) repaint: Option<egui::Context>,
+    /// Tests: the gate every background job waits at before it computes ([`App::set_job_gate`]).
+    pub(crate) job_gate: Option<crate::jobs::Gate>,
 }
 
 impl Default for App {
@@ -146,6 +148,7 @@ impl App {
             export_then_quit: None,
             network_job: None,
             repaint: None,
+            job_gate: None,
         };
         app.refresh_scene_view();
         app
@@ -286,9 +289,24 @@ impl App {
         self.after_frame(ui);
     }
 
-    /// Whether a background job runs: a network fair, or the surface preview's full fair.
+    /// Whether a background job runs: a network fair, or the surface preview's full fair or draft.
     pub fn is_computing(&self) -> bool {
-        self.network_job.is_some() || self.surface.as_ref().is_some_and(|s| s.is_fairing())
+        self.network_job.is_some() || (self.surface.as_ref()).is_some_and(|s| s.is_fairing() || s.is_drafting())
+    }
+
+    /// Tests: every background job started from now on (network fair, surface fair and draft, also in a
+    /// surface workspace opened later) waits at `gate` before it computes, so a test holds a job running
+    /// deterministically; `None` removes the gate. Open the gate before waiting for the jobs.
+    pub fn set_job_gate(&mut self, gate: Option<crate::jobs::Gate>) {
+        if let Some(s) = self.surface.as_mut() {
+            s.set_gate(gate.clone());
+        }
+        self.job_gate = gate;
+    }
+
+    /// A watch on the running network fair's thread (tests: a cancelled fair ends `Cancelled`).
+    pub fn watch_network_fair(&self) -> Option<crate::jobs::JobWatch> {
+        self.network_job.as_ref().map(Job::watch)
     }
 
     /// Block until every background job has its result; the next frame takes it (as when the job

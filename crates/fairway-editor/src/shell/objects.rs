@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use eframe::egui;
 use egui::{Color32, RichText};
 use fairway::Geometry;
-use fairway::fair::network::{NetworkFair, NetworkOptions, fair_network_at};
+use fairway::fair::network::{NetworkFair, NetworkOptions, fair_network_at_with};
 use fairway::io::{Document, Scene, SceneObject};
 use fairway::network::Continuity;
 
@@ -52,9 +52,10 @@ impl NetworkInput {
         self.objects.iter().map(|o| o.geometry.clone()).collect()
     }
 
-    /// The core's network fair of this input (what the background job runs).
-    pub fn fair(&self) -> fairway::Result<NetworkFair> {
-        fair_network_at(&self.geometries(), &self.which, &self.options, &self.tolerances)
+    /// The core's network fair of this input (what the background job runs), stopped early when
+    /// `cancel` is set (`fairway::Error::Cancelled`).
+    pub fn fair(&self, cancel: &fairway::Cancel) -> fairway::Result<NetworkFair> {
+        fair_network_at_with(&self.geometries(), &self.which, &self.options, &self.tolerances, cancel)
     }
 }
 
@@ -196,6 +197,7 @@ impl App {
                 s.marks = self.curve_ws.scene.marks3d.clone();
                 s.trim = self.objects.get(self.active).and_then(|o| o.trim.clone());
                 s.set_others(self.other_patches());
+                s.set_gate(self.job_gate.clone());
                 self.surface = Some(Box::new(s));
             }
         }
@@ -370,9 +372,18 @@ impl App {
         self.status = format!("{what}: fairing {} objects…", input.which.len());
         let run = input.clone();
         let key = NetworkRequest { what, input };
-        self.network_job = Some(Job::spawn(key, "network fairing", self.repaint.as_ref(), move || {
-            run.fair()
-        }));
+        let gate = self.job_gate.clone();
+        self.network_job = Some(Job::spawn(
+            key,
+            "network fairing",
+            self.repaint.as_ref(),
+            move |cancel| {
+                if let Some(g) = gate {
+                    g.pass();
+                }
+                run.fair(cancel)
+            },
+        ));
     }
 
     /// Whether a network fair ("Fair all", "Fair checked") runs in the background, and since when.
@@ -380,8 +391,9 @@ impl App {
         self.network_job.as_ref().map(|j| (j.key().what, j.elapsed()))
     }
 
-    /// Drop the running network fair: its result, when it comes, is discarded (the computation itself
-    /// runs to its end).
+    /// Drop the running network fair: dropping the job sets its cancel token, so the core stops at its
+    /// next checkpoint (before the next curve chain, isocurve block or smoother attempt), and the document
+    /// is unchanged.
     pub fn cancel_network_fair(&mut self) {
         if let Some(job) = self.network_job.take() {
             self.status = format!("{}: cancelled; the document is unchanged", job.key().what);

@@ -169,7 +169,7 @@ impl App {
                 );
                 if ui
                     .small_button("Cancel")
-                    .on_hover_text("Discard this fair's result (the document stays as it is)")
+                    .on_hover_text("Stop this fair (the document stays as it is)")
                     .clicked()
                 {
                     self.cancel_network_fair();

@@ -11,7 +11,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use eframe::egui;
-use fairway::fair::surface::{SurfaceFairingOptions, SurfaceFairingResult, SurfaceMethod, fair_surface};
+use fairway::fair::surface::{SurfaceFairingOptions, SurfaceFairingResult, SurfaceMethod, fair_surface_with};
 use fairway::io::Document;
 use fairway::measure_surface::{SurfaceMeasures, surface_measures};
 use fairway::mesh::SurfaceMesh;
@@ -20,7 +20,7 @@ use fairway::{BSplineSurface, DVec2, DVec3, Geometry};
 use crate::Command;
 use crate::commands::set_tolerance;
 use crate::fairing::FairOptions;
-use crate::jobs::Job;
+use crate::jobs::{Gate, Job, JobWatch};
 use crate::view3d::{self, ShadeMode, Shading, View3d};
 use crate::workspace::{Cx, ShellCx, Workspace};
 
@@ -72,9 +72,9 @@ pub struct SurfacePreview {
     pub notes: Vec<String>,
     /// Measures against the original (computed with the full fair, in the background; none for a draft).
     pub measures: Option<SurfaceMeasures>,
-    /// Computed while a drag was in progress with one isocurve tolerance level (`iso_levels: 1`,
-    /// about 3× faster); the full fair runs when the pointer is released (in the background; the draft
-    /// is shown meanwhile, marked provisional).
+    /// Computed while a drag was in progress with one isocurve tolerance level (`iso_levels: 1`) and the
+    /// isocurves alone (in the background, one draft at a time); the full fair runs when the pointer is
+    /// released (in the background; the draft is shown meanwhile, marked provisional).
     pub draft: bool,
     key: PreviewKey,
 }
@@ -156,6 +156,15 @@ pub struct SurfaceWorkspace {
     pub preview_error: Option<String>,
     /// The full fair of the preview, running in the background (keyed like the preview).
     job: Option<Job<PreviewKey, FullFair>>,
+    /// The draft of the preview during a drag, running in the background: at most one at a time; the
+    /// next starts, for the latest key, when it has finished (keys in between are skipped).
+    draft_job: Option<Job<PreviewKey, SurfacePreview>>,
+    /// Draft jobs started so far (tests: one at a time, intermediate keys skipped).
+    pub drafts_started: usize,
+    /// Whether the pointer was down at the last [`Self::update_preview`] (a drag in progress).
+    pointer_down: bool,
+    /// Tests: every job this workspace starts waits at this gate before it computes.
+    gate: Option<Gate>,
     /// The key of the last fair that failed and whether it was a draft: not tried again until the key
     /// changes (a failed draft still lets the full fair run on release).
     failed: Option<(PreviewKey, bool)>,
@@ -228,6 +237,10 @@ impl SurfaceWorkspace {
             preview: None,
             preview_error: None,
             job: None,
+            draft_job: None,
+            drafts_started: 0,
+            pointer_down: false,
+            gate: None,
             failed: None,
             compare: SurfCompare::default(),
             measures_before: None,
@@ -299,6 +312,7 @@ impl SurfaceWorkspace {
         self.rev += 1;
         self.preview = None;
         self.job = None;
+        self.draft_job = None;
         self.mesh = SurfaceMesh::tessellate(surface, self.shading.density, self.shading.density)
             .map_err(|e| anyhow::anyhow!("tessellation failed: {e}"))?;
         let b = self.scene_bbox();
@@ -316,33 +330,47 @@ impl SurfaceWorkspace {
     }
 
     /// Bring the preview up to date; true if it changed (the caller repaints). While the pointer is
-    /// down (a drag) a missing preview is computed at once as a draft; with the pointer up the full
-    /// fair runs in the background ([`Job`]), the draft (if any) staying as the provisional preview,
-    /// and a later call takes its result if its key still matches. A new key supersedes a running
-    /// fair (its result is dropped). `repaint` is asked for a frame when the background fair ends.
+    /// down (a drag) a missing preview is computed as a draft in the background, coalesced: while a draft
+    /// job runs no other starts, the last draft (or the original) staying on screen; when it ends, the
+    /// next starts for the key of that moment. With the pointer up the full fair runs in the background,
+    /// the draft of this key (shown, or still coming) staying as the provisional preview, and a later call
+    /// takes its result if its key still matches. A new key supersedes a running full fair: the job is
+    /// dropped, which cancels it (the core stops at its next checkpoint). `repaint` is asked for a frame
+    /// when a background fair ends.
     pub fn update_preview(&mut self, doc: &Document, pointer_down: bool, repaint: Option<&egui::Context>) -> bool {
+        self.pointer_down = pointer_down;
         let Some(surface) = surface_of(doc) else { return false };
         let Some(key) = self.preview_key(doc) else {
-            let changed = self.preview.is_some() || self.preview_error.is_some() || self.job.is_some();
-            (self.preview, self.preview_error, self.job) = (None, None, None);
+            let changed = self.preview.is_some()
+                || self.preview_error.is_some()
+                || self.job.is_some()
+                || self.draft_job.is_some();
+            (self.preview, self.preview_error, self.job, self.draft_job) = (None, None, None, None);
             return changed;
         };
         if !self.live {
-            self.job = None;
+            (self.job, self.draft_job) = (None, None);
             return false;
         }
         let mut changed = self.take_job_result(key);
+        changed |= self.take_draft_result(key);
         let current = self.preview.as_ref().filter(|p| p.key == key);
         if current.is_some_and(|p| !p.draft) || self.job.is_some() || self.failed == Some((key, false)) {
             return changed;
         }
         if pointer_down {
-            if current.is_none() && self.failed != Some((key, true)) {
-                self.draft(surface, key);
+            // one draft job at a time: the next starts when it has ended, for the key of that moment
+            if current.is_none() && self.failed != Some((key, true)) && self.draft_job.is_none() {
+                self.draft_job = Some(self.draft_job(surface, key, repaint));
+                self.drafts_started += 1;
                 changed = true;
             }
         } else {
-            // the draft of this key stays as the provisional preview; any other one is outdated
+            // released: a draft of another key is outdated (its job is dropped, so cancelled); the draft
+            // of this key stays as the provisional preview, or is still coming
+            if self.draft_job.as_ref().is_some_and(|j| *j.key() != key) {
+                self.draft_job = None;
+            }
             if current.is_none() {
                 self.preview = None;
             }
@@ -367,27 +395,63 @@ impl SurfaceWorkspace {
         self.job.as_ref().map(|j| *j.key())
     }
 
-    /// Block until the background fair (if any) has its result, which the next
+    /// Whether a draft runs in the background (during a drag).
+    pub fn is_drafting(&self) -> bool {
+        self.draft_job.is_some()
+    }
+
+    /// How long the background draft has been running.
+    pub fn drafting_time(&self) -> Option<std::time::Duration> {
+        self.draft_job.as_ref().map(Job::elapsed)
+    }
+
+    /// The key the background draft was started for.
+    pub fn drafting_key(&self) -> Option<PreviewKey> {
+        self.draft_job.as_ref().map(|j| *j.key())
+    }
+
+    /// A watch on the background full fair's thread (tests: a superseded fair ends `Cancelled`).
+    pub fn watch_fair(&self) -> Option<JobWatch> {
+        self.job.as_ref().map(Job::watch)
+    }
+
+    /// A watch on the background draft's thread.
+    pub fn watch_draft(&self) -> Option<JobWatch> {
+        self.draft_job.as_ref().map(Job::watch)
+    }
+
+    /// Tests: every job started from now on waits at `gate` before it computes (`None`: no gate), so a
+    /// test can hold a job deterministically while it runs. Open the gate before waiting for the jobs.
+    pub fn set_gate(&mut self, gate: Option<Gate>) {
+        self.gate = gate;
+    }
+
+    /// Block until the background fair and draft (if any) have their results, which the next
     /// [`SurfaceWorkspace::update_preview`] takes (tests and scripts; the UI never waits).
     pub fn wait_for_job(&mut self) {
         if let Some(j) = self.job.as_mut() {
             j.wait();
         }
+        if let Some(j) = self.draft_job.as_mut() {
+            j.wait();
+        }
     }
 
-    /// [`SurfaceWorkspace::wait_for_job`], then take the result as the next frame would (used only
-    /// if its key matches `doc`); true if the preview changed.
+    /// [`SurfaceWorkspace::wait_for_job`], then take the results as the next frame would (used only
+    /// if their keys match `doc`); true if the preview changed.
     pub fn finish_job(&mut self, doc: &Document) -> bool {
         self.wait_for_job();
-        self.preview_key(doc).is_some_and(|key| self.take_job_result(key))
+        self.preview_key(doc)
+            .is_some_and(|key| self.take_job_result(key) | self.take_draft_result(key))
     }
 
     /// The background fair's result, if it has finished: used if it was started for `key`, else
-    /// dropped (a job for another key is dropped even while it runs). True if the preview changed.
+    /// dropped (a job for another key is dropped even while it runs, which cancels it). True if the
+    /// preview changed.
     fn take_job_result(&mut self, key: PreviewKey) -> bool {
         let Some(job) = self.job.as_mut() else { return false };
         if *job.key() != key {
-            // superseded by an edit: its result, whenever it comes, is discarded
+            // superseded by an edit: dropping the job cancels it, and its result is never taken
             self.job = None;
             return false;
         }
@@ -411,26 +475,57 @@ impl SurfaceWorkspace {
         true
     }
 
-    /// The draft preview of `key`, computed now: one isocurve tolerance level (the live-preview setting
-    /// of the core) and the isocurve fairing alone (the step-8 choice among the reference smoother's
-    /// candidates costs 8-15 × as much).
-    fn draft(&mut self, surface: &BSplineSurface, key: PreviewKey) {
-        let opts = preview_options(key, true);
-        let t0 = Instant::now();
-        // a panic in the engine becomes an error message; the document is untouched
-        let res = crate::guard::catch_panic("surface fairing", || fair_surface(surface, opts));
-        let fair_ms = t0.elapsed().as_secs_f64() * 1e3;
-        match res.and_then(|r| SurfacePreview::new(r, fair_ms, key, true)) {
+    /// The background draft's result, if it has finished. During a drag it is shown whatever its key
+    /// (the latest draft there is; [`Self::update_preview`] then starts the next for `key` if the key
+    /// moved meanwhile); after the release only the draft of `key`, and only until the full fair is
+    /// there. True if the preview changed.
+    fn take_draft_result(&mut self, key: PreviewKey) -> bool {
+        let Some(res) = self.draft_job.as_mut().and_then(Job::poll) else {
+            return false;
+        };
+        let Some(dkey) = self.draft_job.take().map(|j| *j.key()) else {
+            return false;
+        };
+        let full_there = self.preview.as_ref().is_some_and(|p| !p.draft && p.key == key);
+        if full_there || dkey.0 != self.rev || (!self.pointer_down && dkey != key) {
+            return false;
+        }
+        match res {
             Ok(p) => {
                 self.preview = Some(p);
                 self.preview_error = None;
             }
+            // a draft job is cancelled only when dropped, and then never polled
+            Err(fairway::Error::Cancelled) => return false,
             Err(e) => {
                 self.preview = None;
                 self.preview_error = Some(e.to_string());
-                self.failed = Some((key, true));
+                self.failed = Some((dkey, true));
             }
         }
+        true
+    }
+
+    /// The draft preview of `key` as a background job: one isocurve tolerance level (the live-preview
+    /// setting of the core) and the isocurve fairing alone (the step-8 choice among the reference
+    /// smoother's candidates costs 8-15 × as much), and its tessellation.
+    fn draft_job(
+        &self,
+        surface: &BSplineSurface,
+        key: PreviewKey,
+        repaint: Option<&egui::Context>,
+    ) -> Job<PreviewKey, SurfacePreview> {
+        let surface = surface.clone();
+        let gate = self.gate.clone();
+        Job::spawn(key, "surface fairing", repaint, move |cancel| {
+            if let Some(g) = gate {
+                g.pass();
+            }
+            let t0 = Instant::now();
+            let r = fair_surface_with(&surface, preview_options(key, true), cancel)?;
+            let fair_ms = t0.elapsed().as_secs_f64() * 1e3;
+            SurfacePreview::new(r, fair_ms, key, true)
+        })
     }
 
     /// The full fair of `key` as a background job: the fair, its tessellation and its measures against
@@ -443,12 +538,24 @@ impl SurfaceWorkspace {
     ) -> Job<PreviewKey, FullFair> {
         let surface = surface.clone();
         let measure_before = self.measures_before.as_ref().map(|m| m.0) != Some(key.0);
-        Job::spawn(key, "surface fairing", repaint, move || {
+        let gate = self.gate.clone();
+        Job::spawn(key, "surface fairing", repaint, move |cancel| {
+            if let Some(g) = gate {
+                g.pass();
+            }
             let t0 = Instant::now();
-            let r = fair_surface(&surface, preview_options(key, false))?;
+            let r = fair_surface_with(&surface, preview_options(key, false), cancel)?;
             let fair_ms = t0.elapsed().as_secs_f64() * 1e3;
             let mut preview = SurfacePreview::new(r, fair_ms, key, false)?;
+            // the measures are not the core's fair: a job superseded meanwhile skips them
+            let stop = || cancel.is_cancelled().then_some(fairway::Error::Cancelled);
+            if let Some(e) = stop() {
+                return Err(e);
+            }
             preview.measures = Some(surface_measures(&surface, &preview.surface));
+            if let Some(e) = stop() {
+                return Err(e);
+            }
             let measures_before = measure_before.then(|| surface_measures(&surface, &surface));
             Ok(FullFair {
                 preview,

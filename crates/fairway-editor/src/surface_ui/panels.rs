@@ -13,6 +13,9 @@ use crate::view3d::{self, ShadeMode};
 /// The colour of the marks of a draft preview.
 pub(super) const DRAFT_COLOR: Color32 = Color32::from_rgb(240, 200, 60);
 
+/// A background draft running this long (s) shows a busy indicator.
+const DRAFT_BUSY_AFTER_S: f64 = 0.1;
+
 impl SurfaceCx<'_> {
     pub(super) fn controls_ui(&mut self, ui: &mut egui::Ui) {
         self.display_ui(ui);
@@ -176,6 +179,23 @@ impl SurfaceCx<'_> {
                  restarts it. Untick Live preview to stop it."
             ));
         }
+        // a draft that takes long enough to be seen (a large surface or region; a small one's draft
+        // arrives within a frame or two and shows no indicator, so the panel does not flicker)
+        if let Some(t) = self
+            .ws
+            .drafting_time()
+            .filter(|t| t.as_secs_f64() >= DRAFT_BUSY_AFTER_S)
+        {
+            let shown = if self.ws.preview.is_some() {
+                "the last draft shows meanwhile"
+            } else {
+                "the original shows meanwhile"
+            };
+            crate::widgets::busy_ui(ui, format!("Draft… {:.1} s", t.as_secs_f64())).on_hover_text(format!(
+                "The draft of the dragged setting runs in the background ({shown}); one at a time: when it \
+                 ends, the next starts for where the drag is then. Releasing starts the full fair."
+            ));
+        }
         if let Some(e) = &self.ws.preview_error {
             ui.label(RichText::new(format!("! {e}")).color(Color32::from_rgb(230, 80, 60)));
         }
@@ -208,15 +228,14 @@ impl SurfaceCx<'_> {
             ui.label(RichText::new("Draft (provisional): one isocurve level, isocurves alone").color(DRAFT_COLOR))
                 .on_hover_text("Computed during the drag; the full fair replaces it when it has finished");
         }
+        // the tolerance the preview was computed for: during a drag the draft shown may be that of an
+        // earlier point of it, while the next one is computed
+        let tol = f64::from_bits(p.key().2);
         ui.label(format!(
             "fair: {:.1} ms, rounds {}, α = {:.2}, verified max deviation {:.3e} (tolerance {:.3e})",
-            p.fair_ms,
-            p.rounds,
-            p.alpha,
-            p.max_deviation,
-            self.tolerance()
+            p.fair_ms, p.rounds, p.alpha, p.max_deviation, tol
         ));
-        ui.label(band_certificate(p.band_bound, self.tolerance()));
+        ui.label(band_certificate(p.band_bound, tol));
         for n in &p.notes {
             ui.label(egui::RichText::new(n).small());
         }

@@ -94,13 +94,16 @@ impl SurfaceCx<'_> {
         } else {
             None
         };
-        // a draft (computed during a drag) is provisional while the full fair runs
+        // a draft (computed during a drag) is provisional while the full fair runs, or while the next
+        // draft is computed (then it may be the draft of an earlier point of the drag)
         let fairing = self.ws.is_fairing();
+        let drafting = self.ws.is_drafting();
         let draft = self.ws.preview.as_ref().is_some_and(|p| p.draft);
-        let after_name = match (draft, fairing) {
-            (false, _) => "After",
-            (true, true) => "After (draft, provisional; fairing…)",
-            (true, false) => "After (draft, provisional)",
+        let after_name = match (draft, fairing, drafting) {
+            (false, _, _) => "After",
+            (true, true, _) => "After (draft, provisional; fairing…)",
+            (true, false, true) => "After (draft, provisional; updating…)",
+            (true, false, false) => "After (draft, provisional)",
         };
         let mut panes: Vec<(Rect, &str, u64, BSplineSurface, SurfaceMesh, usize)> = vec![];
         if self.ws.compare.side_by_side {
@@ -108,6 +111,8 @@ impl SurfaceCx<'_> {
             panes.push((l.shrink(1.0), "Before", 0, orig.clone(), orig_mesh.clone(), 0));
             let none = if fairing {
                 "After (fairing…)"
+            } else if drafting {
+                "After (drafting…)"
             } else {
                 "After (no preview)"
             };
@@ -116,10 +121,10 @@ impl SurfaceCx<'_> {
                 None => panes.push((r.shrink(1.0), none, 0, orig, orig_mesh, 1)),
             }
         } else {
-            let none = if fairing && self.ws.compare.show_after {
-                "Before (fairing…)"
-            } else {
-                "Before"
+            let none = match (fairing, drafting, self.ws.compare.show_after) {
+                (true, _, true) => "Before (fairing…)",
+                (false, true, true) => "Before (drafting…)",
+                _ => "Before",
             };
             match after {
                 Some((id, s, m)) => panes.push((full, after_name, id, s, m, 1)),
@@ -193,7 +198,7 @@ impl SurfaceCx<'_> {
             view3d::marks::marks_ui(ui, &self.ws.view, rect, &self.ws.marks, k);
             let painter = ui.painter_at(rect);
             // a draft, or the original standing in while the full fair runs, is named in the draft colour
-            let provisional = (draft || fairing) && name != "Before";
+            let provisional = (draft || fairing || drafting) && name != "Before";
             painter.text(
                 rect.left_top() + egui::vec2(8.0, 6.0),
                 egui::Align2::LEFT_TOP,

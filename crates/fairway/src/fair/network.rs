@@ -166,6 +166,32 @@ pub fn fair_network_at(
     opts: &NetworkOptions,
     tolerances: &[Option<f64>],
 ) -> Result<NetworkFair> {
+    network_fair(objects, selected, opts, tolerances)
+}
+
+/// [`fair_network_at`] that stops when `cancel` is set (from another thread): it then returns
+/// [`Error::Cancelled`](crate::Error::Cancelled) — never some objects faired and others not
+/// ([`crate::cancel`]). Checkpoints: before each curve chain, between the curves and the surfaces, and
+/// every surface fair's own (each route's `fair_surface`); a route whose fair was cancelled falls back to
+/// the next as on any error, and the call returns `Cancelled` at its end. A token that is not set changes
+/// nothing: the result is [`fair_network_at`]'s.
+pub fn fair_network_at_with(
+    objects: &[Geometry],
+    selected: &[usize],
+    opts: &NetworkOptions,
+    tolerances: &[Option<f64>],
+    cancel: &crate::Cancel,
+) -> Result<NetworkFair> {
+    cancel.run(|| network_fair(objects, selected, opts, tolerances))
+}
+
+/// The body of [`fair_network_at`] (with the caller's cancel token, if any, installed).
+fn network_fair(
+    objects: &[Geometry],
+    selected: &[usize],
+    opts: &NetworkOptions,
+    tolerances: &[Option<f64>],
+) -> Result<NetworkFair> {
     let joins = find_joins(objects);
     // faces on one surface (a trimmed face split in two, read with its surface twice): the surface is
     // faired once, under its first object, and the others take its result; their "joins" with it are
@@ -208,11 +234,12 @@ pub fn fair_network_at(
     // the chains read only the originals: faired in parallel (as the surface engine's isocurves, on
     // `threads` workers), written back in order — the same result on any number of threads
     let faired = crate::fair::surface::par_map(&plan, opts.surface.threads, |chain| {
-        curves::fair_chain(objects, chain, &net)
+        crate::cancel::check().map(|()| curves::fair_chain(objects, chain, &net))
     });
     for (chain, f) in plan.iter().zip(faired) {
-        curves::apply_chain(chain, f, &mut out, &mut outcome);
+        curves::apply_chain(chain, f?, &mut out, &mut outcome);
     }
+    crate::cancel::check()?;
     surfaces::fair_surfaces(objects, &faired_joins, &net, &mut out, &mut outcome, &mut notes);
     for (i, t) in twin.iter().enumerate() {
         let Some(j) = *t else { continue };

@@ -187,6 +187,9 @@ pub fn surface_polynomial_approximation(surface: &BSplineSurface, tol: f64) -> R
     let (qu, qv) = (ku0.degree().max(3), kv0.degree().max(3));
     let (mut extra_u, mut extra_v) = (vec![], vec![]);
     for _ in 0..MAX_ROUNDS {
+        // cancel checkpoints per refinement and per row of its check (no-ops outside a fair with a token,
+        // `crate::cancel`)
+        crate::cancel::check()?;
         let knots_u = raised_knots(ku0, qu, &extra_u);
         let knots_v = raised_knots(kv0, qv, &extra_v);
         let (nu, nv) = (knots_u.len() - qu - 1, knots_v.len() - qv - 1);
@@ -217,6 +220,7 @@ pub fn surface_polynomial_approximation(surface: &BSplineSurface, tol: f64) -> R
         let mut worst = 0.0f64;
         let (mut split_u, mut split_v) = (vec![false; bu.len() - 1], vec![false; bv.len() - 1]);
         for (iu, wu) in bu.windows(2).enumerate() {
+            crate::cancel::check()?;
             for (iv, wv) in bv.windows(2).enumerate() {
                 let (hu, hv) = ((wu[1] - wu[0]) / SURF_CHECK as f64, (wv[1] - wv[0]) / SURF_CHECK as f64);
                 let (mut e0, mut euu, mut evv) = (0.0f64, 0.0f64, 0.0f64);

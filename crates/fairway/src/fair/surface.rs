@@ -224,7 +224,20 @@ fn span_grid(knots: &KnotVector, a: f64, b: f64, per_span: usize) -> Vec<f64> {
     out
 }
 
-/// Fair `surface` (see the module docs).
+/// [`fair_surface`] that stops when `cancel` is set (from another thread): it then returns
+/// [`Error::Cancelled`] at its next checkpoint — before each block of isocurves, each round, step 8, each
+/// attempt of step 8's smoother searches, each tile — and never a partial result ([`crate::cancel`]). A
+/// token that is not set changes nothing: the result is [`fair_surface`]'s, bit for bit.
+pub fn fair_surface_with(
+    surface: &BSplineSurface,
+    opts: SurfaceFairingOptions,
+    cancel: &crate::Cancel,
+) -> Result<SurfaceFairingResult> {
+    cancel.run(|| fair_surface(surface, opts))
+}
+
+/// Fair `surface` (see the module docs). Inside [`fair_surface_with`] (or a network fair with a token)
+/// it stops at the caller's token; on its own it has none and runs to its end.
 pub fn fair_surface(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Result<SurfaceFairingResult> {
     if !surface.is_polynomial() {
         return fair_rational_surface(surface, opts);
@@ -501,10 +514,12 @@ fn fair_tiles(surface: &BSplineSurface, opts: SurfaceFairingOptions, tiles: &[Uv
     Ok(r)
 }
 
-/// [`fair_surface`] before the sound band bound: validation and grids ([`free_block`], [`Grids::new`]),
+/// [`fair_surface`] before the sound band bound (a cancel checkpoint at its start and before step 8):
+/// validation and grids ([`free_block`], [`Grids::new`]),
 /// then the reference smoother alone ([`smoothing_only`]) or the isocurve rounds ([`isocurve_rounds`],
 /// steps 3–7) followed by step 8's pick of the fairest candidate ([`fairest_candidate`]).
 fn fair_surface_unbounded(surface: &BSplineSurface, opts: SurfaceFairingOptions) -> Result<SurfaceFairingResult> {
+    crate::cancel::check()?;
     let (s, ru, rv, free_u, free_v) = free_block(surface, &opts)?;
     let (g, tm) = Grids::new(&s, &opts, ru, rv, free_u, free_v);
     if opts.method == SurfaceMethod::Smoothing {
@@ -515,6 +530,7 @@ fn fair_surface_unbounded(surface: &BSplineSurface, opts: SurfaceFairingOptions)
     if opts.method == SurfaceMethod::Isocurves {
         return Ok(iso_result);
     }
+    crate::cancel::check()?;
     fairest_candidate(&g, iso_result)
 }
 

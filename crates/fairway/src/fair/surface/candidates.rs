@@ -111,6 +111,7 @@ fn blend_candidates(g: &Grids<'_>, cands: &mut Vec<Cand>, bands: &Bands<'_>, ran
     let mut blends = Vec::new();
     for (k, &i) in anchors.iter().enumerate() {
         for &j in &anchors[k + 1..] {
+            crate::cancel::check()?;
             for w in BLENDS {
                 let pts: Vec<DVec3> = (cands[i].2.points().iter().zip(cands[j].2.points()))
                     // a + (b − a)(1 − w): a held point (a = b) stays bit for bit

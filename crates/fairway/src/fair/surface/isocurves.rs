@@ -198,6 +198,7 @@ impl IsoGrid<'_> {
         // per isocurve of the block, per level: the faired isocurve at the grid parameters
         type BlockResult = Result<Vec<Vec<Vec<DVec3>>>>;
         let fair_block = |block: &[(bool, usize)]| -> BlockResult {
+            crate::cancel::check()?;
             let mut hints = vec![None; nl];
             block
                 .iter()

@@ -209,6 +209,7 @@ pub(super) fn plate_search(
     bands: &Bands<'_>,
 ) -> Result<Vec<(Vec<DVec3>, f64, f64)>> {
     let attempt = |log_st: f64| -> Result<Option<(Vec<DVec3>, f64, f64)>> {
+        crate::cancel::check()?;
         let st = 10f64.powf(log_st);
         let pts = match factors.get(st).and_then(|k| plate.solve_factored(&k, rhs)) {
             Ok(p) => p,

@@ -63,6 +63,7 @@ pub(super) fn isocurve_rounds(
     };
     let mut level_clouds = r.level_clouds()?;
     for _ in 0..max_rounds {
+        crate::cancel::check()?;
         r.rounds += 1;
         let data = match level_clouds.iter().position(|(l, _)| *l == r.m_iso) {
             Some(i) => level_clouds.swap_remove(i).1,
