@@ -21,8 +21,8 @@
 //! changes nothing: the fair takes the same steps and returns the same bits.
 //!
 //! **How the token reaches them.** The `_with` entry points install the token for the calling thread
-//! for the duration of the call ([`scoped`]); the engine's one parallel map
-//! ([`par_map`](crate::fair::surface::par_map)) carries it into its workers, item by item. So every
+//! for the duration of the call (`scoped`); the engine's one parallel map
+//! (`fair::surface::par_map`) carries it into its workers, item by item. So every
 //! nested fair — C0 tiles, the smoothed-pole route, a NURBS face's stand-in, each route of a network fair
 //! — sees it without the token being threaded through their signatures, and the options stay `Copy`
 //! and comparable (a token compares by identity, which would make equal options unequal). A checkpoint

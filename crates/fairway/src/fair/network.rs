@@ -170,7 +170,7 @@ pub fn fair_network_at(
 }
 
 /// [`fair_network_at`] that stops when `cancel` is set (from another thread): it then returns
-/// [`Error::Cancelled`](crate::Error::Cancelled) — never some objects faired and others not
+/// [`Error::Cancelled`] — never some objects faired and others not
 /// ([`crate::cancel`]). Checkpoints: before each curve chain, between the curves and the surfaces, and
 /// every surface fair's own (each route's `fair_surface`); a route whose fair was cancelled falls back to
 /// the next as on any error, and the call returns `Cancelled` at its end. A token that is not set changes
