@@ -15,26 +15,12 @@ use fairway_editor::surface_ui::{PreviewKey, SurfaceWorkspace, UvRect};
 use fairway_editor::{App, Command};
 
 mod common;
+// the core's bench surface (its benches and `surface_timing` time the same net)
+#[path = "../../fairway/benches/common/mod.rs"]
+mod bench_common;
+use bench_common::noisy_net;
 use common::harness_without_waiting;
 
-/// `n × n` bicubic net over [0,1]² with uniform knots: a smooth wave with noise σ ≈ 1e-3 on z (the
-/// surface of the core's `surface_timing` example).
-fn noisy_net(n: usize) -> BSplineSurface {
-    let k = KnotVector::uniform(3, n).unwrap();
-    let g = k.greville();
-    let mut state = 0x9E37_79B9_7F4A_7C15u64;
-    let mut pts = Vec::with_capacity(n * n);
-    for &u in &g {
-        for &v in &g {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let noise = ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 3.4e-3;
-            pts.push(DVec3::new(u, v, 0.3 * (3.0 * u).sin() * (2.0 * v).cos() + noise));
-        }
-    }
-    BSplineSurface::try_new(3, 3, k.values().to_vec(), k.values().to_vec(), n, n, pts, None).unwrap()
-}
 
 const WHOLE: UvRect = ((0.0, 1.0), (0.0, 1.0));
 

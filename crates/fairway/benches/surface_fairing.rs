@@ -12,26 +12,10 @@ use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use fairway::fair::{SurfaceFairingOptions, fair_surface};
-use fairway::{BSplineSurface, DVec3, KnotVector};
 
-/// `n × n` bicubic net over [0,1]² with uniform knots: a smooth wave with
-/// deterministic noise σ ≈ 1e-3 on z (the same as `examples/surface_timing.rs`).
-fn noisy_net(n: usize) -> BSplineSurface {
-    let k = KnotVector::uniform(3, n).unwrap();
-    let g = k.greville();
-    let mut state = 0x9E37_79B9_7F4A_7C15u64;
-    let mut pts = Vec::with_capacity(n * n);
-    for &u in &g {
-        for &v in &g {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let noise = ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 3.4e-3;
-            pts.push(DVec3::new(u, v, 0.3 * (3.0 * u).sin() * (2.0 * v).cos() + noise));
-        }
-    }
-    BSplineSurface::try_new(3, 3, k.values().to_vec(), k.values().to_vec(), n, n, pts, None).unwrap()
-}
+mod common;
+use common::noisy_net;
+
 
 fn opts() -> SurfaceFairingOptions {
     SurfaceFairingOptions::default().tolerance(3e-3)

@@ -25,26 +25,17 @@
 use std::time::{Duration, Instant};
 
 use fairway::fair::{Combine, SurfaceFairingOptions, SurfaceMethod, fair_surface, fair_surface_with};
-use fairway::{BSplineSurface, DVec3, KnotVector};
+use fairway::DVec3;
 
-/// `n × n` bicubic net over [0,1]² with uniform knots: a smooth wave with
-/// deterministic noise σ ≈ 1e-3 on z (the bench's test surface).
-fn noisy_net(n: usize) -> BSplineSurface {
-    let k = KnotVector::uniform(3, n).unwrap();
-    let g = k.greville();
-    let mut state = 0x9E37_79B9_7F4A_7C15u64;
-    let mut pts = Vec::with_capacity(n * n);
-    for &u in &g {
-        for &v in &g {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let noise = ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 3.4e-3;
-            pts.push(DVec3::new(u, v, 0.3 * (3.0 * u).sin() * (2.0 * v).cos() + noise));
-        }
-    }
-    BSplineSurface::try_new(3, 3, k.values().to_vec(), k.values().to_vec(), n, n, pts, None).unwrap()
+#[path = "../benches/common/mod.rs"]
+mod common;
+use common::noisy_net;
+
+/// The process's CPU time (ns), all threads ([`common::process_cpu_ns`]), 0 where `/proc` does not have it.
+fn process_cpu_ns() -> u64 {
+    common::process_cpu_ns().unwrap_or(0)
 }
+
 
 /// CPU time of this thread in ns (Linux `/proc/thread-self/schedstat`), to
 /// separate the work from waiting on a loaded machine; 0 if unavailable.
@@ -66,18 +57,6 @@ fn points_hash(pts: &[DVec3]) -> u64 {
     h
 }
 
-/// CPU time of the whole process in ns: the sum over its live threads (rayon's workers included,
-/// which `thread_cpu_ns` misses: with `RAYON_NUM_THREADS=1` the parallel maps run on the pool's
-/// one worker, not on the calling thread); 0 if unavailable.
-fn process_cpu_ns() -> u64 {
-    let Ok(dir) = std::fs::read_dir("/proc/self/task") else {
-        return 0;
-    };
-    dir.filter_map(|e| e.ok())
-        .filter_map(|e| std::fs::read_to_string(e.path().join("schedstat")).ok())
-        .filter_map(|s| s.split_whitespace().next().and_then(|x| x.parse::<u64>().ok()))
-        .sum()
-}
 
 fn ms(d: Duration) -> f64 {
     d.as_secs_f64() * 1e3

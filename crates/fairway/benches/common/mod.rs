@@ -1,8 +1,11 @@
-//! The bench cubic, shared by `benches/fairing.rs` and `examples/fair_timing.rs` (the example includes
-//! this file by path) so that both time the same curve.
+//! The bench cubic and the bench surface, shared by `benches/fairing.rs`, `benches/surface_fairing.rs`,
+//! `examples/fair_timing.rs`, `examples/surface_timing.rs` and the editor's `tests/drafts.rs` (the
+//! examples and the editor's test include this file by path) so that all of them time the same shapes.
+//! Not every user calls every function.
+#![allow(dead_code)]
 
 use fairway::fair::FairingOptions;
-use fairway::{BSplineCurve, DVec2, KnotVector};
+use fairway::{BSplineCurve, BSplineSurface, DVec2, DVec3, KnotVector};
 
 /// A cubic with `n` control points through a sine wave, with deterministic noise of ~1 % of the amplitude.
 pub fn noisy_curve(n: usize) -> BSplineCurve {
@@ -14,7 +17,6 @@ pub fn noisy_curve(n: usize) -> BSplineCurve {
 /// points is `n / 100` bench cubics end to end — the scaling of the engine, where [`noisy_curve`] at 10,000
 /// points puts noise of 12× the control point spacing (loops in the polygon). `noisy_long_curve(100)` is
 /// `noisy_curve(100)`.
-#[allow(dead_code)]
 pub fn noisy_long_curve(n: usize) -> BSplineCurve {
     noisy_wave(n, n as f64 / 100.0)
 }
@@ -43,7 +45,6 @@ pub fn opts(samples: usize) -> FairingOptions {
 /// CPU time (ns) of the whole process, all its threads (`/proc/self/task/*/schedstat`; `None` where
 /// `/proc` does not have it): a closed curve's two passes, a long curve's judged measures and a network's
 /// chains run on rayon's workers, so the calling thread's clock alone undercounts.
-#[allow(dead_code)]
 pub fn process_cpu_ns() -> Option<u64> {
     let mut total = 0;
     for t in std::fs::read_dir("/proc/self/task").ok()?.flatten() {
@@ -51,4 +52,23 @@ pub fn process_cpu_ns() -> Option<u64> {
         total += s.split_whitespace().next()?.parse::<u64>().ok()?;
     }
     Some(total)
+}
+
+/// `n × n` bicubic net over [0,1]² with uniform knots: a smooth wave with deterministic noise σ ≈ 1e-3 on z
+/// (the surface benches' and `surface_timing`'s test surface).
+pub fn noisy_net(n: usize) -> BSplineSurface {
+    let k = KnotVector::uniform(3, n).unwrap();
+    let g = k.greville();
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let mut pts = Vec::with_capacity(n * n);
+    for &u in &g {
+        for &v in &g {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let noise = ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 3.4e-3;
+            pts.push(DVec3::new(u, v, 0.3 * (3.0 * u).sin() * (2.0 * v).cos() + noise));
+        }
+    }
+    BSplineSurface::try_new(3, 3, k.values().to_vec(), k.values().to_vec(), n, n, pts, None).unwrap()
 }
