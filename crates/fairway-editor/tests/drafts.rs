@@ -9,7 +9,7 @@ use egui::{Pos2, Role};
 use egui_kittest::kittest::Queryable;
 use fairway::fair::surface::{SurfaceFairingOptions, SurfaceMethod, fair_surface};
 use fairway::io::Document;
-use fairway::{BSplineSurface, DVec3, Geometry, KnotVector};
+use fairway::{BSplineSurface, Geometry};
 use fairway_editor::jobs::{Gate, JobEnd};
 use fairway_editor::surface_ui::{PreviewKey, SurfaceWorkspace, UvRect};
 use fairway_editor::{App, Command};
