@@ -21,7 +21,6 @@ mod bench_common;
 use bench_common::noisy_net;
 use common::harness_without_waiting;
 
-
 const WHOLE: UvRect = ((0.0, 1.0), (0.0, 1.0));
 
 /// The editor on the `n × n` noisy net with the whole domain as the region, jobs held at `gate`.

@@ -16,7 +16,6 @@ use fairway::fair::{SurfaceFairingOptions, fair_surface};
 mod common;
 use common::noisy_net;
 
-
 fn opts() -> SurfaceFairingOptions {
     SurfaceFairingOptions::default().tolerance(3e-3)
 }

@@ -5,7 +5,6 @@
 //! `cargo run --release -p fairway --example speed_suite > suite.jsonl` (`ONLY=quintic`: those rows only)
 
 #[path = "../benches/common/mod.rs"]
-#[allow(dead_code)]
 mod common;
 #[path = "../tests/common/suite.rs"]
 mod suite;

@@ -24,8 +24,8 @@
 
 use std::time::{Duration, Instant};
 
-use fairway::fair::{Combine, SurfaceFairingOptions, SurfaceMethod, fair_surface, fair_surface_with};
 use fairway::DVec3;
+use fairway::fair::{Combine, SurfaceFairingOptions, SurfaceMethod, fair_surface, fair_surface_with};
 
 #[path = "../benches/common/mod.rs"]
 mod common;
@@ -35,7 +35,6 @@ use common::noisy_net;
 fn process_cpu_ns() -> u64 {
     common::process_cpu_ns().unwrap_or(0)
 }
-
 
 /// CPU time of this thread in ns (Linux `/proc/thread-self/schedstat`), to
 /// separate the work from waiting on a loaded machine; 0 if unavailable.
@@ -56,7 +55,6 @@ fn points_hash(pts: &[DVec3]) -> u64 {
     }
     h
 }
-
 
 fn ms(d: Duration) -> f64 {
     d.as_secs_f64() * 1e3

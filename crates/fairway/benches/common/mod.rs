@@ -1,7 +1,7 @@
 //! The bench cubic and the bench surface, shared by `benches/fairing.rs`, `benches/surface_fairing.rs`,
-//! `examples/fair_timing.rs`, `examples/surface_timing.rs` and the editor's `tests/drafts.rs` (the
-//! examples and the editor's test include this file by path) so that all of them time the same shapes.
-//! Not every user calls every function.
+//! `examples/fair_timing.rs`, `examples/surface_timing.rs`, the core's polish tests and the editor's
+//! `tests/drafts.rs` (all but the benches include this file by path), so that all of them use the same
+//! shapes. Not every user calls every function.
 #![allow(dead_code)]
 
 use fairway::fair::FairingOptions;

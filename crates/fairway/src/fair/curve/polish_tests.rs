@@ -7,7 +7,6 @@ use crate::closest::CurveProjector;
 use crate::fair::FairingOptions;
 
 /// The bench's cubic, the same file `benches/fairing.rs` and `examples/fair_timing.rs` include.
-#[allow(dead_code)]
 #[path = "../../../benches/common/mod.rs"]
 mod bench;
 use bench::noisy_curve;
