@@ -209,15 +209,16 @@ fn the_release_cancels_a_draft_of_an_older_key_and_fairs_in_full() {
     let last = key(&h);
     assert_ne!(first, last);
     let w = ws(&h);
-    assert!(
-        draft.is_cancelled() && !w.is_drafting(),
-        "the outdated draft still runs"
-    );
+    assert!(draft.is_cancelled(), "the outdated draft still runs");
+    // there is no draft of the last key: one starts beside its full fair
+    assert_eq!(w.drafting_key(), Some(last));
     assert_eq!(w.fairing_key(), Some(last));
+    let last_draft = w.watch_draft().unwrap();
     gate.open();
     assert_eq!(draft.wait_end(), JobEnd::Cancelled);
     assert_eq!(draft.checkpoints(), 0);
     h.state_mut().wait_for_jobs();
+    assert_eq!(last_draft.wait_end(), JobEnd::Finished);
     h.step();
     let p = ws(&h).preview.as_ref().expect("the full fair");
     assert!(!p.draft && p.key() == last);
@@ -225,4 +226,46 @@ fn the_release_cancels_a_draft_of_an_older_key_and_fairs_in_full() {
     // the frames after it start nothing
     h.step();
     assert!(!h.state().is_computing());
+}
+
+/// A tolerance set with the pointer up (typed, or a command) has no draft: one runs beside the full fair,
+/// for the same key, so that a provisional result can show before the full fair ends; once both have
+/// ended the full fair's result is the preview (a draft that ends after it is not shown), bit for bit the
+/// synchronous call's, and the draft's is the synchronous draft's.
+#[test]
+fn a_tolerance_set_with_the_pointer_up_drafts_beside_the_full_fair() {
+    let gate = Gate::closed();
+    let (mut h, s) = app_on_net(40, &gate);
+    h.step();
+    gate.open();
+    h.state_mut().wait_for_jobs();
+    h.step();
+    assert!(
+        ws(&h).preview.as_ref().is_some_and(|p| !p.draft),
+        "the opening's full fair"
+    );
+    let before = ws(&h).drafts_started;
+    let tol = 2.0 * h.state().tolerance();
+    h.state_mut().apply(Command::SetTolerance(tol));
+    h.step();
+    let k = key(&h);
+    let w = ws(&h);
+    assert_eq!(w.fairing_key(), Some(k));
+    assert_eq!(w.drafting_key(), Some(k), "no draft beside the full fair");
+    assert_eq!(w.drafts_started, before + 1);
+    let draft = w.watch_draft().unwrap();
+    assert_eq!(draft.wait_end(), JobEnd::Finished);
+    // the draft (ended first here: 1 level of isocurves against the full fair) shows as provisional
+    h.step();
+    let w = ws(&h);
+    if w.is_fairing() {
+        let p = w.preview.as_ref().expect("the draft shows while the full fair runs");
+        assert!(p.draft && p.key() == k);
+        assert_eq!(bits(&p.surface), bits(&draft_now(&s, k)));
+    }
+    h.state_mut().wait_for_jobs();
+    h.step();
+    let p = ws(&h).preview.as_ref().expect("the full fair");
+    assert!(!p.draft && p.key() == k);
+    assert_eq!(bits(&p.surface), bits(&full_now(&s, k)));
 }

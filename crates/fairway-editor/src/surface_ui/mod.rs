@@ -333,8 +333,8 @@ impl SurfaceWorkspace {
     /// down (a drag) a missing preview is computed as a draft in the background, coalesced: while a draft
     /// job runs no other starts, the last draft (or the original) staying on screen; when it ends, the
     /// next starts for the key of that moment. With the pointer up the full fair runs in the background,
-    /// the draft of this key (shown, or still coming) staying as the provisional preview, and a later call
-    /// takes its result if its key still matches. A new key supersedes a running full fair: the job is
+    /// the draft of this key (shown, or still coming — started beside the full fair where there was none)
+    /// staying as the provisional preview, and a later call takes its result if its key still matches. A new key supersedes a running full fair: the job is
     /// dropped, which cancels it (the core stops at its next checkpoint). `repaint` is asked for a frame
     /// when a background fair ends.
     pub fn update_preview(&mut self, doc: &Document, pointer_down: bool, repaint: Option<&egui::Context>) -> bool {
@@ -373,6 +373,13 @@ impl SurfaceWorkspace {
             }
             if current.is_none() {
                 self.preview = None;
+                // no draft of this key (a typed tolerance, a button, a release after a draft of an earlier
+                // point of the drag): one runs beside the full fair, so a provisional result shows in a
+                // fraction of the full fair's time (it is dropped if the full fair comes first)
+                if self.draft_job.is_none() && self.failed != Some((key, true)) {
+                    self.draft_job = Some(self.draft_job(surface, key, repaint));
+                    self.drafts_started += 1;
+                }
             }
             self.job = Some(self.full_fair_job(surface, key, repaint));
             changed = true;
@@ -486,7 +493,9 @@ impl SurfaceWorkspace {
         let Some(dkey) = self.draft_job.take().map(|j| *j.key()) else {
             return false;
         };
-        let full_there = self.preview.as_ref().is_some_and(|p| !p.draft && p.key == key);
+        // the full fair of this key has ended (its result shown, or its error): the draft is not wanted
+        let full_there =
+            self.preview.as_ref().is_some_and(|p| !p.draft && p.key == key) || self.failed == Some((key, false));
         if full_there || dkey.0 != self.rev || (!self.pointer_down && dkey != key) {
             return false;
         }
