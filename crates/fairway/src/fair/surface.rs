@@ -125,12 +125,14 @@
 //!    step-7 checks pass and, on a grid of `FINE_CHECK_PER_SPAN` samples per span, the parametric
 //!    change `|S_f − S|` stays ≤ m, its grid peaks followed to their local maxima by Newton ascent
 //!    (projected distances are never larger; without the peaks the smoother's nets exceeded m by up to
-//!    0.1 % between nodes, measured by dense projection). Each candidate is ranked by
+//!    0.1 % between nodes, measured by dense projection; the cells whose control points all moved by less
+//!    than the peaks' threshold are skipped, as no node there can reach it). Each candidate is ranked by
 //!    (isocurve curvature extrema with the 1 % dead band, `∫∫|∇H|²`), the measures of
 //!    [`crate::measure_surface`] over the moving rectangle (`RANK_ISO` isocurves; for a whole-surface
-//!    fair exactly `measure`'s extrema, and its `∫∫|∇H|²` with ∇H from the third partials,
-//!    [`crate::measure_surface::mean_curvature_variation_grad`], within 1e-8 relative of `measure`'s
-//!    difference quotients at a fifth of the evaluations). Returned: the lexicographically fairest candidate that is no
+//!    fair exactly `measure`'s extrema, and its `∫∫|∇H|²` with ∇H from the third partials, within 1e-8
+//!    relative of `measure`'s difference quotients at a fifth of the evaluations, by the adaptive rule of
+//!    [`crate::measure_surface::mean_curvature_variation_adaptive`]: 4 and 5 Gauss points a direction
+//!    where they agree, `measure`'s 10 elsewhere). Returned: the lexicographically fairest candidate that is no
 //!    less fair on either measure than the reference and than step 7's result and has no more extrema
 //!    than the original; if none, the fairest no less fair than the reference with no more extrema than
 //!    the original; if none, the fairest of all. The result's `pick` says which.
