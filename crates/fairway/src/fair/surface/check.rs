@@ -52,7 +52,7 @@ pub(super) struct CheckGrid {
     v_vals_t: Vec<Vec<f64>>,
 }
 
-/// A flag per (u, v) index pair of a net (control points or knot spans).
+/// A flag per (u, v) knot-span index pair of a net.
 struct SpanMask {
     nv: usize,
     bits: Vec<bool>,
@@ -217,23 +217,25 @@ impl CheckGrid {
         // k + 1 is known: as from the whole grid, without its memory)
         let (mut prev, mut cur, mut next) = (vec![0.0f64; mv], vec![0.0f64; mv], vec![0.0f64; mv]);
         let mut max_sq = 0.0f64;
+        // row k into `d`, the grid's largest square so far raised by it; the row's maximum if it is above
+        // `stop_above` (the band is broken)
+        let mut load = |k: usize, d: &mut [f64], max_sq: &mut f64| {
+            row_sq(k, d);
+            let row_sq_max = d.iter().fold(0.0f64, |m, &x| m.max(x));
+            *max_sq = max_sq.max(row_sq_max);
+            Some(row_sq_max.sqrt()).filter(|&m| m > stop_above)
+        };
         let mut out = Vec::new();
         for k in 0..mu {
-            if k == 0 {
-                row_sq(0, &mut cur);
-                let row_max = cur.iter().fold(0.0f64, |m, &x| m.max(x)).sqrt();
-                if row_max > stop_above {
-                    return (row_max, Vec::new());
-                }
-                max_sq = cur.iter().fold(max_sq, |m, &x| m.max(x));
+            if k == 0
+                && let Some(m) = load(0, &mut cur, &mut max_sq)
+            {
+                return (m, Vec::new());
             }
-            if k + 1 < mu {
-                row_sq(k + 1, &mut next);
-                let row_max = next.iter().fold(0.0f64, |m, &x| m.max(x)).sqrt();
-                if row_max > stop_above {
-                    return (row_max, Vec::new());
-                }
-                max_sq = next.iter().fold(max_sq, |m, &x| m.max(x));
+            if k + 1 < mu
+                && let Some(m) = load(k + 1, &mut next, &mut max_sq)
+            {
+                return (m, Vec::new());
             }
             for l in 0..mv {
                 if cur[l] <= below {
@@ -277,26 +279,14 @@ impl CheckGrid {
         let (pu, pv) = (self.pu, self.pv);
         let (pa, pb) = (a.points(), b.points());
         let limit = thresh * (1.0 - 1e-9);
-        // moved[i][j]: control point (i, j) of the free block moved by more than `limit` (NaN-safe)
-        let mut moved = SpanMask::new(nu, nv);
+        // a cell (span su, sv) is evaluated from the control points su − pu ..= su, sv − pv ..= sv: a point
+        // that moved by more than `limit` (NaN-safe) makes the cells su ∈ i ..= i + pu, sv ∈ j ..= j + pv hot
+        let mut hot = SpanMask::new(nu, nv);
         let mut any = false;
         for i in fu.clone() {
             for j in fv.clone() {
-                let d = (pb[i * nv + j] - pa[i * nv + j]).length();
-                if !(d <= limit) {
-                    moved.set(i, j);
+                if !((pb[i * nv + j] - pa[i * nv + j]).length() <= limit) {
                     any = true;
-                }
-            }
-        }
-        if !any {
-            return None;
-        }
-        // a cell (span su, sv) is evaluated from the control points su − pu ..= su, sv − pv ..= sv
-        let mut hot = SpanMask::new(nu, nv);
-        for i in fu.clone() {
-            for j in fv.clone() {
-                if moved.get(i, j) {
                     for su in i..(i + pu + 1).min(nu) {
                         for sv in j..(j + pv + 1).min(nv) {
                             hot.set(su, sv);
@@ -304,6 +294,9 @@ impl CheckGrid {
                     }
                 }
             }
+        }
+        if !any {
+            return None;
         }
         Some(hot)
     }
