@@ -2,7 +2,7 @@
 //! draft during a drag on a large surface, a network fair) runs on its own thread, so the UI thread stays
 //! responsive. A [`Job`] holds the key of the state it was started for, the receiving end of its result
 //! and the job's [`Cancel`] token, which the computation receives ([`Job::spawn`]) and hands to the core
-//! (`fair_surface_with`, `fair_network_at_with`). Its owner polls it once a frame and uses the result only
+//! (`fair_surface_cached`, `fair_network_at_with`). Its owner polls it once a frame and uses the result only
 //! if the key still matches its state; a job whose key no longer matches is dropped, and dropping a job
 //! sets its token: the core stops at its next checkpoint (before the next block of isocurves, round or
 //! smoother attempt) and the thread ends with `Error::Cancelled`, which nobody receives. So a superseded

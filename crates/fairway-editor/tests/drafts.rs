@@ -1,6 +1,7 @@
 //! Background surface fairs and their cancellation: a superseded full fair is cancelled (its thread ends
 //! `Cancelled`, early), the draft during a drag runs as one coalesced background job at a time, and the
-//! release fairs in full — each result the synchronous core call's, bit for bit. Deterministic: jobs are
+//! release fairs in full — each result the synchronous core call's, bit for bit (with the workspace's
+//! isocurve cache, whose setups the draft at another tolerance reuses). Deterministic: jobs are
 //! held at a gate (`App::set_job_gate`) where a test needs one still running, and waited for with
 //! `App::wait_for_jobs`; no sleeps.
 
@@ -61,12 +62,15 @@ fn full_now(s: &BSplineSurface, k: PreviewKey) -> BSplineSurface {
 
 /// The draft the preview asks for during a drag (one isocurve level, the isocurves alone).
 fn draft_now(s: &BSplineSurface, k: PreviewKey) -> BSplineSurface {
-    let opts = SurfaceFairingOptions::default()
+    fair_surface(s, draft_options(k)).unwrap().surface
+}
+
+fn draft_options(k: PreviewKey) -> SurfaceFairingOptions {
+    SurfaceFairingOptions::default()
         .region(k.1)
         .tolerance(tolerance(k))
         .iso_levels(1)
-        .method(SurfaceMethod::Isocurves);
-    fair_surface(s, opts).unwrap().surface
+        .method(SurfaceMethod::Isocurves)
 }
 
 /// A new tolerance supersedes the running full fair: the job is dropped, its token set, and its thread
@@ -171,6 +175,16 @@ fn a_drag_runs_one_draft_job_at_a_time_and_ends_with_the_draft_of_the_last_key()
     let p = w.preview.as_ref().expect("the last draft");
     assert!(p.draft && p.key() == last && !w.is_drafting());
     assert_eq!(bits(&p.surface), bits(&draft_now(&s, last)));
+    // the draft at another tolerance took every isocurve setup from the first draft's (and is the
+    // uncached draft, above)
+    let one = fairway::fair::IsocurveCache::new();
+    fairway::fair::fair_surface_cached(&s, draft_options(first), &fairway::Cancel::new(), &one).unwrap();
+    let (one, both) = (one.counts(), w.iso_cache.counts());
+    assert!(
+        one.misses > 0 && both.misses == one.misses,
+        "built by one draft {one:?}, by both {both:?}"
+    );
+    assert!(both.hits >= one.hits + one.misses, "{both:?}");
     assert_eq!(w.drafts_started, 2, "the drag ran {} draft jobs", w.drafts_started);
     assert!(!w.can_accept(&h.state().doc), "Accept takes no draft");
     // the release: the full fair of the last key, the draft shown meanwhile

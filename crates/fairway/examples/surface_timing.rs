@@ -12,6 +12,7 @@
 //! SIZES=30,50 cargo run --release -p fairway --example surface_timing      # only these net sizes
 //! SPS=2 … / NOAUTO=1 …   # 2 grid isocurves per knot span (default 3) / no auto smoothing (the options' own)
 //! CANCEL_TOKEN=1 …   # through fair_surface_with and a token never set (the hash must not change)
+//! CACHE=1 …   # each timed fair follows one at 1.05 × the tolerance with the same IsocurveCache (a drag)
 //! ```
 //!
 //! The last column is an FNV-1a hash of the result's control-point bits, to check that a speed-up
@@ -25,7 +26,9 @@
 use std::time::{Duration, Instant};
 
 use fairway::DVec3;
-use fairway::fair::{Combine, SurfaceFairingOptions, SurfaceMethod, fair_surface, fair_surface_with};
+use fairway::fair::{
+    Combine, SurfaceFairingOptions, SurfaceMethod, fair_surface, fair_surface_cached, fair_surface_with,
+};
 
 #[path = "../benches/common/mod.rs"]
 mod common;
@@ -90,11 +93,26 @@ fn main() {
             .auto_smoothing(std::env::var("NOAUTO").is_err())
             .method(std::env::var("METHOD").map_or(SurfaceMethod::Fairway, |m| m.parse().expect("method")));
         // best wall time of `repeats` (least disturbed by other load on the machine), with its thread CPU time
+        // CACHE=1: each timed fair follows one at 1.05 × the tolerance with the same isocurve cache (a
+        // re-fair while the tolerance is dragged)
+        let cache = std::env::var("CACHE").is_ok().then(fairway::fair::IsocurveCache::new);
         let mut best: Option<(Duration, f64, f64, fairway::fair::SurfaceFairingResult)> = None;
         for _ in 0..repeats {
+            if let Some(cache) = &cache {
+                // the draft before, at another tolerance: its setups are the timed fair's
+                fair_surface_cached(
+                    &s,
+                    opts.tolerance(opts.tolerance * 1.05),
+                    &fairway::Cancel::new(),
+                    cache,
+                )
+                .unwrap();
+            }
             let (c0, p0) = (thread_cpu_ns(), process_cpu_ns());
             let t = Instant::now();
-            let r = if std::env::var("CANCEL_TOKEN").is_ok() {
+            let r = if let Some(cache) = &cache {
+                fair_surface_cached(&s, opts, &fairway::Cancel::new(), cache).unwrap()
+            } else if std::env::var("CANCEL_TOKEN").is_ok() {
                 fair_surface_with(&s, opts, &fairway::Cancel::new()).unwrap()
             } else {
                 fair_surface(&s, opts).unwrap()

@@ -11,7 +11,9 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use eframe::egui;
-use fairway::fair::surface::{SurfaceFairingOptions, SurfaceFairingResult, SurfaceMethod, fair_surface_with};
+use fairway::fair::surface::{
+    IsocurveCache, SurfaceFairingOptions, SurfaceFairingResult, SurfaceMethod, fair_surface_cached,
+};
 use fairway::io::Document;
 use fairway::measure_surface::{SurfaceMeasures, surface_measures};
 use fairway::mesh::SurfaceMesh;
@@ -161,6 +163,10 @@ pub struct SurfaceWorkspace {
     draft_job: Option<Job<PreviewKey, SurfacePreview>>,
     /// Draft jobs started so far (tests: one at a time, intermediate keys skipped).
     pub drafts_started: usize,
+    /// The isocurve setups of the last fairs of this surface, shared by the draft and full-fair jobs: a
+    /// draft at another tolerance (a tolerance drag) and the full fair after it skip the setups
+    /// ([`IsocurveCache`]; cleared when the surface changes).
+    pub iso_cache: IsocurveCache,
     /// Whether the pointer was down at the last [`Self::update_preview`] (a drag in progress).
     pointer_down: bool,
     /// Tests: every job this workspace starts waits at this gate before it computes.
@@ -239,6 +245,7 @@ impl SurfaceWorkspace {
             job: None,
             draft_job: None,
             drafts_started: 0,
+            iso_cache: IsocurveCache::new(),
             pointer_down: false,
             gate: None,
             failed: None,
@@ -313,6 +320,7 @@ impl SurfaceWorkspace {
         self.preview = None;
         self.job = None;
         self.draft_job = None;
+        self.iso_cache.clear();
         self.mesh = SurfaceMesh::tessellate(surface, self.shading.density, self.shading.density)
             .map_err(|e| anyhow::anyhow!("tessellation failed: {e}"))?;
         let b = self.scene_bbox();
@@ -525,13 +533,13 @@ impl SurfaceWorkspace {
         repaint: Option<&egui::Context>,
     ) -> Job<PreviewKey, SurfacePreview> {
         let surface = surface.clone();
-        let gate = self.gate.clone();
+        let (gate, cache) = (self.gate.clone(), self.iso_cache.clone());
         Job::spawn(key, "surface fairing", repaint, move |cancel| {
             if let Some(g) = gate {
                 g.pass();
             }
             let t0 = Instant::now();
-            let r = fair_surface_with(&surface, preview_options(key, true), cancel)?;
+            let r = fair_surface_cached(&surface, preview_options(key, true), cancel, &cache)?;
             let fair_ms = t0.elapsed().as_secs_f64() * 1e3;
             SurfacePreview::new(r, fair_ms, key, true)
         })
@@ -547,13 +555,13 @@ impl SurfaceWorkspace {
     ) -> Job<PreviewKey, FullFair> {
         let surface = surface.clone();
         let measure_before = self.measures_before.as_ref().map(|m| m.0) != Some(key.0);
-        let gate = self.gate.clone();
+        let (gate, cache) = (self.gate.clone(), self.iso_cache.clone());
         Job::spawn(key, "surface fairing", repaint, move |cancel| {
             if let Some(g) = gate {
                 g.pass();
             }
             let t0 = Instant::now();
-            let r = fair_surface_with(&surface, preview_options(key, false), cancel)?;
+            let r = fair_surface_cached(&surface, preview_options(key, false), cancel, &cache)?;
             let fair_ms = t0.elapsed().as_secs_f64() * 1e3;
             let mut preview = SurfacePreview::new(r, fair_ms, key, false)?;
             // the measures are not the core's fair: a job superseded meanwhile skips them

@@ -375,6 +375,18 @@ impl FairingSetup {
         self.last_mu = mu.filter(|m| m.is_finite() && *m > 0.0);
     }
 
+    /// Forget what earlier fairs left in the setup (the last μ of the band searches, the fit's E, where the
+    /// band scan last broke, the polish's start candidates): the next [`Self::fair`] then runs as on a setup just built (the surface
+    /// engine's cached isocurve setups, [`super::surface::IsocurveCache`]). The options, the tolerance
+    /// and the target stay as they are.
+    pub(crate) fn as_new(&mut self) {
+        self.last_mu = None;
+        self.last_mu_smooth = None;
+        self.best_energy = None;
+        self.scan_from = 0;
+        self.polish_cache = Default::default();
+    }
+
     /// Change the integration scheme.
     pub fn set_integrator(&mut self, integrator: Integrator) {
         self.opts.integrator = integrator;

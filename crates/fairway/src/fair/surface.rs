@@ -169,6 +169,7 @@ mod parallel;
 mod poles;
 mod reference;
 mod rounds;
+mod setup_cache;
 #[cfg(test)]
 mod tests;
 
@@ -184,6 +185,7 @@ pub use reference::REFERENCE_LOG_STRENGTH;
 use reference::{BLENDS, FINE_CHECK_PER_SPAN, REFERENCE_ORDER, SEARCH_CANDIDATES};
 use reference::{Bands, PlateFactors, Rank, Ranker, plate_fit, plate_search};
 use rounds::isocurve_rounds;
+pub use setup_cache::{CACHE_SAMPLES, CacheCounts, IsocurveCache};
 
 /// Smoothing strengths tried, largest first, with `auto_smoothing` (see [`SurfaceSmoothing`]).
 pub(crate) const AUTO_STRENGTHS: [f64; 8] = [1e5, 1e4, 1e3, 1e2, 1e1, 1.0, 1e-1, 0.0];
@@ -236,6 +238,19 @@ pub fn fair_surface_with(
     cancel: &crate::Cancel,
 ) -> Result<SurfaceFairingResult> {
     cancel.run(|| fair_surface(surface, opts))
+}
+
+/// [`fair_surface_with`] taking the isocurves' setups from `cache` where it holds them and keeping the new
+/// ones there ([`IsocurveCache`]): a surface faired again at another tolerance (the editor's drafts
+/// while the tolerance is dragged, the full fair after them) skips the isocurve setups. The result is
+/// [`fair_surface`]'s, bit for bit.
+pub fn fair_surface_cached(
+    surface: &BSplineSurface,
+    opts: SurfaceFairingOptions,
+    cancel: &crate::Cancel,
+    cache: &IsocurveCache,
+) -> Result<SurfaceFairingResult> {
+    cache.run(|| fair_surface_with(surface, opts, cancel))
 }
 
 /// Fair `surface` (see the module docs). Inside [`fair_surface_with`] (or a network fair with a token)

@@ -791,7 +791,11 @@ fn transpose(net: &[DVec3], rows: usize, cols: usize) -> Vec<DVec3> {
 }
 
 /// The knots `ins` inserted along the first index of a row-major `n × cols` net of degree `deg` on the
-/// knots `k` (each column a curve): the new knots, the new n and the new net.
+/// knots `k` (each column a curve), one at a time in the order given, as
+/// [`BSplineCurve::insert_knot`] inserts them into each column (the same arithmetic: the result is that
+/// of refining the columns one by one, bit for bit; test `net_refinement_is_the_columns_refinement`),
+/// with each knot's coefficients computed once for all columns: the new knots, the new n and the new
+/// net. `None` where a knot is not inside the domain or already of multiplicity `deg`.
 fn refine_rows(
     k: &[f64],
     deg: usize,
@@ -800,16 +804,31 @@ fn refine_rows(
     net: &[DVec3],
     ins: &[f64],
 ) -> Option<(Vec<f64>, usize, Vec<DVec3>)> {
-    let mut out_k = k.to_vec();
-    let mut columns = Vec::with_capacity(cols);
-    for c in 0..cols {
-        let pts: Vec<DVec3> = (0..n).map(|r| net[r * cols + c]).collect();
-        let refined = BSplineCurve::new_3d(deg, k.to_vec(), pts).ok()?.refine(ins).ok()?;
-        out_k = refined.knots().values().to_vec();
-        columns.push(refined.points().to_vec());
+    let (mut knots, mut n) = (k.to_vec(), n);
+    let mut cur = net.to_vec();
+    let mut next = Vec::with_capacity((n + ins.len()) * cols);
+    for &u in ins {
+        if !(u > knots[deg] && u < knots[n]) {
+            return None;
+        }
+        let span = crate::knots::find_span(&knots, deg, n, u);
+        let (lo, hi) = (knots.partition_point(|&v| v < u), knots.partition_point(|&v| v <= u));
+        if hi - lo >= deg {
+            return None;
+        }
+        next.clear();
+        next.extend_from_slice(&cur[..(span + 1 - deg) * cols]);
+        for i in span + 1 - deg..=span {
+            let alpha = (u - knots[i]) / (knots[i + deg] - knots[i]);
+            let (a, b) = (&cur[i * cols..(i + 1) * cols], &cur[(i - 1) * cols..i * cols]);
+            next.extend(a.iter().zip(b).map(|(x, y)| *x * alpha + *y * (1.0 - alpha)));
+        }
+        next.extend_from_slice(&cur[span * cols..]);
+        knots.insert(hi, u);
+        n += 1;
+        std::mem::swap(&mut cur, &mut next);
     }
-    let n2 = columns.first().map_or(n, Vec::len);
-    Some((out_k, n2, transpose(&columns.concat(), cols, n2)))
+    Some((knots, n, cur))
 }
 
 #[cfg(test)]
@@ -846,6 +865,41 @@ mod tests {
             assert!(bb.bound <= truth * 1.01, "n {n}: bound {} ≫ dense {truth}", bb.bound);
             assert!(bb.sampled <= bb.bound);
         }
+    }
+
+    /// The net refinement inserts each knot into every column exactly as [`BSplineCurve::refine`] does
+    /// column by column (bit for bit), refuses knots outside the domain or of full multiplicity as it
+    /// does, and the refined columns are the same curves (evaluated).
+    #[test]
+    fn net_refinement_is_the_columns_refinement() {
+        let (deg, n, cols) = (3, 9, 4);
+        let k = vec![0.0, 0.0, 0.0, 0.0, 0.1, 0.35, 0.5, 0.5, 0.8, 1.0, 1.0, 1.0, 1.0];
+        let net: Vec<DVec3> = (0..n * cols)
+            .map(|i| DVec3::new((i as f64 * 0.37).sin(), (i as f64 * 1.3).cos(), i as f64 * 0.01))
+            .collect();
+        let ins = [0.05, 0.5, 0.9, 0.225, 0.05, 0.65];
+        let (k2, n2, net2) = refine_rows(&k, deg, n, cols, &net, &ins).unwrap();
+        assert_eq!(n2, n + ins.len());
+        for c in 0..cols {
+            let col: Vec<DVec3> = (0..n).map(|r| net[r * cols + c]).collect();
+            let curve = BSplineCurve::new_3d(deg, k.clone(), col).unwrap();
+            let refined = curve.refine(&ins).unwrap();
+            assert_eq!(refined.knots().values(), &k2[..]);
+            let got: Vec<DVec3> = (0..n2).map(|r| net2[r * cols + c]).collect();
+            assert_eq!(refined.points(), &got[..], "column {c}");
+            let again = BSplineCurve::new_3d(deg, k2.clone(), got).unwrap();
+            for t in 0..=40 {
+                let u = t as f64 / 40.0;
+                assert!(again.point(u).distance(curve.point(u)) < 1e-14);
+            }
+        }
+        // 0.5 has multiplicity 2: one more insertion makes it 3 = deg, a second is refused (as by the curve)
+        let col0 = BSplineCurve::new_3d(deg, k.clone(), (0..n).map(|r| net[r * cols]).collect()).unwrap();
+        assert!(col0.refine(&[0.5, 0.5]).is_err() && col0.refine(&[0.5]).is_ok());
+        assert!(refine_rows(&k, deg, n, cols, &net, &[0.5, 0.5]).is_none());
+        assert!(refine_rows(&k, deg, n, cols, &net, &[0.5]).is_some());
+        assert!(refine_rows(&k, deg, n, cols, &net, &[1.0]).is_none());
+        assert!(refine_rows(&k, deg, n, cols, &net, &[-0.1]).is_none());
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! Steps 1 and 3–5 (module docs of `fair::surface`): the rows held at poles and seams, the isocurves faired
 //! by the curve engine and their clouds combined.
 
+use super::setup_cache::with_setup;
 use super::{Combine, ISO_SAMPLES_PER_SPAN, ISO_TARGET_SIGMA_SPANS, SurfaceFairingOptions, SurfaceTimings, par_map};
 use crate::error::{Error, Result};
 use crate::fair::curve::{FairingOptions, FairingSetup};
@@ -81,6 +82,16 @@ pub fn isocurve_setup(
     r: (f64, f64),
     spans_r: usize,
 ) -> Result<FairingSetup> {
+    FairingSetup::with_check_samples(c, isocurve_options(opts, m_iso, r, spans_r), 0)
+}
+
+/// The curve-engine options of [`isocurve_setup`].
+pub(super) fn isocurve_options(
+    opts: &SurfaceFairingOptions,
+    m_iso: f64,
+    r: (f64, f64),
+    spans_r: usize,
+) -> FairingOptions {
     let ns = opts.curve.samples.unwrap_or(ISO_SAMPLES_PER_SPAN * spans_r.max(1) + 1);
     let sigma = ISO_TARGET_SIGMA_SPANS * ISO_SAMPLES_PER_SPAN as f64;
     let strength = opts.curve.strength.or(match opts.curve.target {
@@ -88,7 +99,7 @@ pub fn isocurve_setup(
         TargetMethod::Binomial => Some((2.0 * sigma * sigma).round() as usize),
         TargetMethod::Fit => None,
     });
-    let fo = FairingOptions {
+    FairingOptions {
         region: Some(r),
         tolerance: m_iso,
         samples: Some(ns),
@@ -98,8 +109,7 @@ pub fn isocurve_setup(
         // an isocurve's ends are the surface's border: they keep the border's G2 state
         curve_ends: [None; 2],
         ..opts.curve
-    };
-    FairingSetup::with_check_samples(c, fo, 0)
+    }
 }
 
 /// The knot spans of `[a, b]` as the isocurve sampling counts them: a span next to an interior knot of
@@ -265,16 +275,19 @@ impl IsoGrid<'_> {
             return Ok(vec![kept; nl]);
         }
         let err = |e: Error| Error::InvalidInput(format!("fairing the {}-isocurve at {} = {}: {e}", at.0, at.1, at.2));
-        let mut st = isocurve_setup(&iso, self.opts, levels[0], r, spans).map_err(err)?;
-        let mut out = Vec::with_capacity(nl);
-        for (&m_iso, hint) in levels.iter().zip(hints.iter_mut()) {
-            st.set_tolerance(m_iso).map_err(err)?;
-            st.set_mu_hint(*hint);
-            let res = st.fair().map_err(err)?;
-            *hint = Some(res.mu);
-            out.push(t.iter().map(|&x| res.curve.point(x)).collect());
-        }
-        Ok(out)
+        let fo = isocurve_options(self.opts, levels[0], r, spans);
+        with_setup(&iso, fo, |st| {
+            let mut out = Vec::with_capacity(nl);
+            for (&m_iso, hint) in levels.iter().zip(hints.iter_mut()) {
+                st.set_tolerance(m_iso)?;
+                st.set_mu_hint(*hint);
+                let res = st.fair()?;
+                *hint = Some(res.mu);
+                out.push(t.iter().map(|&x| res.curve.point(x)).collect());
+            }
+            Ok(out)
+        })
+        .map_err(err)
     }
 
     /// Step 4 for one level: the grid data `S + Δ` from the displacements `du`, `dv` of the two
