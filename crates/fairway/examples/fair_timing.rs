@@ -20,9 +20,11 @@ use fairway::fair::network::{NetworkOptions, fair_network};
 mod common;
 use common::{noisy_curve, opts};
 
-/// The process's CPU time (ns), all threads ([`common::process_cpu_ns`]), 0 where `/proc` does not have it.
+/// The process's CPU time (ns), all threads, those that ended included (a network fair on 2 workers
+/// builds a pool per fair, whose threads end with it), in 10 ms ticks ([`common::process_cpu_ticks_ns`]):
+/// each figure spans seconds. 0 where `/proc` does not have it.
 fn cpu_ns() -> u64 {
-    common::process_cpu_ns().unwrap_or(0)
+    common::process_cpu_ticks_ns().unwrap_or(0)
 }
 
 /// Runs `f` for about `secs` (at least 3 times) after one warm-up call; (wall, CPU) per call in µs.
@@ -39,7 +41,7 @@ fn time(secs: f64, mut f: impl FnMut()) -> (f64, f64, usize) {
         n += 1;
     }
     let wall = t0.elapsed().as_secs_f64() * 1e6 / n as f64;
-    let cpu = (cpu_ns() - c0) as f64 * 1e-3 / n as f64;
+    let cpu = cpu_ns().saturating_sub(c0) as f64 * 1e-3 / n as f64;
     (wall, cpu, n)
 }
 

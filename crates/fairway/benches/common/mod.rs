@@ -44,7 +44,9 @@ pub fn opts(samples: usize) -> FairingOptions {
 
 /// CPU time (ns) of the whole process, all its threads (`/proc/self/task/*/schedstat`; `None` where
 /// `/proc` does not have it): a closed curve's two passes, a long curve's judged measures and a network's
-/// chains run on rayon's workers, so the calling thread's clock alone undercounts.
+/// chains run on rayon's workers, so the calling thread's clock alone undercounts. Only the threads
+/// alive now count: across a span in which threads end (a fair on its own pool of `threads` workers,
+/// which ends with it) use [`process_cpu_ticks_ns`].
 pub fn process_cpu_ns() -> Option<u64> {
     let mut total = 0;
     for t in std::fs::read_dir("/proc/self/task").ok()?.flatten() {
@@ -52,6 +54,16 @@ pub fn process_cpu_ns() -> Option<u64> {
         total += s.split_whitespace().next()?.parse::<u64>().ok()?;
     }
     Some(total)
+}
+
+/// CPU time (ns) of the whole process including its ended threads (`utime + stime` of `/proc/self/stat`),
+/// in clock ticks of 10 ms (Linux's USER_HZ of 100): for spans of seconds over which threads may end.
+pub fn process_cpu_ticks_ns() -> Option<u64> {
+    let s = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // the fields after the command's closing parenthesis: state is field 3, utime 14, stime 15
+    let mut f = s.get(s.rfind(')')? + 1..)?.split_whitespace().skip(11);
+    let (utime, stime): (u64, u64) = (f.next()?.parse().ok()?, f.next()?.parse().ok()?);
+    Some((utime + stime) * 10_000_000)
 }
 
 /// `n × n` bicubic net over [0,1]² with uniform knots: a smooth wave with deterministic noise σ ≈ 1e-3 on z
