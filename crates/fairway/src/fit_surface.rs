@@ -495,11 +495,14 @@ pub struct PlateFit<'g, 'a> {
 
 /// Free control points from which a plate system is factored as a sparse matrix (supernodal Cholesky
 /// after an approximate-minimum-degree ordering, `faer`) instead of a banded one. The banded factor costs
-/// O(n · bw²) with the bandwidth bw ≈ p · √n of a square block; the sparse one about O(n^1.5). Measured on
-/// this project's 2-core host (a 7 × 7 stencil like the bicubic plate's, one thread): 729 unknowns
-/// (a 30 × 30 net) 1.6–1.8 ms banded against 0.6–0.9 ms sparse, 9409 (100 × 100) 112–130 ms against
-/// 26–37 ms. Smaller blocks (the quality suite's 16 × 16 nets, the tests' nets) stay banded.
-pub const SPARSE_PLATE_MIN: usize = 400;
+/// O(n · bw²) with the bandwidth bw ≈ p · √n of a square block; the sparse one about O(n^1.5), plus an
+/// analysis of the pattern once per fit. Measured on this project's 2-core host (whole bicubic nets, one
+/// thread, per factorization after the first; the first, with the analysis, 2–10 ms): 400 / 529 unknowns
+/// banded 0.36 / 0.57 ms against sparse 0.62 / 1.28 ms; 676 / 900: 0.87–1.5 / 1.4–2.4 against 0.53 / 0.85–1.2;
+/// 1,225 / 1,600 / 2,500: 2.5–4.0 / 4.1 / 9.3 against 1.3–1.7 / 1.9 / 3.8; 9,409 (a 100 × 100 net): 112–130
+/// against 26–37 ms. Below this size (the quality suite's 16 × 16 nets, the 30 × 30 bench net, the tests'
+/// nets) the gain would not pay for the analysis, and the banded factor stays.
+pub const SPARSE_PLATE_MIN: usize = 1024;
 
 /// The sparsity pattern of a large plate system (upper triangle by columns = lower by rows) with the
 /// control-point pairs of its entries, and its symbolic factorization.
@@ -927,9 +930,9 @@ mod tests {
     /// the energy's null space is still reproduced at a large strength.
     #[test]
     fn sparse_plate_factor_solves_as_the_banded_one() {
-        let s = surface(27, 31, |u, v| 0.2 * (3.0 * u).sin() * (2.0 * v).cos());
-        let (us, vs) = (grid(80), grid(92));
-        for (fu, fv) in [(2..25, 3..27), (1..26, 2..23)] {
+        let s = surface(37, 41, |u, v| 0.2 * (3.0 * u).sin() * (2.0 * v).cos());
+        let (us, vs) = (grid(110), grid(124));
+        for (fu, fv) in [(2..35, 3..37), (1..36, 2..33)] {
             assert!(fu.len() * fv.len() >= SPARSE_PLATE_MIN);
             let g = GridFit::new(&s, &us, &vs, fu.clone(), fv.clone()).unwrap();
             let data: Vec<DVec3> = us
@@ -955,16 +958,16 @@ mod tests {
                 );
                 let worst = a.iter().zip(&b).map(|(x, y)| x.distance(*y)).fold(0.0, f64::max);
                 assert!(worst < 1e-10, "strength {st}: sparse and banded differ by {worst:e}");
-                for i in 0..27 {
-                    for j in 0..31 {
+                for i in 0..37 {
+                    for j in 0..41 {
                         if !(fu.contains(&i) && fv.contains(&j)) {
-                            assert_eq!(a[i * 31 + j], s.points()[i * 31 + j]);
+                            assert_eq!(a[i * 41 + j], s.points()[i * 41 + j]);
                         }
                     }
                 }
             }
         }
-        let whole = GridFit::new(&s, &us, &vs, 0..27, 0..31).unwrap();
+        let whole = GridFit::new(&s, &us, &vs, 0..37, 0..41).unwrap();
         let f = |u: f64, v: f64| 0.3 * u * u - 0.2 * u * v + 0.4 * v * v - u;
         let quadric: Vec<DVec3> = us
             .iter()
