@@ -23,10 +23,12 @@ use crate::curve::BSplineCurve;
 use crate::error::Result;
 use crate::fair::curve::{FairingOptions, FairingSetup};
 
-/// Samples a cache holds at most by default ([`IsocurveCache::new`]), over all its setups (an isocurve setup without check samples holds
-/// a few hundred bytes per sample: 150,000 are a few tens of MB). A 100 × 100 net faired whole has about
-/// 580 isocurves of 390 samples each (225,000): such a fair keeps the setups that fit and builds the rest.
-pub const CACHE_SAMPLES: usize = 150_000;
+/// Samples a cache holds at most by default ([`IsocurveCache::new`]), over all its setups. An isocurve
+/// setup without check samples holds about 770 bytes per sample (measured: a full cache of 150,000 samples
+/// raised a draft's peak memory from 24 to 140 MB), so this is about 50 MB: every isocurve of a 30 × 30 net
+/// faired whole (164 isocurves, 18,000 samples) or of a 50 × 50 one (54,000); a 100 × 100 net (about 580
+/// isocurves of 390 samples) keeps the setups that fit and builds the rest.
+pub const CACHE_SAMPLES: usize = 64_000;
 
 /// Isocurve setups kept between surface fairs ([`super::fair_surface_cached`], module docs). Cloning
 /// shares the cache; it may be used by several fairs at once, on any threads (a setup in use by one is
