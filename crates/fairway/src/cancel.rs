@@ -145,15 +145,26 @@ pub(crate) fn current() -> Option<Cancel> {
 /// also when `f` panics. Installing `None` matters too: a rayon worker may run an item of another fair
 /// while it waits inside an item of this one, and must not see this one's token.
 pub(crate) fn scoped<R>(token: Option<&Cancel>, f: impl FnOnce() -> R) -> R {
-    struct Restore(Option<Cancel>);
-    impl Drop for Restore {
+    scoped_local(&CURRENT, token, f)
+}
+
+/// Run `f` with `value` installed in the thread-local `key` (`None`: none), the previous value restored
+/// afterwards, also when `f` panics: the fair's context that [`crate::fair`]'s parallel maps carry into
+/// their workers (this module's token, the surface engine's isocurve cache).
+pub(crate) fn scoped_local<T: Clone + 'static, R>(
+    key: &'static std::thread::LocalKey<RefCell<Option<T>>>,
+    value: Option<&T>,
+    f: impl FnOnce() -> R,
+) -> R {
+    struct Restore<T: 'static>(&'static std::thread::LocalKey<RefCell<Option<T>>>, Option<T>);
+    impl<T: 'static> Drop for Restore<T> {
         fn drop(&mut self) {
-            let prev = self.0.take();
-            CURRENT.with(|c| *c.borrow_mut() = prev);
+            let prev = self.1.take();
+            self.0.with(|c| *c.borrow_mut() = prev);
         }
     }
-    let prev = CURRENT.with(|c| std::mem::replace(&mut *c.borrow_mut(), token.cloned()));
-    let _restore = Restore(prev);
+    let prev = key.with(|c| std::mem::replace(&mut *c.borrow_mut(), value.cloned()));
+    let _restore = Restore(key, prev);
     f()
 }
 

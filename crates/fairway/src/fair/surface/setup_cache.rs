@@ -243,16 +243,7 @@ pub(crate) fn current() -> Option<IsocurveCache> {
 
 /// Run `f` with `cache` installed on this thread (and the previous one restored after).
 pub(crate) fn scoped<R>(cache: Option<&IsocurveCache>, f: impl FnOnce() -> R) -> R {
-    struct Restore(Option<IsocurveCache>);
-    impl Drop for Restore {
-        fn drop(&mut self) {
-            let prev = self.0.take();
-            CURRENT.with(|c| *c.borrow_mut() = prev);
-        }
-    }
-    let prev = CURRENT.with(|c| std::mem::replace(&mut *c.borrow_mut(), cache.cloned()));
-    let _restore = Restore(prev);
-    f()
+    crate::cancel::scoped_local(&CURRENT, cache, f)
 }
 
 /// Run `f` on the setup of isocurve `c` with `opts` (its tolerance set by `f`): the installed cache's if
