@@ -584,7 +584,10 @@ impl<'g, 'a> PlateFit<'g, 'a> {
     pub fn factor(&self, strength: f64) -> Result<PlateFactor> {
         self.check_strength(strength)?;
         let n = self.grid.free_u.len() * self.grid.free_v.len();
-        if n >= SPARSE_PLATE_MIN {
+        // the banded factor also where the sparse analysis failed (it allocates the symbolic factor: out of
+        // memory is its only failure on a valid pattern)
+        let sparse = n >= SPARSE_PLATE_MIN && self.sparse.get_or_init(|| self.sparse_pattern()).is_ok();
+        if sparse {
             return self.factor_sparse(strength, &self.weighted_terms(strength), n);
         }
         self.factor_banded(strength)
