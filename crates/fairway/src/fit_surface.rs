@@ -929,8 +929,9 @@ mod tests {
 
     /// A block of at least [`SPARSE_PLATE_MIN`] free points is factored sparse: its solutions are the
     /// banded factorization's to rounding (1e-10 of the data's size, which is ≈ 1: measured ≤ 5e-12 at
-    /// strength 1e6, the conditioning growing with the strength) at strengths from none to large, for both unknown orders (u- and v-major), with the held points bit for bit kept; data in
-    /// the energy's null space is still reproduced at a large strength.
+    /// strength 1e6, the conditioning growing with the strength) at strengths from none to large, for
+    /// both unknown orders (u- and v-major), with the held points bit for bit kept; data in the energy's
+    /// null space is still reproduced at a large strength.
     #[test]
     fn sparse_plate_factor_solves_as_the_banded_one() {
         let s = surface(37, 41, |u, v| 0.2 * (3.0 * u).sin() * (2.0 * v).cos());

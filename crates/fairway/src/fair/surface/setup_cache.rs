@@ -30,9 +30,14 @@ use crate::fair::curve::{FairingOptions, FairingSetup};
 /// isocurves of 390 samples) keeps the setups that fit and builds the rest.
 pub const CACHE_SAMPLES: usize = 64_000;
 
-/// Isocurve setups kept between surface fairs ([`super::fair_surface_cached`], module docs). Cloning
-/// shares the cache; it may be used by several fairs at once, on any threads (a setup in use by one is
-/// built afresh by the other).
+/// Isocurve setups kept between surface fairs ([`super::fair_surface_cached`]): a surface faired again at
+/// another tolerance (the editor's drafts while the tolerance is dragged, the full fair after them, a
+/// fair's own tightening rounds) takes its isocurves' setups from here instead of building them again.
+/// A setup is found by its content (the isocurve's degree, knots, control points and weights, and the
+/// setup's options; the tolerance is not part of a setup), never by the caller's idea of "the same
+/// surface", and is reset before reuse, so a fair with a cache is the fair without, bit for bit. Cloning
+/// shares the cache; several fairs may use it at once, on any threads (a setup in use by one is built
+/// afresh by the other). It holds at most [`CACHE_SAMPLES`] samples (or its own capacity).
 #[derive(Clone)]
 pub struct IsocurveCache(Arc<Mutex<State>>);
 
