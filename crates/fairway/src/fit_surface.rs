@@ -489,8 +489,9 @@ pub struct PlateFit<'g, 'a> {
     /// `tr(data) / tr(energy)`.
     norm: f64,
     /// A large system's pattern and its symbolic sparse Cholesky (ordering, elimination tree, supernodes),
-    /// made on the first factorization and shared by all strengths ([`SPARSE_PLATE_MIN`]).
-    sparse: OnceLock<std::result::Result<SparsePattern, String>>,
+    /// made on the first factorization and shared by all strengths ([`SPARSE_PLATE_MIN`]); `None` if the
+    /// analysis failed (the banded factor is used then).
+    sparse: OnceLock<Option<SparsePattern>>,
 }
 
 /// Free control points from which a plate system is factored as a sparse matrix (supernodal Cholesky
@@ -586,9 +587,10 @@ impl<'g, 'a> PlateFit<'g, 'a> {
         let n = self.grid.free_u.len() * self.grid.free_v.len();
         // the banded factor also where the sparse analysis failed (it allocates the symbolic factor: out of
         // memory is its only failure on a valid pattern)
-        let sparse = n >= SPARSE_PLATE_MIN && self.sparse.get_or_init(|| self.sparse_pattern()).is_ok();
-        if sparse {
-            return self.factor_sparse(strength, &self.weighted_terms(strength), n);
+        if n >= SPARSE_PLATE_MIN
+            && let Some(pat) = self.sparse.get_or_init(|| self.sparse_pattern())
+        {
+            return self.factor_sparse(pat, strength, n);
         }
         self.factor_banded(strength)
     }
@@ -641,8 +643,8 @@ impl<'g, 'a> PlateFit<'g, 'a> {
     }
 
     /// The pattern of the free block's system (entries (r, c), c ≤ r, by r then c, in the unknown order
-    /// of [`Self::factor`]) with its symbolic factorization.
-    fn sparse_pattern(&self) -> std::result::Result<SparsePattern, String> {
+    /// of [`Self::factor`]) with its symbolic factorization; `None` if that fails.
+    fn sparse_pattern(&self) -> Option<SparsePattern> {
         let g = self.grid;
         let (free_u, free_v) = (&g.free_u, &g.free_v);
         let (nfu, nfv) = (free_u.len(), free_v.len());
@@ -680,10 +682,9 @@ impl<'g, 'a> PlateFit<'g, 'a> {
         }
         let symbolic = {
             let pattern = faer::sparse::SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
-            faer::sparse::linalg::solvers::SymbolicLlt::try_new(pattern, faer::Side::Upper)
-                .map_err(|e| format!("surface smoothing: sparse analysis failed ({e:?})"))?
+            faer::sparse::linalg::solvers::SymbolicLlt::try_new(pattern, faer::Side::Upper).ok()?
         };
-        Ok(SparsePattern {
+        Some(SparsePattern {
             col_ptr,
             row_idx,
             pairs,
@@ -692,12 +693,8 @@ impl<'g, 'a> PlateFit<'g, 'a> {
     }
 
     /// [`Self::factor`] of a large block ([`SPARSE_PLATE_MIN`]): the same matrix, factored sparse.
-    fn factor_sparse(&self, strength: f64, terms: &[(f64, &BandedSpd, &BandedSpd)], n: usize) -> Result<PlateFactor> {
-        let pat = self
-            .sparse
-            .get_or_init(|| self.sparse_pattern())
-            .as_ref()
-            .map_err(|e| Error::Solve(e.clone()))?;
+    fn factor_sparse(&self, pat: &SparsePattern, strength: f64, n: usize) -> Result<PlateFactor> {
+        let terms = self.weighted_terms(strength);
         let values: Vec<f64> = (pat.pairs.iter())
             .map(|&[i, i2, j, j2]| {
                 let (i, i2, j, j2) = (i as usize, i2 as usize, j as usize, j2 as usize);

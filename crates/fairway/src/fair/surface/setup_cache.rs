@@ -70,6 +70,24 @@ struct State {
     misses: usize,
 }
 
+impl State {
+    /// Drop the entries `drop` picks, with their samples.
+    fn drop_entries(&mut self, drop: impl Fn(&Entry) -> bool) {
+        let mut freed = 0;
+        for bucket in self.entries.values_mut() {
+            bucket.retain(|e| {
+                let gone = drop(e);
+                if gone {
+                    freed += e.samples;
+                }
+                !gone
+            });
+        }
+        self.entries.retain(|_, b| !b.is_empty());
+        self.samples -= freed;
+    }
+}
+
 struct Entry {
     key: Key,
     setup: Arc<Mutex<FairingSetup>>,
@@ -164,9 +182,7 @@ impl IsocurveCache {
 
     /// Drop every setup.
     pub fn clear(&self) {
-        let mut s = self.lock();
-        s.entries.clear();
-        s.samples = 0;
+        self.lock().drop_entries(|_| true);
     }
 
     /// Run `f` (a surface fair) with this cache installed for the isocurves' setups ([`with_setup`]), on
@@ -186,19 +202,8 @@ impl IsocurveCache {
     }
 
     /// Drop the entry for `key` (its setup was poisoned by a panic during a fair).
-    fn remove(&self, key: &Key, hash: u64) {
-        let mut s = self.lock();
-        let mut freed = 0;
-        if let Some(b) = s.entries.get_mut(&hash) {
-            b.retain(|e| {
-                let keep = e.key != *key;
-                if !keep {
-                    freed += e.samples;
-                }
-                keep
-            });
-        }
-        s.samples -= freed;
+    fn remove(&self, key: &Key) {
+        self.lock().drop_entries(|e| e.key == *key);
     }
 
     /// Keep `setup` for `key`, if there is room (entries not used by the current fair are dropped for it).
@@ -210,18 +215,7 @@ impl IsocurveCache {
         }
         if s.samples + samples > s.capacity {
             let now = s.fairs;
-            let mut freed = 0;
-            for bucket in s.entries.values_mut() {
-                bucket.retain(|e| {
-                    let keep = e.used == now;
-                    if !keep {
-                        freed += e.samples;
-                    }
-                    keep
-                });
-            }
-            s.entries.retain(|_, b| !b.is_empty());
-            s.samples -= freed;
+            s.drop_entries(|e| e.used != now);
         }
         if s.samples + samples > s.capacity {
             return;
@@ -272,7 +266,7 @@ pub(super) fn with_setup<R>(
                 st.as_new();
                 return f(&mut st);
             }
-            Err(TryLockError::Poisoned(_)) => cache.remove(&key, hash),
+            Err(TryLockError::Poisoned(_)) => cache.remove(&key),
             Err(TryLockError::WouldBlock) => {}
         }
     }
