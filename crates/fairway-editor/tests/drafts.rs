@@ -60,7 +60,7 @@ fn full_now(s: &BSplineSurface, k: PreviewKey) -> BSplineSurface {
     fair_surface(s, opts).unwrap().surface
 }
 
-/// The draft the preview asks for during a drag (one isocurve level, the isocurves alone).
+/// The draft the preview asks for during a drag (`SurfaceFairingOptions::draft`).
 fn draft_now(s: &BSplineSurface, k: PreviewKey) -> BSplineSurface {
     fair_surface(s, draft_options(k)).unwrap().surface
 }
@@ -69,8 +69,7 @@ fn draft_options(k: PreviewKey) -> SurfaceFairingOptions {
     SurfaceFairingOptions::default()
         .region(k.1)
         .tolerance(tolerance(k))
-        .iso_levels(1)
-        .method(SurfaceMethod::Isocurves)
+        .draft()
 }
 
 /// A new tolerance supersedes the running full fair: the job is dropped, its token set, and its thread

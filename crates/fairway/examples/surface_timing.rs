@@ -8,7 +8,8 @@
 //! ISO_LEVELS=1 cargo run --release -p fairway --example surface_timing   # one isocurve tolerance only
 //! COMBINE=weighted cargo run --release -p fairway --example surface_timing   # the default combination
 //! REFAIR_LEVELS=1 cargo run --release -p fairway --example surface_timing   # isocurves re-faired per level
-//! METHOD=isocurves ISO_LEVELS=1 cargo run …   # the editor's draft preview (isocurves alone, one level)
+//! DRAFT=1 cargo run …   # the editor's draft preview (`SurfaceFairingOptions::draft`; the other knobs ignored)
+//! METHOD=isocurves ISO_LEVELS=1 COMBINE=weighted cargo run …   # the draft preview before session 29 (3 a span)
 //! SIZES=30,50 cargo run --release -p fairway --example surface_timing      # only these net sizes
 //! SPS=2 … / NOAUTO=1 …   # 2 grid isocurves per knot span (default 3) / no auto smoothing (the options' own)
 //! CANCEL_TOKEN=1 …   # through fair_surface_with and a token never set (the hash must not change)
@@ -92,6 +93,11 @@ fn main() {
             .samples_per_span(std::env::var("SPS").map_or(3, |x| x.parse().unwrap()))
             .auto_smoothing(std::env::var("NOAUTO").is_err())
             .method(std::env::var("METHOD").map_or(SurfaceMethod::Fairway, |m| m.parse().expect("method")));
+        let opts = if std::env::var("DRAFT").is_ok() {
+            SurfaceFairingOptions::default().tolerance(opts.tolerance).draft()
+        } else {
+            opts
+        };
         // best wall time of `repeats` (least disturbed by other load on the machine), with its thread CPU time
         // CACHE=1: each timed fair follows one at 1.05 × the tolerance with the same isocurve cache (a
         // re-fair while the tolerance is dragged)

@@ -74,8 +74,8 @@ pub struct SurfacePreview {
     pub notes: Vec<String>,
     /// Measures against the original (computed with the full fair, in the background; none for a draft).
     pub measures: Option<SurfaceMeasures>,
-    /// Computed while a drag was in progress with one isocurve tolerance level (`iso_levels: 1`) and the
-    /// isocurves alone (in the background, one draft at a time); the full fair runs when the pointer is
+    /// Computed while a drag was in progress with the draft options (`SurfaceFairingOptions::draft`: one
+    /// isocurve tolerance level, the isocurves alone, 2 isocurves a knot span; in the background, one draft at a time); the full fair runs when the pointer is
     /// released (in the background; the draft is shown meanwhile, marked provisional).
     pub draft: bool,
     key: PreviewKey,
@@ -111,19 +111,13 @@ impl SurfacePreview {
     }
 }
 
-/// The fairing options of a preview of `key`: a draft while dragging (one isocurve tolerance level,
-/// the isocurves alone), else the defaults.
+/// The fairing options of a preview of `key`: a draft while dragging (`SurfaceFairingOptions::draft`), else
+/// the defaults.
 fn preview_options(key: PreviewKey, draft: bool) -> SurfaceFairingOptions {
-    let defaults = SurfaceFairingOptions::default();
-    defaults
+    let opts = SurfaceFairingOptions::default()
         .region(key.1)
-        .tolerance(f64::from_bits(key.2))
-        .iso_levels(if draft { 1 } else { defaults.iso_levels })
-        .method(if draft {
-            SurfaceMethod::Isocurves
-        } else {
-            defaults.method
-        })
+        .tolerance(f64::from_bits(key.2));
+    if draft { opts.draft() } else { opts }
 }
 
 /// What the background full fair hands back.
@@ -523,9 +517,9 @@ impl SurfaceWorkspace {
         true
     }
 
-    /// The draft preview of `key` as a background job: one isocurve tolerance level (the live-preview
-    /// setting of the core) and the isocurve fairing alone (the step-8 choice among the reference
-    /// smoother's candidates costs 8-15 × as much), and its tessellation.
+    /// The draft preview of `key` as a background job (`SurfaceFairingOptions::draft`: one isocurve
+    /// tolerance level, the isocurve fairing alone — the step-8 choice among the reference smoother's
+    /// candidates costs 8-15 × as much — and 2 isocurves a knot span), and its tessellation.
     fn draft_job(
         &self,
         surface: &BSplineSurface,
