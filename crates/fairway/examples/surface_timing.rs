@@ -14,6 +14,7 @@
 //! SPS=2 … / NOAUTO=1 …   # 2 grid isocurves per knot span (default 3) / no auto smoothing (the options' own)
 //! CANCEL_TOKEN=1 …   # through fair_surface_with and a token never set (the hash must not change)
 //! CACHE=1 …   # each timed fair follows one at 1.05 × the tolerance with the same IsocurveCache (a drag)
+//! CACHE=full …   # … follows the default full fair at 1.05 × (with DRAFT=1: a drag's first draft in the editor)
 //! ```
 //!
 //! The last column is an FNV-1a hash of the result's control-point bits, to check that a speed-up
@@ -105,10 +106,17 @@ fn main() {
         let mut best: Option<(Duration, f64, f64, fairway::fair::SurfaceFairingResult)> = None;
         for _ in 0..repeats {
             if let Some(cache) = &cache {
-                // the draft before, at another tolerance: its setups are the timed fair's
+                // the draft before, at another tolerance: its setups are the timed fair's (CACHE=full: the
+                // full fair before it, as when a drag starts after the editor's full fair)
+                let before = if std::env::var("CACHE").is_ok_and(|c| c == "full") {
+                    cache.clear();
+                    SurfaceFairingOptions::default()
+                } else {
+                    opts
+                };
                 fair_surface_cached(
                     &s,
-                    opts.tolerance(opts.tolerance * 1.05),
+                    before.tolerance(opts.tolerance * 1.05),
                     &fairway::Cancel::new(),
                     cache,
                 )
