@@ -9,7 +9,7 @@
 //! COMBINE=weighted cargo run --release -p fairway --example surface_timing   # the default combination
 //! REFAIR_LEVELS=1 cargo run --release -p fairway --example surface_timing   # isocurves re-faired per level
 //! DRAFT=1 cargo run …   # the editor's draft preview (`SurfaceFairingOptions::draft`; the other knobs ignored)
-//! METHOD=isocurves ISO_LEVELS=1 COMBINE=weighted cargo run …   # the draft preview before session 29 (3 a span)
+//! METHOD=isocurves ISO_LEVELS=1 COMBINE=weighted cargo run …   # the draft preview before session 29
 //! SIZES=30,50 cargo run --release -p fairway --example surface_timing      # only these net sizes
 //! SPS=2 … / NOAUTO=1 …   # 2 grid isocurves per knot span (default 3) / no auto smoothing (the options' own)
 //! CANCEL_TOKEN=1 …   # through fair_surface_with and a token never set (the hash must not change)

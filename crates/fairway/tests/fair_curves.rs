@@ -1109,3 +1109,43 @@ fn a_fair_never_ends_with_more_curvature_extrema_than_the_input() {
         );
     }
 }
+
+/// `set_fairest_mu(false)` stops the fit at the band's largest μ; on (the default) μ steps down from
+/// there by factors of 16 while the fit's E falls. On noisy circle arcs (the fit alone, no polish): both
+/// hold the band; where the two differ, the default's μ is the band's limit divided by a power of 16 and
+/// its E is lower; and on some of them it does differ (the step down is what the option turns off).
+#[test]
+fn fairest_mu_steps_down_from_the_bands_largest() {
+    let mut stepped = 0;
+    for (ncp, sigma, seed) in [
+        (12, 1e-2, 3),
+        (24, 1e-2, 1),
+        (60, 1e-2, 1),
+        (60, 1e-3, 1),
+        (24, 1e-3, 2),
+    ] {
+        let c = noisy_curve(KNOWN_SHAPES[0], ncp, sigma, seed);
+        for f in [1.0, 3.0, 10.0] {
+            let m = f * sigma;
+            let o = FairingOptions::default().tolerance(m).polish(false);
+            let on = FairingSetup::new(&c, o).unwrap().fair().unwrap();
+            let mut s = FairingSetup::new(&c, o).unwrap();
+            s.set_fairest_mu(false);
+            let off = s.fair().unwrap();
+            let case = format!("{ncp} cps, σ {sigma}, seed {seed}, m = {f} σ");
+            assert!(on.max_deviation <= m && off.max_deviation <= m, "{case}");
+            if on.mu != off.mu {
+                stepped += 1;
+                let steps = (off.mu / on.mu).ln() / 16f64.ln();
+                assert!(
+                    steps >= 1.0 - 1e-9 && (steps - steps.round()).abs() < 1e-9,
+                    "{case}: μ {} against the band's {}",
+                    on.mu,
+                    off.mu
+                );
+                assert!(on.energy < off.energy, "{case}: E {} against {}", on.energy, off.energy);
+            }
+        }
+    }
+    assert!(stepped >= 3, "the step down changed μ on {stepped} of 15 cases");
+}

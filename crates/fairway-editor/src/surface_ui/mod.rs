@@ -75,7 +75,7 @@ pub struct SurfacePreview {
     /// Measures against the original (computed with the full fair, in the background; none for a draft).
     pub measures: Option<SurfaceMeasures>,
     /// Computed while a drag was in progress with the draft options (`SurfaceFairingOptions::draft`: one
-    /// isocurve tolerance level, the isocurves alone, 2 isocurves a knot span; in the background, one draft at a time); the full fair runs when the pointer is
+    /// isocurve tolerance level, the isocurves alone, each at the band's largest μ; in the background, one draft at a time); the full fair runs when the pointer is
     /// released (in the background; the draft is shown meanwhile, marked provisional).
     pub draft: bool,
     key: PreviewKey,
@@ -519,7 +519,8 @@ impl SurfaceWorkspace {
 
     /// The draft preview of `key` as a background job (`SurfaceFairingOptions::draft`: one isocurve
     /// tolerance level, the isocurve fairing alone — the step-8 choice among the reference smoother's
-    /// candidates costs 8-15 × as much — and 2 isocurves a knot span), and its tessellation.
+    /// candidates costs 8-15 × as much — and each isocurve's fit at the band's largest μ), and its
+    /// tessellation.
     fn draft_job(
         &self,
         surface: &BSplineSurface,

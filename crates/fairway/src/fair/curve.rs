@@ -205,6 +205,9 @@ pub struct FairingSetup {
     probes: VarRows,
     /// The μ search solves the smoother's system (`A0 + λ A3`, data term the original) instead of the fit's.
     smoothing_system: bool,
+    /// After the band's largest μ, step μ down while the fit's E falls (`fit::finish_mu_fairest`); on
+    /// unless [`Self::set_fairest_mu`] turned it off.
+    fairest_mu: bool,
     /// λ / μ of the smoother ([`Self::lambda_scale`]).
     a3_scale: f64,
     /// `var`, `probes`, `a3`, `rhs3` and `a3_scale` are built (`setup::variation_rows`: only for a fair
@@ -366,6 +369,15 @@ impl FairingSetup {
         crate::range::check_tolerance_at(m, size)?;
         self.opts.tolerance = m;
         Ok(())
+    }
+
+    /// Whether the fit's μ search, having found the largest band-holding μ, steps μ down while the fit's
+    /// E falls (on by default: where the original's speed profile is noisy E has its minimum below the
+    /// band's limit, see `fit::finish_mu_fairest`). Off, the fit stops at the band's limit: one band-checked
+    /// solve and one E fewer per fair (the surface draft's isocurves,
+    /// [`SurfaceFairingOptions::draft`](super::SurfaceFairingOptions::draft)).
+    pub fn set_fairest_mu(&mut self, on: bool) {
+        self.fairest_mu = on;
     }
 
     /// Start the next [`Self::fair`]'s band search at fairness weight `mu` (e.g. the μ of a

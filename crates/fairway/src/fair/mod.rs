@@ -54,8 +54,8 @@ pub use integrate::Integrator;
 pub use iterative::{IterativeOptions, fair_iterative};
 pub use split::{CornerFair, CornerSetups, Stretch, fair_between_corners};
 pub use surface::{
-    Combine, DRAFT_SAMPLES_PER_SPAN, IsocurveCache, SurfaceFairingOptions, SurfaceFairingResult, SurfaceMethod,
-    SurfacePick, SurfaceTimings, fair_surface, fair_surface_cached, fair_surface_with,
+    Combine, IsocurveCache, SurfaceFairingOptions, SurfaceFairingResult, SurfaceMethod, SurfacePick, SurfaceTimings,
+    fair_surface, fair_surface_cached, fair_surface_with,
 };
 pub use target::{Target, TargetMethod};
 pub use verify::{BandBound, band_bound};

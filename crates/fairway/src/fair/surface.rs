@@ -179,10 +179,7 @@ use fairness::FairnessGrid;
 use isocurves::POLE_ROWS;
 pub use isocurves::isocurve_setup;
 use isocurves::{combined_cloud, hold_poles_and_seams, net_size};
-pub use options::{
-    Combine, DRAFT_SAMPLES_PER_SPAN, SurfaceFairingOptions, SurfaceFairingResult, SurfaceMethod, SurfacePick,
-    SurfaceTimings,
-};
+pub use options::{Combine, SurfaceFairingOptions, SurfaceFairingResult, SurfaceMethod, SurfacePick, SurfaceTimings};
 pub(crate) use parallel::par_map;
 pub use reference::REFERENCE_LOG_STRENGTH;
 use reference::{BLENDS, FINE_CHECK_PER_SPAN, REFERENCE_ORDER, SEARCH_CANDIDATES};

@@ -135,8 +135,9 @@ impl FairingSetup {
     /// μ = 1e6 gives 2.2: a looser tolerance would give a less fair curve than m = 0.01 (∫(dκ/ds)² 58
     /// against 25).
     fn finish_mu_fairest(&mut self, a: f64, da: f64, accept: f64, solves: &mut usize) -> (f64, f64, f64) {
-        if self.smoothing_system {
+        if self.smoothing_system || !self.fairest_mu {
             // the smoother's weight is the largest the band allows, as a smoothing-factor search gives
+            // (and the fit's where the step down is turned off)
             return self.finish_mu(a, da);
         }
         let lo = MU_MIN.ln();

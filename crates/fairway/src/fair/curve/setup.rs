@@ -206,6 +206,7 @@ impl FairingSetup {
             var: VarRows::default(),
             probes: VarRows::default(),
             smoothing_system: false,
+            fairest_mu: true,
             a3_scale: 1.0,
             var_rows_built: false,
             last_mu_smooth: None,

@@ -281,6 +281,7 @@ impl IsoGrid<'_> {
             for (&m_iso, hint) in levels.iter().zip(hints.iter_mut()) {
                 st.set_tolerance(m_iso)?;
                 st.set_mu_hint(*hint);
+                st.set_fairest_mu(self.opts.fairest_isocurves);
                 let res = st.fair()?;
                 *hint = Some(res.mu);
                 out.push(t.iter().map(|&x| res.curve.point(x)).collect());

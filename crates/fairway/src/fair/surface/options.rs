@@ -114,6 +114,10 @@ pub struct SurfaceFairingOptions {
     /// each level's tolerance m/3, m/9, … (one setup per isocurve, re-faired per level: about 2× the
     /// isocurve time). Measured in the module docs (step 6): the same fairness within a few per cent.
     pub refair_levels: bool,
+    /// Each isocurve's fit steps its fairness weight μ below the band's largest while its E falls, as a
+    /// curve fair does (default `true`; [`FairingSetup::set_fairest_mu`](crate::fair::FairingSetup::set_fairest_mu)).
+    /// Off in [`Self::draft`]: one band-checked solve and one E fewer per isocurve.
+    pub fairest_isocurves: bool,
     /// The isocurve fairing with the step-8 choice (default), the reference smoother alone, or the isocurve
     /// fairing alone. Step 8 runs with or without `auto_smoothing`: for exactly the given `smoothing`, use
     /// [`SurfaceMethod::Isocurves`].
@@ -137,6 +141,7 @@ impl Default for SurfaceFairingOptions {
             threads: None,
             iso_levels: 3,
             refair_levels: false,
+            fairest_isocurves: true,
             method: SurfaceMethod::Fairway,
         }
     }
@@ -224,22 +229,19 @@ impl std::ops::Add for SurfaceTimings {
     }
 }
 
-/// Grid samples (isocurves) per knot span of [`SurfaceFairingOptions::draft`].
-pub const DRAFT_SAMPLES_PER_SPAN: usize = 2;
-
 impl SurfaceFairingOptions {
     /// These options made a draft: the quick preview the editor shows while the tolerance (or the region)
     /// is dragged, replaced by the full fair when the pointer is released. One isocurve tolerance level
     /// (`iso_levels` 1), the isocurve fairing alone (no step-8 ranking: [`SurfaceMethod::Isocurves`]) and
-    /// [`DRAFT_SAMPLES_PER_SPAN`] isocurves per knot span instead of 3 (a third fewer isocurves to fair and
-    /// a smaller cloud to fit). The band is checked and bounded as in every fair. Measured on the
-    /// surface suite at 30 × 30 and 3σ (PERFORMANCE.md, session 29): the same isocurve extrema and
-    /// `∫∫|∇H|²` within ±5 % of a draft at 3 samples a span, as close to the full fair, 25–35 % less time.
+    /// each isocurve's fit at the band's largest μ (`fairest_isocurves` off). The band is checked and
+    /// bounded as in every fair. Measured on the surface suite at 30 × 30 and 1, 3, 10 σ (PERFORMANCE.md,
+    /// session 29): the same isocurve curvature extrema as with `fairest_isocurves` on, `∫∫|∇H|²` within
+    /// 0.3 %, 12 % less time a draft.
     pub fn draft(self) -> Self {
         Self {
             iso_levels: 1,
             method: SurfaceMethod::Isocurves,
-            samples_per_span: DRAFT_SAMPLES_PER_SPAN,
+            fairest_isocurves: false,
             ..self
         }
     }
@@ -256,5 +258,6 @@ crate::fair::curve::setters_for!(SurfaceFairingOptions {
     threads: Option<usize>,
     iso_levels: usize,
     refair_levels: bool,
+    fairest_isocurves: bool,
     method: SurfaceMethod,
 });

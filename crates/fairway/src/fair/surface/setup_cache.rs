@@ -283,7 +283,7 @@ pub(super) fn with_setup<R>(
 mod tests {
     use super::*;
     use crate::fair::surface::tests::{graph, noisy};
-    use crate::fair::surface::{SurfaceFairingOptions, SurfaceMethod, fair_surface, fair_surface_cached};
+    use crate::fair::surface::{SurfaceFairingOptions, fair_surface, fair_surface_cached};
     use crate::surface::BSplineSurface;
 
     fn net() -> BSplineSurface {
@@ -302,9 +302,7 @@ mod tests {
     #[test]
     fn cached_setups_give_the_same_surface() {
         let s = net();
-        let draft = SurfaceFairingOptions::default()
-            .method(SurfaceMethod::Isocurves)
-            .iso_levels(1);
+        let draft = SurfaceFairingOptions::default().draft();
         let cache = IsocurveCache::new();
         let (a, b) = fair_both(&s, draft.tolerance(3e-3), &cache);
         assert_eq!(a, b);
@@ -321,9 +319,15 @@ mod tests {
             "every isocurve of a draft at another tolerance is held: {c:?}"
         );
         assert!(c.hits >= first.hits + 3 * first.misses, "{c:?}");
-        // the full fair (its levels, step 8) after the drafts
+        // the full fair (its levels, step 8) after the drafts: it takes the drafts' setups, though its
+        // isocurves step μ below the band's limit (`fairest_isocurves`: set per fair, not in the key)
         let (a, b) = fair_both(&s, SurfaceFairingOptions::default().tolerance(2e-3), &cache);
         assert_eq!(a, b, "full fair");
+        let c = cache.counts();
+        assert_eq!(c.misses, first.misses, "the full fair built setups: {c:?}");
+        // and a draft after it stops at the band's limit again
+        let (a, b) = fair_both(&s, draft.tolerance(3e-3), &cache);
+        assert_eq!(a, b, "draft after the full fair");
         // one control point moved: the isocurves through its support change and are built anew
         let mut pts = s.points().to_vec();
         pts[5 * 12 + 6].z += 2e-3;
@@ -368,9 +372,7 @@ mod tests {
     fn shared_and_bounded() {
         let s = net();
         let cache = IsocurveCache::with_capacity(600);
-        let draft = SurfaceFairingOptions::default()
-            .method(SurfaceMethod::Isocurves)
-            .iso_levels(1);
+        let draft = SurfaceFairingOptions::default().draft();
         std::thread::scope(|sc| {
             let h: Vec<_> = [3e-3, 2e-3, 3e-3]
                 .into_iter()
