@@ -11,9 +11,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use eframe::egui;
-use fairway::fair::surface::{
-    IsocurveCache, SurfaceFairingOptions, SurfaceFairingResult, SurfaceMethod, fair_surface_cached,
-};
+use fairway::fair::surface::{IsocurveCache, SurfaceFairingOptions, SurfaceFairingResult, fair_surface_cached};
 use fairway::io::Document;
 use fairway::measure_surface::{SurfaceMeasures, surface_measures};
 use fairway::mesh::SurfaceMesh;
