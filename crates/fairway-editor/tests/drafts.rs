@@ -8,7 +8,7 @@
 use eframe::egui;
 use egui::{Pos2, Role};
 use egui_kittest::kittest::Queryable;
-use fairway::fair::surface::{SurfaceFairingOptions, SurfaceMethod, fair_surface};
+use fairway::fair::surface::{SurfaceFairingOptions, fair_surface};
 use fairway::io::Document;
 use fairway::{BSplineSurface, Geometry};
 use fairway_editor::jobs::{Gate, JobEnd};
