@@ -18,12 +18,6 @@ mod measure;
 
 use std::process::ExitCode;
 
-/// mimalloc keeps freed memory for reuse: with glibc's malloc the fairs' grid-sized buffers were unmapped or
-/// trimmed after each fair and page-faulted in again by the next (with malloc itself ~10 % of a surface
-/// draft; `docs/PERFORMANCE.md`, session 29).
-#[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 use clap::{Parser, Subcommand};
 
 /// Fair B-spline curves and surfaces; evaluate and inspect geometry files.

@@ -6,12 +6,6 @@ use std::path::PathBuf;
 
 use eframe::egui;
 
-/// mimalloc keeps freed memory for reuse: with glibc's malloc the fairs' grid-sized buffers were unmapped or
-/// trimmed after each fair and page-faulted in again by the next (with malloc itself ~10 % of a surface
-/// draft; `docs/PERFORMANCE.md`, session 29).
-#[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 /// The Fairway editor: fair B-spline curves and surfaces inside a tolerance band.
 #[derive(clap::Parser, Debug)]
 #[command(name = "fairway-editor", version, about)]

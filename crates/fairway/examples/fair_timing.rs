@@ -9,10 +9,6 @@
 //! threads (`/proc/self/task/*/schedstat`, nanoseconds), so it excludes whatever else runs on the machine
 //! and includes the work rayon's workers do for it.
 
-/// The editor's and the CLI's allocator (their `main.rs`), so that the figures are the programs'.
-#[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 

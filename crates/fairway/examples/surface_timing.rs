@@ -25,10 +25,6 @@
 //! the whole work only when nothing runs on rayon's pool; `proc_cpu_ms` is the CPU time of the
 //! whole process (all its threads).
 
-/// The editor's and the CLI's allocator (their `main.rs`), so that the figures are the programs'.
-#[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 use std::time::{Duration, Instant};
 
 use fairway::DVec3;
