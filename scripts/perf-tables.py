@@ -22,6 +22,7 @@ TARGETS = {
     "curve100_s1000/draft": "0.030",
     "surface fair/30x30 full": "5 (2 threads)",
     "surface fair/100x100 full": "45 (2 threads)",
+    "surface draft/30x30": "4 (2 threads)",
 }
 
 

@@ -1,6 +1,8 @@
 //! Surface fairing benchmarks (issue 5): a full fair of noisy bicubic nets,
 //! 30 × 30 (target ≤ 16 ms) and 100 × 100 (target ≤ 150 ms), and a scaling
-//! series 10 … 100 to show the cost per control point. The phase breakdown
+//! series 10 … 100 to show the cost per control point, and the editor's draft of a 30 × 30 net (issue 28:
+//! ≤ 4 ms): the first (its isocurve setups built) and each one after it in a tolerance drag (taken from the
+//! workspace's `IsocurveCache`). The phase breakdown
 //! (isocurves / combination / fit / verification) is printed by
 //! `examples/surface_timing.rs` from [`SurfaceTimings`](fairway::fair::SurfaceTimings).
 //!
@@ -11,7 +13,7 @@
 use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use fairway::fair::{SurfaceFairingOptions, fair_surface};
+use fairway::fair::{IsocurveCache, SurfaceFairingOptions, fair_surface, fair_surface_cached};
 
 mod common;
 use common::noisy_net;
@@ -34,6 +36,19 @@ fn benches(c: &mut Criterion) {
     let region = opts().region(Some(((0.3, 0.7), (0.3, 0.7))));
     g.bench_function("30x30 region 0.4x0.4", |b| {
         b.iter(|| fair_surface(black_box(&s), region).unwrap())
+    });
+    g.finish();
+    let mut g = c.benchmark_group("surface draft");
+    let draft = opts().draft();
+    g.bench_function("30x30 first", |b| {
+        b.iter(|| fair_surface(black_box(&s), draft).unwrap())
+    });
+    let cache = IsocurveCache::new();
+    let cancel = fairway::Cancel::new();
+    // the draft before, at another point of the drag: its setups are the timed drafts'
+    fair_surface_cached(&s, draft.tolerance(draft.tolerance * 1.05), &cancel, &cache).unwrap();
+    g.bench_function("30x30 in a drag", |b| {
+        b.iter(|| fair_surface_cached(black_box(&s), draft, &cancel, &cache).unwrap())
     });
     g.finish();
     let mut g = c.benchmark_group("surface scaling");
