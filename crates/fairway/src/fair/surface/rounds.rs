@@ -10,8 +10,8 @@ use super::*;
 /// The fairest candidate of a level holding the band: (points, dev, m_iso, smoothing, round, energy).
 type Pick = (Vec<DVec3>, f64, f64, SurfaceSmoothing, usize, f64);
 
-/// A fitted candidate of one level: (smoothing, points, surface, fairness energy with auto smoothing).
-type Fitted = (SurfaceSmoothing, Vec<DVec3>, BSplineSurface, Option<f64>);
+/// A fitted candidate of one level: (smoothing, points, surface).
+type Fitted = (SurfaceSmoothing, Vec<DVec3>, BSplineSurface);
 
 /// The state of the isocurve rounds (module docs, steps 5–7) of [`isocurve_rounds`].
 struct Rounds<'g, 'a> {
@@ -124,11 +124,11 @@ impl Rounds<'_, '_> {
     }
 
     /// Step 5 for one level's cloud `data`: the fits of the strengths tried (all of the ladder in the first
-    /// level, after it the pick's and its two neighbours') with their fairness energies, in parallel.
-    /// Returns the projected data term and the candidates in ladder order.
+    /// level, after it the pick's and its two neighbours'), in parallel. Returns the projected data term and
+    /// the candidates in ladder order (their fairness energies follow in [`Self::check_level`]).
     fn fit_level(&mut self, data: &[DVec3]) -> Result<(Vec<DVec3>, Vec<Result<Fitted>>)> {
         let (s, opts, ladder) = (self.g.s, self.opts, self.ladder);
-        // the fits and their fairness energies are independent: computed in parallel, then checked in order
+        // the fits are independent: computed in parallel, then checked in order
         let t0 = Instant::now();
         // After the first level only the pick's strength and its two neighbours on the ladder are fitted
         // (module docs, step 6): the fairest strength moves little from one level to the next.
@@ -141,7 +141,7 @@ impl Rounds<'_, '_> {
         };
         // the data term is the same for every strength: projected once per level
         let rhs = self.grid_fit.project(data)?;
-        let (grid_fit, energy) = (&self.grid_fit, &self.energy);
+        let grid_fit = &self.grid_fit;
         let cands = par_map(&near, self.g.threads, |&st| {
             let sm = if st.is_nan() {
                 opts.smoothing
@@ -154,8 +154,7 @@ impl Rounds<'_, '_> {
             };
             let pts = grid_fit.solve(&rhs, sm)?;
             let faired = s.with_points(pts.clone())?;
-            let e = energy.as_ref().map(|eg| eg.energy(&faired));
-            Ok::<_, Error>((sm, pts, faired, e))
+            Ok::<_, Error>((sm, pts, faired))
         });
         self.tm.fit += t0.elapsed();
         Ok((rhs, cands))
@@ -164,16 +163,21 @@ impl Rounds<'_, '_> {
     /// Step 7 for one level's candidates, in order: the band check (coarse, then full) of each candidate
     /// fairer than the level's best. Without auto smoothing the first that holds the band is the result
     /// (`Break`); otherwise returns the level's fairest band-holding candidate. Every checked candidate
-    /// competes for the least deviation (`self.best`).
+    /// competes for the least deviation (`self.best`). The fairness energies (auto smoothing) are computed
+    /// when the first candidate holds the band, for it and the candidates after it, in parallel: the ones
+    /// before it were checked against no level best, so their energies were never read (on a draft of the
+    /// 30 × 30 bench net the two strongest strengths break the band: 2 of 8 energies).
     fn check_level(&mut self, cands: Vec<Result<Fitted>>) -> Result<ControlFlow<SurfaceFairingResult, Option<Pick>>> {
         let g = self.g;
         let (s, m, m_iso, rounds) = (g.s, g.m, self.m_iso, self.rounds);
         let mut level_best: Option<Pick> = None;
-        for cand in cands {
-            let (sm, pts, faired, e) = cand?;
+        let mut cands: Vec<Option<Result<Fitted>>> = cands.into_iter().map(Some).collect();
+        let mut energies: Vec<Option<f64>> = vec![None; cands.len()];
+        for i in 0..cands.len() {
+            let (sm, pts, faired) = cands[i].take().expect("each candidate is taken once")?;
             let t1 = Instant::now();
             // with auto smoothing: a candidate no fairer than the level's best is not checked
-            if let (Some(e), Some(lb)) = (e, level_best.as_ref())
+            if let (Some(e), Some(lb)) = (energies[i], level_best.as_ref())
                 && e >= lb.5
             {
                 self.tm.verify += t1.elapsed();
@@ -185,22 +189,37 @@ impl Rounds<'_, '_> {
                 continue;
             }
             let dev = g.full_check.deviation(s, &faired, &g.free_u, &g.free_v, m, false);
-            if dev <= m {
-                match e {
-                    None => {
-                        self.tm.verify += t1.elapsed();
-                        return Ok(ControlFlow::Break(g.iso_result(
-                            faired,
-                            dev,
-                            (m_iso, rounds, 1.0),
-                            sm,
-                            self.tm,
-                        )));
-                    }
-                    Some(e) => level_best = Some((pts.clone(), dev, m_iso, sm, rounds, e)),
-                }
-            }
             self.tm.verify += t1.elapsed();
+            if dev <= m {
+                let Some(eg) = &self.energy else {
+                    return Ok(ControlFlow::Break(g.iso_result(
+                        faired,
+                        dev,
+                        (m_iso, rounds, 1.0),
+                        sm,
+                        self.tm,
+                    )));
+                };
+                if level_best.is_none() {
+                    let t0 = Instant::now();
+                    let rest: Vec<usize> = (i..cands.len()).collect();
+                    let cands = &cands;
+                    let es = par_map(&rest, g.threads, |&j| {
+                        let c = if j == i {
+                            Some(&faired)
+                        } else {
+                            cands[j].as_ref().and_then(|c| c.as_ref().ok()).map(|c| &c.2)
+                        };
+                        c.map(|c| eg.energy(c))
+                    });
+                    for (j, e) in rest.into_iter().zip(es) {
+                        energies[j] = e;
+                    }
+                    self.tm.fit += t0.elapsed();
+                }
+                let e = energies[i].expect("the energy of a band-holding candidate");
+                level_best = Some((pts.clone(), dev, m_iso, sm, rounds, e));
+            }
             if self.best.as_ref().is_none_or(|b| dev < b.1) {
                 self.best = Some((pts, dev));
             }
