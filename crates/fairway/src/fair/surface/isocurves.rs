@@ -153,16 +153,21 @@ pub(super) fn combined_cloud(
         orig,
         size: net_size(s),
     };
-    let (du, dv) = grid.displacements(levels, ru, rv)?;
+    let faired = grid.fair_all(levels, ru, rv)?;
     let t1 = Instant::now();
     tm.isocurves += t1 - t0;
-    let clouds = du.iter().zip(&dv).map(|(du, dv)| grid.combine(du, dv)).collect();
+    let clouds = (0..levels.len()).map(|lv| grid.combine(&faired, lv)).collect();
     tm.combine += t1.elapsed();
     Ok(clouds)
 }
 
-/// Grid data, one cloud per isocurve tolerance.
-type Clouds = Vec<Vec<DVec3>>;
+/// The faired isocurves of [`IsoGrid::fair_all`] at the grid parameters: `u[l][level][k]` is the u-isocurve
+/// at `vs[l]` at `us[k]`, `v[k][level][l]` the v-isocurve at `us[k]` at `vs[l]`; a direction that is not
+/// faired has none (its Δ is 0).
+struct FairedIsocurves {
+    u: Vec<Vec<Vec<DVec3>>>,
+    v: Vec<Vec<Vec<DVec3>>>,
+}
 
 /// The surface, its grid `us × vs` and the original's points there, shared by the steps of
 /// [`combined_cloud`].
@@ -177,14 +182,12 @@ struct IsoGrid<'a> {
 }
 
 impl IsoGrid<'_> {
-    /// Step 3: fair every isocurve through the grid at each tolerance of `levels` and return the
-    /// displacements `Δ_u = P_u − S`, `Δ_v = P_v − S` on the grid, one pair of clouds per level.
-    fn displacements(&self, levels: &[f64], ru: (f64, f64), rv: (f64, f64)) -> Result<(Clouds, Clouds)> {
-        let (s, us, vs, orig) = (self.s, self.us, self.vs, self.orig);
+    /// Step 3: fair every isocurve through the grid at each tolerance of `levels`, evaluated at the grid
+    /// parameters.
+    fn fair_all(&self, levels: &[f64], ru: (f64, f64), rv: (f64, f64)) -> Result<FairedIsocurves> {
+        let (s, us, vs) = (self.s, self.us, self.vs);
         let (mu, mv) = (us.len(), vs.len());
         let nl = levels.len();
-        let mut du = vec![vec![DVec3::ZERO; mu * mv]; nl];
-        let mut dv = vec![vec![DVec3::ZERO; mu * mv]; nl];
         // A direction whose region holds fewer than p + 1 knot spans (a C0 knot's counting p, see
         // `equivalent_spans`) has no movable isocurve control point for the curve engine (e.g. a cubic
         // direction with one span): its isocurves stay, Δ = 0.
@@ -219,23 +222,20 @@ impl IsoGrid<'_> {
                 .collect()
         };
         let results = par_map(&blocks, self.opts.threads, |b| fair_block(b));
+        let mut out = FairedIsocurves {
+            u: vec![vec![]; if fair_u { mv } else { 0 }],
+            v: vec![vec![]; if fair_v { mu } else { 0 }],
+        };
         for (block, res) in blocks.iter().zip(results) {
-            let pts = res?;
-            for (&(is_u, i), per_level) in block.iter().zip(pts) {
-                for (lv, p) in per_level.into_iter().enumerate() {
-                    if is_u {
-                        for k in 0..mu {
-                            du[lv][k * mv + i] = p[k] - orig[k * mv + i];
-                        }
-                    } else {
-                        for l in 0..mv {
-                            dv[lv][i * mv + l] = p[l] - orig[i * mv + l];
-                        }
-                    }
+            for (&(is_u, i), per_level) in block.iter().zip(res?) {
+                if is_u {
+                    out.u[i] = per_level;
+                } else {
+                    out.v[i] = per_level;
                 }
             }
         }
-        Ok((du, dv))
+        Ok(out)
     }
 
     /// One isocurve of step 3: the u-isocurve at `vs[i]` (`is_u`) or the v-isocurve at `us[i]`, over the
@@ -291,9 +291,10 @@ impl IsoGrid<'_> {
         .map_err(err)
     }
 
-    /// Step 4 for one level: the grid data `S + Δ` from the displacements `du`, `dv` of the two
-    /// directions, weighted as `opts.combine` says (then umbrella-smoothed for [`Combine::Smoothed`]).
-    fn combine(&self, du: &[DVec3], dv: &[DVec3]) -> Vec<DVec3> {
+    /// Step 4 for level `lv`: the grid data `S + Δ` from the displacements `Δ_u = P_u − S`, `Δ_v = P_v − S`
+    /// of the two directions' faired isocurves `f`, weighted as `opts.combine` says (then
+    /// umbrella-smoothed for [`Combine::Smoothed`]).
+    fn combine(&self, f: &FairedIsocurves, lv: usize) -> Vec<DVec3> {
         let (us, vs, orig, opts) = (self.us, self.vs, self.orig, self.opts);
         let (mu, mv) = (us.len(), vs.len());
         let ((du0, du1), (dv0, dv1)) = self.s.domain();
@@ -315,7 +316,9 @@ impl IsoGrid<'_> {
                 } else {
                     (0.5, 0.5)
                 };
-                let (x, y) = (du[k * mv + l], dv[k * mv + l]);
+                let o = orig[k * mv + l];
+                let x = f.u.get(l).map_or(DVec3::ZERO, |c| c[lv][k] - o);
+                let y = f.v.get(k).map_or(DVec3::ZERO, |c| c[lv][l] - o);
                 let (mut a, mut b) = match opts.combine {
                     Combine::Average => (0.5, 0.5),
                     Combine::Border => (beta_u, beta_v),
@@ -324,7 +327,7 @@ impl IsoGrid<'_> {
                 if !(a + b > 0.0) {
                     (a, b) = (beta_u, beta_v);
                 }
-                data[k * mv + l] = orig[k * mv + l] + (x * a + y * b) / (a + b);
+                data[k * mv + l] = o + (x * a + y * b) / (a + b);
             }
         }
         if opts.combine == Combine::Smoothed {
