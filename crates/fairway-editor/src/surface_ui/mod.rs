@@ -73,8 +73,9 @@ pub struct SurfacePreview {
     /// Measures against the original (computed with the full fair, in the background; none for a draft).
     pub measures: Option<SurfaceMeasures>,
     /// Computed while a drag was in progress with the draft options (`SurfaceFairingOptions::draft`: one
-    /// isocurve tolerance level, the isocurves alone, each at the band's largest μ; in the background, one draft at a time); the full fair runs when the pointer is
-    /// released (in the background; the draft is shown meanwhile, marked provisional).
+    /// isocurve tolerance level, the isocurves alone, each at the band's largest μ; in the background, one
+    /// draft at a time); the full fair runs when the pointer is released (in the background; the draft is
+    /// shown meanwhile, marked provisional).
     pub draft: bool,
     key: PreviewKey,
 }
