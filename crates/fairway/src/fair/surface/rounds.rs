@@ -171,10 +171,10 @@ impl Rounds<'_, '_> {
         let g = self.g;
         let (s, m, m_iso, rounds) = (g.s, g.m, self.m_iso, self.rounds);
         let mut level_best: Option<Pick> = None;
-        let mut cands: Vec<Option<Result<Fitted>>> = cands.into_iter().map(Some).collect();
         let mut energies: Vec<Option<f64>> = vec![None; cands.len()];
-        for i in 0..cands.len() {
-            let (sm, pts, faired) = cands[i].take().expect("each candidate is taken once")?;
+        for (i, cand) in cands.iter().enumerate() {
+            let (sm, pts, faired) = cand.as_ref().map_err(Clone::clone)?;
+            let sm = *sm;
             let t1 = Instant::now();
             // with auto smoothing: a candidate no fairer than the level's best is not checked
             if let (Some(e), Some(lb)) = (energies[i], level_best.as_ref())
@@ -184,16 +184,16 @@ impl Rounds<'_, '_> {
                 continue;
             }
             // coarse check first (cheap), the full check only for a candidate that passes it
-            if g.coarse_check.deviation(s, &faired, &g.free_u, &g.free_v, m, true) > m {
+            if g.coarse_check.deviation(s, faired, &g.free_u, &g.free_v, m, true) > m {
                 self.tm.verify += t1.elapsed();
                 continue;
             }
-            let dev = g.full_check.deviation(s, &faired, &g.free_u, &g.free_v, m, false);
+            let dev = g.full_check.deviation(s, faired, &g.free_u, &g.free_v, m, false);
             self.tm.verify += t1.elapsed();
             if dev <= m {
                 let Some(eg) = &self.energy else {
                     return Ok(ControlFlow::Break(g.iso_result(
-                        faired,
+                        faired.clone(),
                         dev,
                         (m_iso, rounds, 1.0),
                         sm,
@@ -202,26 +202,15 @@ impl Rounds<'_, '_> {
                 };
                 if level_best.is_none() {
                     let t0 = Instant::now();
-                    let rest: Vec<usize> = (i..cands.len()).collect();
-                    let cands = &cands;
-                    let es = par_map(&rest, g.threads, |&j| {
-                        let c = if j == i {
-                            Some(&faired)
-                        } else {
-                            cands[j].as_ref().and_then(|c| c.as_ref().ok()).map(|c| &c.2)
-                        };
-                        c.map(|c| eg.energy(c))
-                    });
-                    for (j, e) in rest.into_iter().zip(es) {
-                        energies[j] = e;
-                    }
+                    let es = par_map(&cands[i..], g.threads, |c| c.as_ref().ok().map(|c| eg.energy(&c.2)));
+                    energies[i..].copy_from_slice(&es);
                     self.tm.fit += t0.elapsed();
                 }
                 let e = energies[i].expect("the energy of a band-holding candidate");
                 level_best = Some((pts.clone(), dev, m_iso, sm, rounds, e));
             }
             if self.best.as_ref().is_none_or(|b| dev < b.1) {
-                self.best = Some((pts, dev));
+                self.best = Some((pts.clone(), dev));
             }
         }
         Ok(ControlFlow::Continue(level_best))
